@@ -1,0 +1,309 @@
+//! The traits a linear-algebra backend implements.
+//!
+//! A [`LinearBackend`] factors an integer matrix `A` (`m × n`); the resulting [`Factorization`]
+//! answers every question the editor asks about `A x = b`:
+//!
+//! * the rank, which rows are independent, and for each redundant row the combination of
+//!   independent rows that reproduces it;
+//! * a solution of `A x = b`, or an [`Inconsistency`] naming the rows that conflict;
+//! * weak consistency (one right-hand side) and strong consistency (a whole affine family of
+//!   right-hand sides `b(α) = c − K α`, as in the thesis, section 8.2.2);
+//! * the null space;
+//! * weighted least squares: the `x` with `A x = b` closest to hints `x'` in the norm
+//!   `Σ w_s (x_s − x'_s)²`, prepared once for a family of right-hand sides and evaluated many
+//!   times ([`PreparedLeastSquares`]).
+//!
+//! Questions are always asked with exact data (integer matrix, rational right-hand sides, hints and
+//! weights); each backend answers in its own [`Value`] type: exact rationals for the exact
+//! backend, `f64` for a floating-point one. That makes the answers of two backends directly
+//! comparable.
+
+use crate::exact::{rational_to_f64, Rational};
+use crate::matrix::IntMatrix;
+use std::fmt;
+
+/// A number a backend answers in.
+pub trait Value: Clone + fmt::Debug + PartialEq + Send + Sync + 'static {
+    /// The value as `f64` (rounded for exact values).
+    fn to_f64(&self) -> f64;
+    /// The value as an exact rational, when the backend is exact.
+    fn to_exact(&self) -> Option<Rational>;
+}
+
+impl Value for Rational {
+    fn to_f64(&self) -> f64 {
+        rational_to_f64(self)
+    }
+    fn to_exact(&self) -> Option<Rational> {
+        Some(self.clone())
+    }
+}
+
+impl Value for f64 {
+    fn to_f64(&self) -> f64 {
+        *self
+    }
+    fn to_exact(&self) -> Option<Rational> {
+        None
+    }
+}
+
+/// A redundant row and the combination of independent rows equal to it:
+/// `A[row] = Σ coefficient · A[independent]`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Redundancy<S> {
+    /// The redundant row (index into `A`).
+    pub row: usize,
+    /// `(independent row, coefficient)` pairs with nonzero coefficients.
+    pub combination: Vec<(usize, S)>,
+}
+
+/// Proof that `A x = b` has no solution: a vector `y` with `yᵀA = 0` and `yᵀb ≠ 0`.
+///
+/// Only the nonzero entries of `y` are listed; the rows they name are the constraints that
+/// conflict with each other. The exact backend returns a primitive integer `y` whose support is
+/// a minimal conflicting set (a circuit of the row matroid).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Inconsistency<S> {
+    /// Rows of `A` in the support of `y`, increasing.
+    pub rows: Vec<usize>,
+    /// `y` on those rows.
+    pub certificate: Vec<S>,
+    /// `yᵀ b`, nonzero.
+    pub discrepancy: S,
+}
+
+/// An affine family of right-hand sides `b_j(α) = c_j − K α`, one constant vector per column
+/// `j` of a multi-dimensional problem (`d` columns for parameters in `R^d`) and one integer
+/// matrix `K` shared by all columns.
+///
+/// In an ECLES edit, `c_j = q_E − R_EF' P_F'` (column `j`) and `K = R_EA`; `α` are the anchor
+/// values of column `j`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RhsFamily {
+    /// The constant parts `c_j`, each of length `m`.
+    pub constant: Vec<Vec<Rational>>,
+    /// `K`, `m × a`.
+    pub coefficients: IntMatrix,
+}
+
+impl RhsFamily {
+    /// The family holding just the right-hand side `b` (one column, no parameters).
+    pub fn single(rhs: Vec<Rational>) -> Self {
+        let m = rhs.len();
+        RhsFamily {
+            constant: vec![rhs],
+            coefficients: IntMatrix::zeros(m, 0),
+        }
+    }
+}
+
+/// Why a backend refused a question.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum BackendError {
+    /// A vector or matrix has the wrong size.
+    #[error("{what} has length {found}, expected {expected}")]
+    DimensionMismatch {
+        /// What was wrong.
+        what: &'static str,
+        /// The size expected.
+        expected: usize,
+        /// The size given.
+        found: usize,
+    },
+    /// A least-squares weight is zero or negative.
+    #[error("weight {index} is {weight}; weights must be positive")]
+    NonPositiveWeight {
+        /// Index of the weight.
+        index: usize,
+        /// The weight as text.
+        weight: String,
+    },
+    /// A column index of a family does not exist.
+    #[error("column {column} requested, but the family has {columns} columns")]
+    NoSuchColumn {
+        /// The column asked for.
+        column: usize,
+        /// Number of columns.
+        columns: usize,
+    },
+    /// The backend could not represent the data (a float backend given non-finite values).
+    #[error("numerical failure: {0}")]
+    Numerical(String),
+}
+
+/// Either bad input or an inconsistent system.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SolveError<S: fmt::Debug> {
+    /// The question was malformed.
+    #[error(transparent)]
+    Input(#[from] BackendError),
+    /// `A x = b` has no solution; the certificate names the conflicting rows.
+    #[error("the system is inconsistent: rows {:?} conflict", .0.rows)]
+    Inconsistent(Inconsistency<S>),
+}
+
+/// Which part of a family fails strong consistency.
+#[derive(Debug, Clone, PartialEq)]
+pub enum StrongFailure<S> {
+    /// The constant part `c_j` of column `j` is not in the range of `A`.
+    Constant {
+        /// The column.
+        column: usize,
+        /// Certificate for `A x = c_j`.
+        inconsistency: Inconsistency<S>,
+    },
+    /// Column `k` of `K` is not in the range of `A`: moving parameter `k` alone breaks the system.
+    Direction {
+        /// The column of `K` (the anchor coordinate).
+        parameter: usize,
+        /// Certificate for `A x = K[:, k]`.
+        inconsistency: Inconsistency<S>,
+    },
+}
+
+/// How safe a floating-point rank decision was: diagonal magnitudes of the triangular factor
+/// relative to the largest one.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RankMargin {
+    /// Smallest kept diagonal magnitude, relative to the largest (1 when rank is 0).
+    pub smallest_kept: f64,
+    /// Largest dropped diagonal magnitude, relative to the largest (0 when nothing was dropped).
+    pub largest_dropped: f64,
+    /// The relative tolerance that separated them.
+    pub tolerance: f64,
+}
+
+/// A backend: turns an integer matrix into a [`Factorization`].
+pub trait LinearBackend {
+    /// The factorization type.
+    type Factorization: Factorization;
+    /// Short name for reports (`"exact-ldu"`, `"float-qr"`).
+    fn name(&self) -> &'static str;
+    /// Factors `A`. Any shape and rank is allowed, including `0 × n` and `m × 0`.
+    fn factor(&self, matrix: &IntMatrix) -> Result<Self::Factorization, BackendError>;
+}
+
+/// A factored matrix `A` (`m × n`).
+pub trait Factorization {
+    /// Number type of the answers.
+    type Scalar: Value;
+    /// Least squares prepared for a family of right-hand sides.
+    type LeastSquares: PreparedLeastSquares<Scalar = Self::Scalar>;
+
+    /// `m`.
+    fn rows(&self) -> usize;
+    /// `n`.
+    fn cols(&self) -> usize;
+    /// The rank `r`.
+    fn rank(&self) -> usize;
+    /// `r` rows of `A` that are linearly independent and span its row space.
+    fn independent_rows(&self) -> Vec<usize>;
+    /// Every other row, with its combination of [`Self::independent_rows`].
+    fn redundancies(&self) -> Vec<Redundancy<Self::Scalar>>;
+    /// The margin of the rank decision, for backends that decide with a tolerance.
+    fn rank_margin(&self) -> Option<RankMargin> {
+        None
+    }
+    /// A solution of `A x = b` (length `n`), or the certificate that there is none.
+    fn solve(&self, rhs: &[Rational]) -> Result<Vec<Self::Scalar>, SolveError<Self::Scalar>>;
+    /// Weak consistency: `Ok` when `A x = b` has a solution.
+    fn check_consistent(&self, rhs: &[Rational]) -> Result<(), SolveError<Self::Scalar>>;
+    /// Strong consistency: `Ok` when `A x = b(α)` has a solution for every `α` and every column.
+    fn check_strongly_consistent(
+        &self,
+        family: &RhsFamily,
+    ) -> Result<Result<(), StrongFailure<Self::Scalar>>, BackendError>;
+    /// A basis of `{x : A x = 0}`: `n − r` vectors of length `n` (integer vectors for the exact
+    /// backend).
+    fn null_space(&self) -> Vec<Vec<Self::Scalar>>;
+    /// Prepares weighted least squares for a family of right-hand sides: everything that does
+    /// not depend on `α` or the hints is computed here, once.
+    fn prepare_least_squares(
+        &self,
+        family: &RhsFamily,
+        weights: &[Rational],
+    ) -> Result<Self::LeastSquares, BackendError>;
+    /// One-shot weighted least squares: the `x` with `A x = b` minimising
+    /// `Σ w_s (x_s − hint_s)²`.
+    fn least_squares(
+        &self,
+        rhs: &[Rational],
+        hints: &[Rational],
+        weights: &[Rational],
+    ) -> Result<Vec<Self::Scalar>, SolveError<Self::Scalar>> {
+        let prepared = self.prepare_least_squares(&RhsFamily::single(rhs.to_vec()), weights)?;
+        prepared.solve(0, &[], hints)
+    }
+}
+
+/// Weighted least squares with constraints `A x = c_j − K α`, prepared by
+/// [`Factorization::prepare_least_squares`].
+pub trait PreparedLeastSquares {
+    /// Number type of the answers.
+    type Scalar: Value;
+    /// Weak consistency of `A x = c_j − K α`.
+    fn check(&self, column: usize, alpha: &[Rational]) -> Result<(), SolveError<Self::Scalar>>;
+    /// Checks consistency, then returns the `x` with `A x = c_j − K α` closest to `hints` in the
+    /// weighted norm.
+    fn solve(
+        &self,
+        column: usize,
+        alpha: &[Rational],
+        hints: &[Rational],
+    ) -> Result<Vec<Self::Scalar>, SolveError<Self::Scalar>>;
+}
+
+/// Checks that every weight is positive; shared by backends.
+pub fn validate_weights(weights: &[Rational], n: usize) -> Result<(), BackendError> {
+    if weights.len() != n {
+        return Err(BackendError::DimensionMismatch {
+            what: "weights",
+            expected: n,
+            found: weights.len(),
+        });
+    }
+    for (index, w) in weights.iter().enumerate() {
+        if *w <= Rational::from_integer(0.into()) {
+            return Err(BackendError::NonPositiveWeight {
+                index,
+                weight: crate::exact::format_rational(w),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Checks that a family fits an `m × n` matrix; shared by backends.
+pub fn validate_family(family: &RhsFamily, m: usize) -> Result<(), BackendError> {
+    if family.coefficients.rows() != m {
+        return Err(BackendError::DimensionMismatch {
+            what: "family coefficient matrix rows",
+            expected: m,
+            found: family.coefficients.rows(),
+        });
+    }
+    for c in &family.constant {
+        if c.len() != m {
+            return Err(BackendError::DimensionMismatch {
+                what: "family constant column",
+                expected: m,
+                found: c.len(),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Checks the length of a vector argument; shared by backends.
+pub fn check_len(what: &'static str, found: usize, expected: usize) -> Result<(), BackendError> {
+    if found == expected {
+        Ok(())
+    } else {
+        Err(BackendError::DimensionMismatch {
+            what,
+            expected,
+            found,
+        })
+    }
+}

@@ -1,0 +1,260 @@
+//! Exact values: arbitrary-precision integers and rationals, and the exact reading of decimal text.
+//!
+//! Decimal text such as `0.1` is read as the rational `1/10`, never through `f64`, so a value a
+//! user typed is the value the solver sees.
+
+use num_bigint::BigInt;
+use num_rational::BigRational;
+use num_traits::{One, Zero};
+use std::fmt;
+
+/// Arbitrary-precision integer: constraint coefficients and right-hand sides.
+pub type Integer = BigInt;
+
+/// Arbitrary-precision rational: parameter values, hints, weights and solutions.
+pub type Rational = BigRational;
+
+/// Why a text could not be read as an exact rational.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{message} at column {column} of {text:?}")]
+pub struct ParseRationalError {
+    /// The text that was being read.
+    pub text: String,
+    /// 1-based column (in characters) of the first offending character.
+    pub column: usize,
+    /// What was expected there.
+    pub message: String,
+}
+
+impl ParseRationalError {
+    fn at(text: &str, byte: usize, message: impl Into<String>) -> Self {
+        ParseRationalError {
+            text: text.to_string(),
+            column: text[..byte.min(text.len())].chars().count() + 1,
+            message: message.into(),
+        }
+    }
+}
+
+/// Reads an exact rational from text.
+///
+/// Accepted forms (surrounding whitespace is ignored):
+/// * integers: `3`, `-12`, `+7`;
+/// * decimals with optional exponent: `-2.5`, `.25`, `1e-3`, `6.02E23`;
+/// * fractions of integers: `7/3`, `-4/6` (the result is reduced; the denominator must be nonzero).
+///
+/// Every form is converted exactly: `0.1` becomes `1/10`.
+pub fn parse_rational(text: &str) -> Result<Rational, ParseRationalError> {
+    let trimmed_start = text.len() - text.trim_start().len();
+    let body = text.trim();
+    if body.is_empty() {
+        return Err(ParseRationalError::at(text, 0, "expected a number"));
+    }
+    if let Some(slash) = body.find('/') {
+        let numer = parse_integer(text, trimmed_start, &body[..slash])?;
+        let denom_text = &body[slash + 1..];
+        let denom = parse_integer(text, trimmed_start + slash + 1, denom_text)?;
+        if denom.is_zero() {
+            return Err(ParseRationalError::at(
+                text,
+                trimmed_start + slash + 1,
+                "denominator must be nonzero",
+            ));
+        }
+        return Ok(Rational::new(numer, denom));
+    }
+    parse_decimal(text, trimmed_start, body)
+}
+
+/// Parses a signed integer occupying `part`, which starts at byte `offset` of `full`.
+fn parse_integer(full: &str, offset: usize, part: &str) -> Result<Integer, ParseRationalError> {
+    let (negative, digits, digits_offset) = split_sign(part);
+    if digits.is_empty() {
+        return Err(ParseRationalError::at(
+            full,
+            offset + digits_offset,
+            "expected digits",
+        ));
+    }
+    if let Some((i, _)) = digits.char_indices().find(|(_, c)| !c.is_ascii_digit()) {
+        return Err(ParseRationalError::at(
+            full,
+            offset + digits_offset + i,
+            "expected a digit",
+        ));
+    }
+    let value: Integer = digits
+        .parse()
+        .map_err(|_| ParseRationalError::at(full, offset, "expected an integer"))?;
+    Ok(if negative { -value } else { value })
+}
+
+fn split_sign(part: &str) -> (bool, &str, usize) {
+    match part.as_bytes().first() {
+        Some(b'-') => (true, &part[1..], 1),
+        Some(b'+') => (false, &part[1..], 1),
+        _ => (false, part, 0),
+    }
+}
+
+/// Parses `[sign] digits [. digits] [(e|E) [sign] digits]` exactly.
+fn parse_decimal(full: &str, offset: usize, body: &str) -> Result<Rational, ParseRationalError> {
+    let (negative, rest, sign_len) = split_sign(body);
+    let mut mantissa_digits = String::new();
+    let mut fraction_len: i64 = 0;
+    let mut seen_point = false;
+    let mut seen_digit = false;
+    let mut exponent_at = None;
+    for (i, c) in rest.char_indices() {
+        match c {
+            '0'..='9' => {
+                mantissa_digits.push(c);
+                seen_digit = true;
+                if seen_point {
+                    fraction_len += 1;
+                }
+            }
+            '.' if !seen_point => seen_point = true,
+            'e' | 'E' if seen_digit => {
+                exponent_at = Some(i);
+                break;
+            }
+            _ => {
+                return Err(ParseRationalError::at(
+                    full,
+                    offset + sign_len + i,
+                    "expected a digit, '.', an exponent or '/'",
+                ))
+            }
+        }
+    }
+    if !seen_digit {
+        return Err(ParseRationalError::at(
+            full,
+            offset + sign_len,
+            "expected digits",
+        ));
+    }
+    let mut exponent: i64 = 0;
+    if let Some(at) = exponent_at {
+        let exp_text = &rest[at + 1..];
+        let exp_offset = offset + sign_len + at + 1;
+        let value = parse_integer(full, exp_offset, exp_text)?;
+        exponent = i64::try_from(&value)
+            .ok()
+            .filter(|e| e.abs() <= 100_000)
+            .ok_or_else(|| ParseRationalError::at(full, exp_offset, "exponent out of range"))?;
+    }
+    let mantissa: Integer = mantissa_digits
+        .parse()
+        .map_err(|_| ParseRationalError::at(full, offset, "expected a number"))?;
+    let scale = exponent - fraction_len;
+    let ten = Integer::from(10);
+    let magnitude = if scale >= 0 {
+        Rational::from_integer(mantissa * num_traits::pow(ten, scale as usize))
+    } else {
+        Rational::new(mantissa, num_traits::pow(ten, (-scale) as usize))
+    };
+    Ok(if negative { -magnitude } else { magnitude })
+}
+
+/// Formats a rational as `"p"` or `"p/q"`: the stable text form used in reports.
+pub fn format_rational(value: &Rational) -> String {
+    DisplayRational(value).to_string()
+}
+
+/// Display adapter writing `p` for integers and `p/q` otherwise.
+pub struct DisplayRational<'a>(pub &'a Rational);
+
+impl fmt::Display for DisplayRational<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.0.denom().is_one() {
+            write!(f, "{}", self.0.numer())
+        } else {
+            write!(f, "{}/{}", self.0.numer(), self.0.denom())
+        }
+    }
+}
+
+/// Converts a rational to the nearest-ish `f64` (for pictures and the float backend only).
+///
+/// Works for numerators and denominators far beyond the `f64` range by scaling both to 64
+/// significant bits first.
+pub fn rational_to_f64(value: &Rational) -> f64 {
+    fn scaled(x: &BigInt) -> (f64, i64) {
+        let bits = x.bits() as i64;
+        let shift = (bits - 64).max(0);
+        let top: BigInt = x >> (shift as usize);
+        (num_traits::ToPrimitive::to_f64(&top).unwrap_or(0.0), shift)
+    }
+    if value.is_zero() {
+        return 0.0;
+    }
+    let (n, ns) = scaled(value.numer());
+    let (d, ds) = scaled(value.denom());
+    let exp = ns - ds;
+    let exp = exp.clamp(i32::MIN as i64, i32::MAX as i64) as i32;
+    (n / d) * 2f64.powi(exp)
+}
+
+/// The exact rational equal to a finite `f64` (used to feed float results back into exact checks).
+pub fn rational_from_f64(value: f64) -> Option<Rational> {
+    Rational::from_float(value)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn q(n: i64, d: i64) -> Rational {
+        Rational::new(n.into(), d.into())
+    }
+
+    #[test]
+    fn parses_integers_decimals_and_fractions_exactly() {
+        assert_eq!(parse_rational("3").unwrap(), q(3, 1));
+        assert_eq!(parse_rational(" -2.5 ").unwrap(), q(-5, 2));
+        assert_eq!(parse_rational("0.1").unwrap(), q(1, 10));
+        assert_eq!(parse_rational(".25").unwrap(), q(1, 4));
+        assert_eq!(parse_rational("7/3").unwrap(), q(7, 3));
+        assert_eq!(parse_rational("-4/6").unwrap(), q(-2, 3));
+        assert_eq!(parse_rational("1e-3").unwrap(), q(1, 1000));
+        assert_eq!(parse_rational("+1.5E2").unwrap(), q(150, 1));
+        assert_eq!(parse_rational("5.").unwrap(), q(5, 1));
+    }
+
+    #[test]
+    fn reports_the_offending_column() {
+        let e = parse_rational("12x4").unwrap_err();
+        assert_eq!(e.column, 3);
+        let e = parse_rational("1/0").unwrap_err();
+        assert_eq!(e.column, 3);
+        let e = parse_rational("  ").unwrap_err();
+        assert_eq!(e.column, 1);
+        let e = parse_rational("1/2.5").unwrap_err();
+        assert_eq!(e.column, 4);
+        let e = parse_rational("1e").unwrap_err();
+        assert_eq!(e.column, 3);
+        let e = parse_rational("--1").unwrap_err();
+        assert_eq!(e.column, 2);
+        assert!(parse_rational("1e999999").is_err());
+        assert!(parse_rational(".").is_err());
+    }
+
+    #[test]
+    fn formats_reports_stably() {
+        assert_eq!(format_rational(&q(-95, 2)), "-95/2");
+        assert_eq!(format_rational(&q(59, 1)), "59");
+    }
+
+    #[test]
+    fn converts_huge_rationals_to_f64() {
+        let big = Rational::new(
+            num_traits::pow(BigInt::from(10), 400) * 3,
+            num_traits::pow(BigInt::from(10), 400) * 2,
+        );
+        assert!((rational_to_f64(&big) - 1.5).abs() < 1e-15);
+        assert_eq!(rational_to_f64(&q(-95, 2)), -47.5);
+        assert_eq!(rational_from_f64(0.5), Some(q(1, 2)));
+    }
+}

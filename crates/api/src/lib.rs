@@ -1,0 +1,28 @@
+//! Shared vocabulary of ecles-rs.
+//!
+//! Every other crate speaks in these terms:
+//!
+//! * [`exact`]: exact values ([`Integer`], [`Rational`]) and the exact conversion of decimal text;
+//! * [`system`]: parameters (scalar or vector), sparse integer constraint rows `Σ c_j p_j = q`
+//!   with a label and an origin, and the merged [`ConstraintSystem`];
+//! * [`matrix`]: the sparse integer matrix handed to a backend;
+//! * [`backend`]: the traits a linear-algebra backend implements (factor, rank, independent and
+//!   redundant rows, solve, weak and strong consistency, null space, weighted least squares).
+//!
+//! The crate depends on no backend; backends and the ECLES editor depend on it.
+
+pub mod backend;
+pub mod exact;
+pub mod matrix;
+pub mod system;
+
+pub use backend::{
+    BackendError, Factorization, Inconsistency, LinearBackend, PreparedLeastSquares, RankMargin,
+    Redundancy, RhsFamily, SolveError, StrongFailure, Value,
+};
+pub use exact::{format_rational, parse_rational, Integer, ParseRationalError, Rational};
+pub use matrix::{IntMatrix, MatrixError};
+pub use system::{
+    ConstraintRow, ConstraintSystem, Coord, Origin, ParamId, Parameter, RowBody, RowId, SystemError,
+    Values,
+};

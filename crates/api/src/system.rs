@@ -1,0 +1,599 @@
+//! Parameters, integer constraint rows and the constraint system they form.
+//!
+//! A parameter is a scalar (`dim = 1`) or a vector of `dim` coordinates (a point of the plane
+//! is one parameter with `dim = 2`, as in the thesis, section 4.4). A constraint row is either
+//!
+//! * a **vector row** `Σ c_j p_j = q` over vector parameters of one dimension `d`: it holds for
+//!   each of the `d` coordinates with the same coefficients (the spline smoothness conditions
+//!   treat x and y alike), so `q` has `d` components; or
+//! * a **scalar row** `Σ c_j p_j[k_j] = q` over single coordinates (alignment constraints mix
+//!   coordinates, and scalar parameters are their own single coordinate).
+//!
+//! Coefficients and right-hand sides are integers: sources scale rational data to integers.
+
+use crate::exact::{Integer, Rational};
+use crate::matrix::IntMatrix;
+use num_traits::Zero;
+use serde::{Deserialize, Serialize};
+use std::collections::HashMap;
+use std::fmt;
+
+/// Index of a parameter in a [`ConstraintSystem`].
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize, Default,
+)]
+pub struct ParamId(pub u32);
+
+impl ParamId {
+    /// The index as `usize`.
+    pub fn index(self) -> usize {
+        self.0 as usize
+    }
+}
+
+impl fmt::Display for ParamId {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "#{}", self.0)
+    }
+}
+
+/// Index of a constraint row in a [`ConstraintSystem`].
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize, Default,
+)]
+pub struct RowId(pub u32);
+
+impl RowId {
+    /// The index as `usize`.
+    pub fn index(self) -> usize {
+        self.0 as usize
+    }
+}
+
+/// One coordinate of a parameter.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+pub struct Coord {
+    /// The parameter.
+    pub param: ParamId,
+    /// Which coordinate (`0` for a scalar parameter).
+    pub component: usize,
+}
+
+/// A declared parameter.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Parameter {
+    /// Unique name (sources prefix their names, e.g. `"mesh.q_0_3_2@u"`).
+    pub name: String,
+    /// Number of coordinates: 1 for a scalar, 2 for a point of the plane.
+    pub dim: usize,
+}
+
+/// Where a constraint row comes from: the source that emitted it and the item inside it.
+#[derive(Debug, Clone, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
+pub struct Origin {
+    /// Name of the constraint source (e.g. `"spline2d"`, `"linear"`).
+    pub source: String,
+    /// The item inside the source (an edge, an equation number, ...).
+    pub item: String,
+}
+
+/// The equation of a constraint row.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub enum RowBody {
+    /// `Σ c_j p_j = q`, holding coordinate by coordinate for parameters of dimension
+    /// `rhs.len()`.
+    Vector {
+        /// Coefficients per parameter.
+        terms: Vec<(ParamId, Integer)>,
+        /// Right-hand side, one integer per coordinate.
+        rhs: Vec<Integer>,
+    },
+    /// `Σ c_j p_j[k_j] = q` over single coordinates.
+    Scalar {
+        /// Coefficients per coordinate.
+        terms: Vec<(Coord, Integer)>,
+        /// Right-hand side.
+        rhs: Integer,
+    },
+}
+
+impl RowBody {
+    /// The parameters the row involves (with a nonzero coefficient), in term order.
+    pub fn params(&self) -> Vec<ParamId> {
+        match self {
+            RowBody::Vector { terms, .. } => terms.iter().map(|(p, _)| *p).collect(),
+            RowBody::Scalar { terms, .. } => {
+                let mut out: Vec<ParamId> = terms.iter().map(|(c, _)| c.param).collect();
+                out.dedup();
+                out
+            }
+        }
+    }
+
+    /// Number of scalar equations the row stands for.
+    pub fn scalar_rows(&self) -> usize {
+        match self {
+            RowBody::Vector { rhs, .. } => rhs.len(),
+            RowBody::Scalar { .. } => 1,
+        }
+    }
+}
+
+/// A labelled constraint row.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct ConstraintRow {
+    /// Human-readable label, unique enough to name the row in messages.
+    pub label: String,
+    /// Which source and item produced it.
+    pub origin: Origin,
+    /// The equation.
+    pub body: RowBody,
+}
+
+/// Why a parameter, a row or a value was rejected.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum SystemError {
+    /// Two parameters with one name.
+    #[error("parameter {name:?} is declared twice")]
+    DuplicateParameter {
+        /// The name.
+        name: String,
+    },
+    /// A parameter with no coordinates.
+    #[error("parameter {name:?} has dimension 0")]
+    ZeroDimension {
+        /// The name.
+        name: String,
+    },
+    /// A row names a parameter that does not exist.
+    #[error("row {label:?} refers to parameter {param}, but only {count} parameters exist")]
+    UnknownParameter {
+        /// The row's label.
+        label: String,
+        /// The offending id.
+        param: ParamId,
+        /// Number of declared parameters.
+        count: usize,
+    },
+    /// A vector row over a parameter of another dimension.
+    #[error(
+        "row {label:?} is a {row_dim}-dimensional vector row but parameter {name:?} has dimension {param_dim}"
+    )]
+    DimensionMismatch {
+        /// The row's label.
+        label: String,
+        /// The parameter's name.
+        name: String,
+        /// Dimension of the row.
+        row_dim: usize,
+        /// Dimension of the parameter.
+        param_dim: usize,
+    },
+    /// A vector row with an empty right-hand side.
+    #[error("vector row {label:?} has an empty right-hand side")]
+    EmptyVectorRow {
+        /// The row's label.
+        label: String,
+    },
+    /// A scalar row names a coordinate a parameter does not have.
+    #[error("row {label:?} uses coordinate {component} of {name:?}, which has dimension {dim}")]
+    ComponentOutOfRange {
+        /// The row's label.
+        label: String,
+        /// The parameter's name.
+        name: String,
+        /// The coordinate asked for.
+        component: usize,
+        /// The parameter's dimension.
+        dim: usize,
+    },
+    /// A value vector of the wrong length.
+    #[error("value for {name:?} has {found} coordinates, expected {expected}")]
+    WrongValueDimension {
+        /// The parameter's name.
+        name: String,
+        /// Coordinates given.
+        found: usize,
+        /// Coordinates expected.
+        expected: usize,
+    },
+}
+
+/// Parameters and constraint rows from all sources: one parameter space, global ids.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct ConstraintSystem {
+    params: Vec<Parameter>,
+    by_name: HashMap<String, ParamId>,
+    rows: Vec<ConstraintRow>,
+}
+
+impl ConstraintSystem {
+    /// An empty system.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Declares a parameter; names are unique.
+    pub fn add_parameter(
+        &mut self,
+        name: impl Into<String>,
+        dim: usize,
+    ) -> Result<ParamId, SystemError> {
+        let name = name.into();
+        if dim == 0 {
+            return Err(SystemError::ZeroDimension { name });
+        }
+        if self.by_name.contains_key(&name) {
+            return Err(SystemError::DuplicateParameter { name });
+        }
+        let id = ParamId(self.params.len() as u32);
+        self.by_name.insert(name.clone(), id);
+        self.params.push(Parameter { name, dim });
+        Ok(id)
+    }
+
+    /// Adds a row after checking every id and dimension. Repeated terms are summed and zero
+    /// coefficients dropped.
+    pub fn add_row(&mut self, mut row: ConstraintRow) -> Result<RowId, SystemError> {
+        match &mut row.body {
+            RowBody::Vector { terms, rhs } => {
+                if rhs.is_empty() {
+                    return Err(SystemError::EmptyVectorRow { label: row.label });
+                }
+                for (p, _) in terms.iter() {
+                    let param = self.checked_param(&row.label, *p)?;
+                    if param.dim != rhs.len() {
+                        return Err(SystemError::DimensionMismatch {
+                            label: row.label.clone(),
+                            name: param.name.clone(),
+                            row_dim: rhs.len(),
+                            param_dim: param.dim,
+                        });
+                    }
+                }
+                *terms = merge_terms(std::mem::take(terms));
+            }
+            RowBody::Scalar { terms, .. } => {
+                for (c, _) in terms.iter() {
+                    let param = self.checked_param(&row.label, c.param)?;
+                    if c.component >= param.dim {
+                        return Err(SystemError::ComponentOutOfRange {
+                            label: row.label.clone(),
+                            name: param.name.clone(),
+                            component: c.component,
+                            dim: param.dim,
+                        });
+                    }
+                }
+                *terms = merge_terms(std::mem::take(terms));
+            }
+        }
+        let id = RowId(self.rows.len() as u32);
+        self.rows.push(row);
+        Ok(id)
+    }
+
+    fn checked_param(&self, label: &str, id: ParamId) -> Result<&Parameter, SystemError> {
+        self.params
+            .get(id.index())
+            .ok_or_else(|| SystemError::UnknownParameter {
+                label: label.to_string(),
+                param: id,
+                count: self.params.len(),
+            })
+    }
+
+    /// All parameters, indexed by [`ParamId`].
+    pub fn params(&self) -> &[Parameter] {
+        &self.params
+    }
+
+    /// One parameter, if the id exists.
+    pub fn param(&self, id: ParamId) -> Option<&Parameter> {
+        self.params.get(id.index())
+    }
+
+    /// Looks a parameter up by name.
+    pub fn param_id(&self, name: &str) -> Option<ParamId> {
+        self.by_name.get(name).copied()
+    }
+
+    /// All rows, indexed by [`RowId`].
+    pub fn rows(&self) -> &[ConstraintRow] {
+        &self.rows
+    }
+
+    /// One row, if the id exists.
+    pub fn row(&self, id: RowId) -> Option<&ConstraintRow> {
+        self.rows.get(id.index())
+    }
+
+    /// Total number of scalar coordinates (columns of the scalar matrix).
+    pub fn coordinate_count(&self) -> usize {
+        self.params.iter().map(|p| p.dim).sum()
+    }
+
+    /// Column of each parameter's first coordinate in the scalar matrix.
+    pub fn coordinate_offsets(&self) -> Vec<usize> {
+        let mut offsets = Vec::with_capacity(self.params.len());
+        let mut next = 0;
+        for p in &self.params {
+            offsets.push(next);
+            next += p.dim;
+        }
+        offsets
+    }
+
+    /// The whole system over scalar coordinates: a vector row of dimension `d` becomes `d`
+    /// scalar rows. Returns the matrix, the right-hand side and, for each scalar row, the row it
+    /// comes from and the coordinate.
+    pub fn scalar_matrix(&self) -> (IntMatrix, Vec<Integer>, Vec<(RowId, usize)>) {
+        let offsets = self.coordinate_offsets();
+        let mut sparse = Vec::new();
+        let mut rhs_out = Vec::new();
+        let mut origin = Vec::new();
+        for (i, row) in self.rows.iter().enumerate() {
+            match &row.body {
+                RowBody::Vector { terms, rhs } => {
+                    for (k, q) in rhs.iter().enumerate() {
+                        sparse.push(
+                            terms
+                                .iter()
+                                .map(|(p, c)| (offsets[p.index()] + k, c.clone()))
+                                .collect(),
+                        );
+                        rhs_out.push(q.clone());
+                        origin.push((RowId(i as u32), k));
+                    }
+                }
+                RowBody::Scalar { terms, rhs } => {
+                    sparse.push(
+                        terms
+                            .iter()
+                            .map(|(c, v)| (offsets[c.param.index()] + c.component, v.clone()))
+                            .collect(),
+                    );
+                    rhs_out.push(rhs.clone());
+                    origin.push((RowId(i as u32), 0));
+                }
+            }
+        }
+        let matrix = IntMatrix::from_sparse(self.coordinate_count(), sparse)
+            .expect("coordinates were validated when the rows were added");
+        (matrix, rhs_out, origin)
+    }
+
+    /// Residual `Σ c_j p_j − q` of every scalar equation that the values violate, as
+    /// `(row, coordinate, residual)`. Empty when every constraint holds exactly.
+    pub fn violations(&self, values: &Values) -> Vec<(RowId, usize, Rational)> {
+        let mut out = Vec::new();
+        for (i, row) in self.rows.iter().enumerate() {
+            match &row.body {
+                RowBody::Vector { terms, rhs } => {
+                    for (k, q) in rhs.iter().enumerate() {
+                        let mut sum = -Rational::from_integer(q.clone());
+                        for (p, c) in terms {
+                            sum += &values.get(*p)[k] * Rational::from_integer(c.clone());
+                        }
+                        if !sum.is_zero() {
+                            out.push((RowId(i as u32), k, sum));
+                        }
+                    }
+                }
+                RowBody::Scalar { terms, rhs } => {
+                    let mut sum = -Rational::from_integer(rhs.clone());
+                    for (c, v) in terms {
+                        sum += &values.get(c.param)[c.component] * Rational::from_integer(v.clone());
+                    }
+                    if !sum.is_zero() {
+                        out.push((RowId(i as u32), 0, sum));
+                    }
+                }
+            }
+        }
+        out
+    }
+}
+
+fn merge_terms<K: Ord + Copy>(mut terms: Vec<(K, Integer)>) -> Vec<(K, Integer)> {
+    terms.sort_by_key(|(k, _)| *k);
+    let mut merged: Vec<(K, Integer)> = Vec::with_capacity(terms.len());
+    for (k, v) in terms {
+        match merged.last_mut() {
+            Some((lk, lv)) if *lk == k => *lv += v,
+            _ => merged.push((k, v)),
+        }
+    }
+    merged.retain(|(_, v)| !v.is_zero());
+    merged
+}
+
+/// Current exact values of all parameters of a system: the state being edited.
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct Values {
+    data: Vec<Vec<Rational>>,
+}
+
+impl Values {
+    /// All parameters of `system` at zero.
+    pub fn zeros(system: &ConstraintSystem) -> Self {
+        Values {
+            data: system
+                .params()
+                .iter()
+                .map(|p| vec![Rational::zero(); p.dim])
+                .collect(),
+        }
+    }
+
+    /// Values given per parameter; each vector must have the parameter's dimension.
+    pub fn from_vecs(
+        system: &ConstraintSystem,
+        data: Vec<Vec<Rational>>,
+    ) -> Result<Self, SystemError> {
+        let mut values = Values::zeros(system);
+        for (i, v) in data.into_iter().enumerate() {
+            values.set(system, ParamId(i as u32), v)?;
+        }
+        Ok(values)
+    }
+
+    /// The value of one parameter.
+    ///
+    /// # Panics
+    /// Panics if `id` is not a parameter of the system these values belong to.
+    pub fn get(&self, id: ParamId) -> &[Rational] {
+        &self.data[id.index()]
+    }
+
+    /// Sets one parameter after checking its dimension.
+    pub fn set(
+        &mut self,
+        system: &ConstraintSystem,
+        id: ParamId,
+        value: Vec<Rational>,
+    ) -> Result<(), SystemError> {
+        let param = system.param(id).ok_or(SystemError::UnknownParameter {
+            label: "value".into(),
+            param: id,
+            count: system.params().len(),
+        })?;
+        if value.len() != param.dim {
+            return Err(SystemError::WrongValueDimension {
+                name: param.name.clone(),
+                found: value.len(),
+                expected: param.dim,
+            });
+        }
+        if self.data.len() < system.params().len() {
+            self.data.resize_with(system.params().len(), Vec::new);
+        }
+        self.data[id.index()] = value;
+        Ok(())
+    }
+
+    /// Number of parameters.
+    pub fn len(&self) -> usize {
+        self.data.len()
+    }
+
+    /// True when there are no parameters.
+    pub fn is_empty(&self) -> bool {
+        self.data.is_empty()
+    }
+
+    /// Replaces several parameters at once; used to commit an edit atomically after it has been
+    /// fully computed.
+    pub fn replace_all(&mut self, updates: Vec<(ParamId, Vec<Rational>)>) {
+        for (id, value) in updates {
+            self.data[id.index()] = value;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn r(n: i64) -> Rational {
+        Rational::from_integer(n.into())
+    }
+
+    #[test]
+    fn vector_rows_expand_per_coordinate() {
+        let mut s = ConstraintSystem::new();
+        let a = s.add_parameter("a", 2).unwrap();
+        let b = s.add_parameter("b", 2).unwrap();
+        let t = s.add_parameter("t", 1).unwrap();
+        s.add_row(ConstraintRow {
+            label: "a=b".into(),
+            origin: Origin::default(),
+            body: RowBody::Vector {
+                terms: vec![(a, 1.into()), (b, (-1).into())],
+                rhs: vec![0.into(), 1.into()],
+            },
+        })
+        .unwrap();
+        s.add_row(ConstraintRow {
+            label: "ax=t".into(),
+            origin: Origin::default(),
+            body: RowBody::Scalar {
+                terms: vec![
+                    (Coord { param: a, component: 0 }, 1.into()),
+                    (Coord { param: t, component: 0 }, (-1).into()),
+                ],
+                rhs: 0.into(),
+            },
+        })
+        .unwrap();
+        let (m, q, origin) = s.scalar_matrix();
+        assert_eq!(m.rows(), 3);
+        assert_eq!(m.cols(), 5);
+        assert_eq!(m.get(1, 1), Integer::from(1));
+        assert_eq!(m.get(1, 3), Integer::from(-1));
+        assert_eq!(m.get(2, 4), Integer::from(-1));
+        assert_eq!(q[1], Integer::from(1));
+        assert_eq!(origin[1], (RowId(0), 1));
+
+        let values =
+            Values::from_vecs(&s, vec![vec![r(1), r(2)], vec![r(1), r(1)], vec![r(1)]]).unwrap();
+        assert!(s.violations(&values).is_empty());
+        let values =
+            Values::from_vecs(&s, vec![vec![r(1), r(2)], vec![r(1), r(2)], vec![r(1)]]).unwrap();
+        assert_eq!(s.violations(&values), vec![(RowId(0), 1, r(-1))]);
+    }
+
+    #[test]
+    fn rejects_bad_rows_and_names() {
+        let mut s = ConstraintSystem::new();
+        let a = s.add_parameter("a", 2).unwrap();
+        assert!(matches!(
+            s.add_parameter("a", 1),
+            Err(SystemError::DuplicateParameter { .. })
+        ));
+        assert!(matches!(
+            s.add_parameter("z", 0),
+            Err(SystemError::ZeroDimension { .. })
+        ));
+        let bad_dim = ConstraintRow {
+            label: "x".into(),
+            origin: Origin::default(),
+            body: RowBody::Vector {
+                terms: vec![(a, 1.into())],
+                rhs: vec![0.into()],
+            },
+        };
+        assert!(matches!(
+            s.add_row(bad_dim),
+            Err(SystemError::DimensionMismatch { .. })
+        ));
+        let bad_id = ConstraintRow {
+            label: "y".into(),
+            origin: Origin::default(),
+            body: RowBody::Scalar {
+                terms: vec![(Coord { param: ParamId(7), component: 0 }, 1.into())],
+                rhs: 0.into(),
+            },
+        };
+        assert!(matches!(
+            s.add_row(bad_id),
+            Err(SystemError::UnknownParameter { .. })
+        ));
+        let bad_component = ConstraintRow {
+            label: "z".into(),
+            origin: Origin::default(),
+            body: RowBody::Scalar {
+                terms: vec![(Coord { param: a, component: 2 }, 1.into())],
+                rhs: 0.into(),
+            },
+        };
+        assert!(matches!(
+            s.add_row(bad_component),
+            Err(SystemError::ComponentOutOfRange { .. })
+        ));
+        assert!(matches!(
+            Values::from_vecs(&s, vec![vec![r(1)]]),
+            Err(SystemError::WrongValueDimension { .. })
+        ));
+    }
+}

@@ -1,0 +1,361 @@
+//! Weighted least squares with exact linear constraints (thesis, chapter 9, algorithm 15),
+//! prepared once for an affine family of right-hand sides.
+//!
+//! Minimise `Σ w_s (x_s − h_s)²` subject to `A x = b` with `b = c_j − K α`. Only the `r`
+//! independent rows `Â` of `A` are kept (`b̂` the matching entries of `b`). With `W⁻¹ = V / δ`
+//! (`V` a positive integer diagonal) the Lagrange conditions (9.5)–(9.8) give
+//!
+//! ```text
+//! G = Â V Âᵀ,   λ = G⁻¹ (Â h − b̂),   x = h − V Âᵀ λ
+//! ```
+//!
+//! (the scale `δ` and the factor 2 of `M = 2W` cancel). Everything except `h` and `α` is fixed,
+//! so preparing computes `G⁻¹` exactly (as an integer matrix over one denominator), the rows of
+//! `K` and `c_j` at the independent positions, and, for the weak-consistency test, one primitive
+//! integer vector `y` with `yᵀA = 0` per redundant row together with `yᵀc_j` and `yᵀK`. An
+//! update is then a few integer matrix–vector products.
+
+use crate::factorization::{ExactFactorization, SparseRow};
+use crate::ldu::{Ldu, Simplification};
+use crate::qvec::QVec;
+use crate::ring::{lcm, Int, Ring};
+use api::backend::{check_len, validate_family, validate_weights};
+use api::{
+    BackendError, Factorization, Inconsistency, PreparedLeastSquares, Rational, RhsFamily,
+    SolveError,
+};
+use num_bigint::BigInt;
+
+/// One left-null-space vector `y` (`yᵀA = 0`) with its products against the family.
+#[derive(Debug, Clone, PartialEq, Eq)]
+struct ConsistencyCheck<R: Ring> {
+    /// `y` on its support (original rows, increasing).
+    y: Vec<(usize, R)>,
+    /// `yᵀK` on the parameters where it is nonzero.
+    y_k: Vec<(usize, R)>,
+    /// `yᵀc_j` per column, as `(numerator, positive denominator)`.
+    y_c: Vec<(R, R)>,
+}
+
+/// Least squares prepared by [`ExactFactorization::prepare_least_squares`].
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ExactLeastSquares<R: Ring = Int> {
+    n: usize,
+    parameters: usize,
+    a_hat: Vec<SparseRow<R>>,
+    k_hat: Vec<SparseRow<R>>,
+    c_hat: Vec<QVec<R>>,
+    v: Vec<R>,
+    g_inv: Vec<Vec<R>>,
+    g_den: R,
+    checks: Vec<ConsistencyCheck<R>>,
+}
+
+fn dot_sparse<R: Ring>(row: &[(usize, R)], x: &[R]) -> R {
+    row.iter().fold(R::zero(), |acc, (c, v)| {
+        if x[*c].is_zero() {
+            acc
+        } else {
+            acc.add(&v.mul(&x[*c]))
+        }
+    })
+}
+
+impl<R: Ring> ExactLeastSquares<R> {
+    pub(crate) fn prepare(
+        f: &ExactFactorization<R>,
+        family: &RhsFamily,
+        weights: &[Rational],
+    ) -> Result<Self, BackendError> {
+        let m = f.rows();
+        let n = f.cols();
+        validate_family(family, m)?;
+        validate_weights(weights, n)?;
+        let ldu = f.ldu();
+        let r = ldu.rank();
+        let independent = &ldu.row_perm()[..r];
+
+        // V = δ W⁻¹ with δ the lcm of the weight numerators.
+        let mut delta = BigInt::from(1);
+        for w in weights {
+            delta = num_integer::Integer::lcm(&delta, w.numer());
+        }
+        let v: Vec<R> = weights
+            .iter()
+            .map(|w| R::from_bigint(&(w.denom() * (&delta / w.numer()))))
+            .collect();
+
+        let a_hat: Vec<SparseRow<R>> = independent
+            .iter()
+            .map(|&i| f.sparse_rows()[i].clone())
+            .collect();
+        let k_rows: Vec<SparseRow<R>> = family
+            .coefficients
+            .row_iter()
+            .map(|row| row.iter().map(|(c, v)| (*c, R::from_bigint(v))).collect())
+            .collect();
+        let k_hat = independent.iter().map(|&i| k_rows[i].clone()).collect();
+        let c_hat = family
+            .constant
+            .iter()
+            .map(|c| {
+                let picked: Vec<Rational> = independent.iter().map(|&i| c[i].clone()).collect();
+                QVec::from_rationals(&picked)
+            })
+            .collect();
+
+        let (g_inv, g_den) = inverse_of_normal_matrix(&a_hat, &v, n);
+
+        let constants: Vec<QVec<R>> = family
+            .constant
+            .iter()
+            .map(|c| QVec::from_rationals(c))
+            .collect();
+        let checks = (r..m)
+            .map(|t| {
+                let y = f.dependency(t);
+                let mut y_k_dense = vec![R::zero(); family.coefficients.cols()];
+                for (i, yi) in &y {
+                    for (c, kv) in &k_rows[*i] {
+                        y_k_dense[*c] = y_k_dense[*c].add(&yi.mul(kv));
+                    }
+                }
+                let y_k = y_k_dense
+                    .into_iter()
+                    .enumerate()
+                    .filter(|(_, v)| !v.is_zero())
+                    .collect();
+                let y_c = constants
+                    .iter()
+                    .map(|c| {
+                        let numer = y
+                            .iter()
+                            .fold(R::zero(), |acc, (i, yi)| acc.add(&yi.mul(&c.num[*i])));
+                        let g = numer.gcd(&c.den);
+                        if g.is_zero() || g.is_one() {
+                            (numer, c.den.clone())
+                        } else {
+                            (numer.div_exact(&g), c.den.div_exact(&g))
+                        }
+                    })
+                    .collect();
+                ConsistencyCheck { y, y_k, y_c }
+            })
+            .collect();
+
+        Ok(ExactLeastSquares {
+            n,
+            parameters: family.coefficients.cols(),
+            a_hat,
+            k_hat,
+            c_hat,
+            v,
+            g_inv,
+            g_den,
+            checks,
+        })
+    }
+
+    fn validate(&self, column: usize, alpha: &[Rational]) -> Result<(), BackendError> {
+        if column >= self.c_hat.len() {
+            return Err(BackendError::NoSuchColumn {
+                column,
+                columns: self.c_hat.len(),
+            });
+        }
+        check_len("parameter vector α", alpha.len(), self.parameters)
+    }
+
+    /// Weak consistency of `A x = c_j − K α` through the prepared left-null-space vectors.
+    fn check_prepared(&self, column: usize, alpha: &QVec<R>) -> Result<(), SolveError<Rational>> {
+        let mut failing: Option<&ConsistencyCheck<R>> = None;
+        for check in &self.checks {
+            let (yc_num, yc_den) = &check.y_c[column];
+            let yk_alpha = dot_sparse(&check.y_k, &alpha.num);
+            // yᵀb = yc_num / yc_den − yk_alpha / alpha.den
+            if yc_num.mul(&alpha.den) != yk_alpha.mul(yc_den)
+                && failing.is_none_or(|f| check.y.len() < f.y.len())
+            {
+                failing = Some(check);
+            }
+        }
+        let Some(check) = failing else {
+            return Ok(());
+        };
+        let (yc_num, yc_den) = &check.y_c[column];
+        let yk_alpha = dot_sparse(&check.y_k, &alpha.num);
+        let discrepancy = Rational::new(yc_num.to_bigint(), yc_den.to_bigint())
+            - Rational::new(yk_alpha.to_bigint(), alpha.den.to_bigint());
+        Err(SolveError::Inconsistent(Inconsistency {
+            rows: check.y.iter().map(|(i, _)| *i).collect(),
+            certificate: check
+                .y
+                .iter()
+                .map(|(_, v)| Rational::from_integer(v.to_bigint()))
+                .collect(),
+            discrepancy,
+        }))
+    }
+}
+
+/// `G⁻¹` for `G = Â V Âᵀ` as `(integer matrix, positive denominator)`.
+fn inverse_of_normal_matrix<R: Ring>(a_hat: &[SparseRow<R>], v: &[R], n: usize) -> (Vec<Vec<R>>, R) {
+    let r = a_hat.len();
+    // Accumulate G column by column of Â: G_kl += A_ks V_s A_ls.
+    let mut by_column: Vec<Vec<(usize, R)>> = vec![Vec::new(); n];
+    for (k, row) in a_hat.iter().enumerate() {
+        for (s, val) in row {
+            by_column[*s].push((k, val.clone()));
+        }
+    }
+    let mut g = vec![vec![R::zero(); r]; r];
+    for (s, entries) in by_column.iter().enumerate() {
+        for (k, aks) in entries {
+            let scaled = aks.mul(&v[s]);
+            for (l, als) in entries {
+                g[*k][*l] = g[*k][*l].add(&scaled.mul(als));
+            }
+        }
+    }
+    let ldu = Ldu::factor(g, r, Simplification::Gcd);
+    debug_assert_eq!(ldu.rank(), r, "Â V Âᵀ is positive definite");
+    let columns: Vec<QVec<R>> = (0..r)
+        .map(|k| {
+            let mut e = QVec::zeros(r);
+            let pos = ldu
+                .row_perm()
+                .iter()
+                .position(|&i| i == k)
+                .expect("row permutation is a bijection");
+            e.num[pos] = R::one();
+            ldu.forward(&mut e);
+            let mut y = QVec {
+                num: e.num.iter().zip(ldu.d()).map(|(z, d)| z.mul(d)).collect(),
+                den: e.den,
+            };
+            ldu.backward(&mut y);
+            let mut x = vec![R::zero(); r];
+            for (p, val) in y.num.into_iter().enumerate() {
+                x[ldu.col_perm()[p]] = val;
+            }
+            QVec { num: x, den: y.den }
+        })
+        .collect();
+    let den = QVec::common_denominator(columns.iter());
+    let mut inv = vec![vec![R::zero(); r]; r];
+    for (k, col) in columns.iter().enumerate() {
+        let f = den.div_exact(&col.den);
+        for (i, val) in col.num.iter().enumerate() {
+            inv[i][k] = val.mul(&f);
+        }
+    }
+    (inv, den)
+}
+
+impl<R: Ring> PreparedLeastSquares for ExactLeastSquares<R> {
+    type Scalar = Rational;
+
+    fn check(&self, column: usize, alpha: &[Rational]) -> Result<(), SolveError<Rational>> {
+        self.validate(column, alpha)?;
+        self.check_prepared(column, &QVec::from_rationals(alpha))
+    }
+
+    fn solve(
+        &self,
+        column: usize,
+        alpha: &[Rational],
+        hints: &[Rational],
+    ) -> Result<Vec<Rational>, SolveError<Rational>> {
+        self.validate(column, alpha)?;
+        check_len("hints", hints.len(), self.n)?;
+        let alpha = QVec::<R>::from_rationals(alpha);
+        self.check_prepared(column, &alpha)?;
+        let h = QVec::<R>::from_rationals(hints);
+        let r = self.a_hat.len();
+        if r == 0 {
+            return Ok(hints.to_vec());
+        }
+        let c = &self.c_hat[column];
+        let common = lcm(&lcm(&h.den, &alpha.den), &c.den);
+        let fh = common.div_exact(&h.den);
+        let fa = common.div_exact(&alpha.den);
+        let fc = common.div_exact(&c.den);
+        // ρ = Â h − ĉ + K̂ α, over `common`.
+        let rho: Vec<R> = (0..r)
+            .map(|k| {
+                let mut s = dot_sparse(&self.a_hat[k], &h.num).mul(&fh);
+                if !c.num[k].is_zero() {
+                    s = s.sub(&c.num[k].mul(&fc));
+                }
+                let ka = dot_sparse(&self.k_hat[k], &alpha.num);
+                if !ka.is_zero() {
+                    s = s.add(&ka.mul(&fa));
+                }
+                s
+            })
+            .collect();
+        // λ = G⁻¹ ρ over g_den · common; μ = Âᵀ λ.
+        let mut mu = vec![R::zero(); self.n];
+        for (k, row) in self.g_inv.iter().enumerate() {
+            let lambda_k = row
+                .iter()
+                .zip(&rho)
+                .fold(R::zero(), |acc, (gi, p)| {
+                    if gi.is_zero() || p.is_zero() {
+                        acc
+                    } else {
+                        acc.add(&gi.mul(p))
+                    }
+                });
+            if lambda_k.is_zero() {
+                continue;
+            }
+            for (s, aks) in &self.a_hat[k] {
+                mu[*s] = mu[*s].add(&aks.mul(&lambda_k));
+            }
+        }
+        let den = self.g_den.mul(&common);
+        let scale_h = self.g_den.mul(&fh);
+        let x: Vec<R> = (0..self.n)
+            .map(|s| {
+                let base = h.num[s].mul(&scale_h);
+                if mu[s].is_zero() {
+                    base
+                } else {
+                    base.sub(&self.v[s].mul(&mu[s]))
+                }
+            })
+            .collect();
+        Ok(QVec { num: x, den }.to_rationals())
+    }
+}
+
+impl<R: Ring> ExactLeastSquares<R> {
+    /// Number of redundant rows whose consistency each update checks.
+    pub fn redundant_rows(&self) -> usize {
+        self.checks.len()
+    }
+
+    /// Bit size of the common denominator of `G⁻¹` (a measure of the update cost).
+    pub fn inverse_denominator_bits(&self) -> u64 {
+        self.g_den.bits()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use api::IntMatrix;
+    use num_traits::{One, Zero};
+
+    #[test]
+    fn zero_weight_sum_is_rejected() {
+        let a = IntMatrix::from_dense(2, &[vec![1, 1]]).expect("matrix");
+        let f = ExactFactorization::<Int>::new(&a, Simplification::Gcd);
+        let family = RhsFamily::single(vec![Rational::zero()]);
+        let err = f
+            .prepare_least_squares(&family, &[Rational::one(), Rational::zero()])
+            .expect_err("zero weight");
+        assert!(matches!(err, BackendError::NonPositiveWeight { index: 1, .. }));
+    }
+}

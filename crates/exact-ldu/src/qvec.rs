@@ -1,0 +1,160 @@
+//! Rational vectors over one common denominator.
+//!
+//! Exact solves keep every entry as `num[k] / den` with a shared positive `den`: sums and
+//! triangular substitutions then run on integers only, and each result entry is reduced once at
+//! the end instead of after every operation.
+
+use crate::ring::{gcd_all, lcm, Ring};
+use num_bigint::BigInt;
+use api::Rational as BigRational;
+use num_traits::One;
+
+/// A rational vector `num / den` with `den > 0`.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct QVec<R: Ring> {
+    /// Numerators.
+    pub num: Vec<R>,
+    /// The common denominator, positive.
+    pub den: R,
+}
+
+impl<R: Ring> QVec<R> {
+    /// An integer vector (denominator 1).
+    pub fn from_integers(num: Vec<R>) -> Self {
+        QVec { num, den: R::one() }
+    }
+
+    /// The zero vector of length `n`.
+    pub fn zeros(n: usize) -> Self {
+        QVec::from_integers(vec![R::zero(); n])
+    }
+
+    /// Brings rationals to their least common denominator.
+    pub fn from_rationals(values: &[BigRational]) -> Self {
+        let mut den_big = BigInt::from(1);
+        for v in values {
+            if !One::is_one(v.denom()) {
+                den_big = num_integer::Integer::lcm(&den_big, v.denom());
+            }
+        }
+        let num = values
+            .iter()
+            .map(|v| {
+                if One::is_one(v.denom()) {
+                    R::from_bigint(&(v.numer() * &den_big))
+                } else {
+                    R::from_bigint(&(v.numer() * (&den_big / v.denom())))
+                }
+            })
+            .collect();
+        QVec {
+            num,
+            den: R::from_bigint(&den_big),
+        }
+    }
+
+    /// The entries as reduced rationals.
+    pub fn to_rationals(&self) -> Vec<BigRational> {
+        let den = self.den.to_bigint();
+        self.num
+            .iter()
+            .map(|v| BigRational::new(v.to_bigint(), den.clone()))
+            .collect()
+    }
+
+    /// Length.
+    pub fn len(&self) -> usize {
+        self.num.len()
+    }
+
+    /// True when empty.
+    pub fn is_empty(&self) -> bool {
+        self.num.is_empty()
+    }
+
+    /// Sets entry `k` to `s / (den · divisor)` and rescales the other entries so that all keep
+    /// one denominator. `divisor` must be nonzero.
+    pub fn divide_entry(&mut self, k: usize, s: R, divisor: &R) {
+        let g = s.gcd(divisor);
+        let mut f = divisor.div_exact(&g);
+        let mut q = s.div_exact(&g);
+        if f.is_negative() {
+            f = f.neg();
+            q = q.neg();
+        }
+        if !f.is_one() {
+            for (j, v) in self.num.iter_mut().enumerate() {
+                if j != k && !v.is_zero() {
+                    *v = v.mul(&f);
+                }
+            }
+            self.den = self.den.mul(&f);
+        }
+        self.num[k] = q;
+    }
+
+    /// Divides numerators and denominator by their common factor.
+    pub fn normalize(&mut self) {
+        let g = gcd_all(&self.num).gcd(&self.den);
+        if !g.is_one() && !g.is_zero() {
+            for v in self.num.iter_mut() {
+                *v = v.div_exact(&g);
+            }
+            self.den = self.den.div_exact(&g);
+        }
+    }
+
+    /// Rewrites the vector over the denominator `target`, a multiple of the current one.
+    pub fn rescale_to(&mut self, target: &R) {
+        if target == &self.den {
+            return;
+        }
+        let f = target.div_exact(&self.den);
+        for v in self.num.iter_mut() {
+            *v = v.mul(&f);
+        }
+        self.den = target.clone();
+    }
+
+    /// The least common multiple of the denominators of several vectors.
+    pub fn common_denominator<'a>(vectors: impl IntoIterator<Item = &'a QVec<R>>) -> R {
+        vectors
+            .into_iter()
+            .fold(R::one(), |acc, v| lcm(&acc, &v.den))
+    }
+
+    /// The primitive integer vector in the direction of this one (a positive multiple).
+    pub fn primitive_integers(&self) -> Vec<R> {
+        let g = gcd_all(&self.num);
+        if g.is_zero() || g.is_one() {
+            return self.num.clone();
+        }
+        self.num.iter().map(|v| v.div_exact(&g)).collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::ring::Int;
+
+    fn q(n: i64, d: i64) -> BigRational {
+        BigRational::new(n.into(), d.into())
+    }
+
+    #[test]
+    fn round_trips_and_divides() {
+        let values = vec![q(1, 2), q(-2, 3), q(5, 1)];
+        let mut v = QVec::<Int>::from_rationals(&values);
+        assert_eq!(v.den, Int::from_i64(6));
+        assert_eq!(v.to_rationals(), values);
+        v.divide_entry(1, Int::from_i64(-4), &Int::from_i64(-6));
+        assert_eq!(v.to_rationals(), vec![q(1, 2), q(1, 9), q(5, 1)]);
+        v.normalize();
+        assert_eq!(v.to_rationals(), vec![q(1, 2), q(1, 9), q(5, 1)]);
+        assert_eq!(
+            QVec::from_integers(vec![Int::from_i64(4), Int::from_i64(-6)]).primitive_integers(),
+            vec![Int::from_i64(2), Int::from_i64(-3)]
+        );
+    }
+}

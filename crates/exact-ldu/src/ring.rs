@@ -1,0 +1,407 @@
+//! Integer arithmetic for the factoring: the [`Ring`] trait and the machine-integer fast path.
+//!
+//! [`Int`] keeps a value in an `i64` while it fits and moves it to a [`BigInt`] only when a
+//! result overflows (products and differences are formed in `i128` first, so `a·b − c·d` of
+//! machine integers never overflows on the way). Values are kept normalised: a big value that
+//! fits an `i64` again (after a division or a GCD) moves back. The algorithms are generic over
+//! [`Ring`], so the same code runs on plain [`BigInt`] (the fast path forced off) and must give
+//! identical results.
+
+use num_bigint::{BigInt, Sign};
+use num_traits::{One, ToPrimitive, Zero};
+use std::cmp::Ordering;
+use std::fmt;
+
+/// The integer operations the fraction-free algorithms need.
+pub trait Ring: Clone + fmt::Debug + PartialEq + Eq + Send + Sync + 'static {
+    /// 0.
+    fn zero() -> Self;
+    /// 1.
+    fn one() -> Self;
+    /// From a machine integer.
+    fn from_i64(v: i64) -> Self;
+    /// From an arbitrary-precision integer.
+    fn from_bigint(v: &BigInt) -> Self;
+    /// To an arbitrary-precision integer.
+    fn to_bigint(&self) -> BigInt;
+    /// `self == 0`.
+    fn is_zero(&self) -> bool;
+    /// `self == 1`.
+    fn is_one(&self) -> bool;
+    /// `self < 0`.
+    fn is_negative(&self) -> bool;
+    /// `self + other`.
+    fn add(&self, other: &Self) -> Self;
+    /// `self − other`.
+    fn sub(&self, other: &Self) -> Self;
+    /// `self · other`.
+    fn mul(&self, other: &Self) -> Self;
+    /// `−self`.
+    fn neg(&self) -> Self;
+    /// `|self|`.
+    fn abs(&self) -> Self {
+        if self.is_negative() {
+            self.neg()
+        } else {
+            self.clone()
+        }
+    }
+    /// `a·b − c·d`, the cross-multiplication of the fraction-free elimination.
+    fn mul_sub(a: &Self, b: &Self, c: &Self, d: &Self) -> Self {
+        a.mul(b).sub(&c.mul(d))
+    }
+    /// `self / other` where the division is known to be exact.
+    fn div_exact(&self, other: &Self) -> Self;
+    /// Greatest common divisor, non-negative (`gcd(0, 0) = 0`).
+    fn gcd(&self, other: &Self) -> Self;
+    /// Compares absolute values.
+    fn abs_cmp(&self, other: &Self) -> Ordering;
+    /// Compares values.
+    fn cmp_value(&self, other: &Self) -> Ordering;
+    /// Number of bits of `|self|` (0 for 0).
+    fn bits(&self) -> u64;
+}
+
+impl Ring for BigInt {
+    fn zero() -> Self {
+        Zero::zero()
+    }
+    fn one() -> Self {
+        One::one()
+    }
+    fn from_i64(v: i64) -> Self {
+        BigInt::from(v)
+    }
+    fn from_bigint(v: &BigInt) -> Self {
+        v.clone()
+    }
+    fn to_bigint(&self) -> BigInt {
+        self.clone()
+    }
+    fn is_zero(&self) -> bool {
+        Zero::is_zero(self)
+    }
+    fn is_one(&self) -> bool {
+        One::is_one(self)
+    }
+    fn is_negative(&self) -> bool {
+        self.sign() == Sign::Minus
+    }
+    fn add(&self, other: &Self) -> Self {
+        self + other
+    }
+    fn sub(&self, other: &Self) -> Self {
+        self - other
+    }
+    fn mul(&self, other: &Self) -> Self {
+        self * other
+    }
+    fn neg(&self) -> Self {
+        -self
+    }
+    fn div_exact(&self, other: &Self) -> Self {
+        debug_assert!(Zero::is_zero(&(self % other)), "inexact division");
+        self / other
+    }
+    fn gcd(&self, other: &Self) -> Self {
+        num_integer::Integer::gcd(self, other)
+    }
+    fn abs_cmp(&self, other: &Self) -> Ordering {
+        self.magnitude().cmp(other.magnitude())
+    }
+    fn cmp_value(&self, other: &Self) -> Ordering {
+        self.cmp(other)
+    }
+    fn bits(&self) -> u64 {
+        BigInt::bits(self)
+    }
+}
+
+/// An integer that stays in an `i64` while it fits and becomes a [`BigInt`] only on overflow.
+///
+/// Invariant: the `Big` variant never holds a value that fits an `i64`, so equal values have
+/// equal representations.
+#[derive(Clone, PartialEq, Eq, Hash)]
+pub enum Int {
+    /// A value that fits an `i64`.
+    Small(i64),
+    /// A value outside the `i64` range.
+    Big(Box<BigInt>),
+}
+
+impl fmt::Debug for Int {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Int::Small(v) => write!(f, "{v}"),
+            Int::Big(v) => write!(f, "{v}"),
+        }
+    }
+}
+
+impl fmt::Display for Int {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        fmt::Debug::fmt(self, f)
+    }
+}
+
+impl Int {
+    fn from_i128(v: i128) -> Int {
+        match i64::try_from(v) {
+            Ok(s) => Int::Small(s),
+            Err(_) => Int::Big(Box::new(BigInt::from(v))),
+        }
+    }
+
+    fn from_big(v: BigInt) -> Int {
+        match v.to_i64() {
+            Some(s) => Int::Small(s),
+            None => Int::Big(Box::new(v)),
+        }
+    }
+
+    fn big(&self) -> BigInt {
+        match self {
+            Int::Small(v) => BigInt::from(*v),
+            Int::Big(b) => (**b).clone(),
+        }
+    }
+
+    /// True when the value is held in a machine integer.
+    pub fn is_small(&self) -> bool {
+        matches!(self, Int::Small(_))
+    }
+}
+
+fn binary_gcd(mut a: u64, mut b: u64) -> u64 {
+    if a == 0 {
+        return b;
+    }
+    if b == 0 {
+        return a;
+    }
+    let shift = (a | b).trailing_zeros();
+    a >>= a.trailing_zeros();
+    loop {
+        b >>= b.trailing_zeros();
+        if a > b {
+            std::mem::swap(&mut a, &mut b);
+        }
+        b -= a;
+        if b == 0 {
+            return a << shift;
+        }
+    }
+}
+
+impl Ring for Int {
+    fn zero() -> Self {
+        Int::Small(0)
+    }
+    fn one() -> Self {
+        Int::Small(1)
+    }
+    fn from_i64(v: i64) -> Self {
+        Int::Small(v)
+    }
+    fn from_bigint(v: &BigInt) -> Self {
+        Int::from_big(v.clone())
+    }
+    fn to_bigint(&self) -> BigInt {
+        self.big()
+    }
+    fn is_zero(&self) -> bool {
+        matches!(self, Int::Small(0))
+    }
+    fn is_one(&self) -> bool {
+        matches!(self, Int::Small(1))
+    }
+    fn is_negative(&self) -> bool {
+        match self {
+            Int::Small(v) => *v < 0,
+            Int::Big(b) => b.sign() == Sign::Minus,
+        }
+    }
+    fn add(&self, other: &Self) -> Self {
+        match (self, other) {
+            (Int::Small(a), Int::Small(b)) => Int::from_i128(*a as i128 + *b as i128),
+            _ => Int::from_big(self.big() + other.big()),
+        }
+    }
+    fn sub(&self, other: &Self) -> Self {
+        match (self, other) {
+            (Int::Small(a), Int::Small(b)) => Int::from_i128(*a as i128 - *b as i128),
+            _ => Int::from_big(self.big() - other.big()),
+        }
+    }
+    fn mul(&self, other: &Self) -> Self {
+        match (self, other) {
+            (Int::Small(a), Int::Small(b)) => Int::from_i128(*a as i128 * *b as i128),
+            (Int::Small(0), _) | (_, Int::Small(0)) => Int::Small(0),
+            (Int::Small(a), Int::Big(b)) | (Int::Big(b), Int::Small(a)) => {
+                Int::from_big(&**b * *a)
+            }
+            (Int::Big(a), Int::Big(b)) => Int::from_big(&**a * &**b),
+        }
+    }
+    fn neg(&self) -> Self {
+        match self {
+            Int::Small(v) => Int::from_i128(-(*v as i128)),
+            Int::Big(b) => Int::from_big(-&**b),
+        }
+    }
+    fn mul_sub(a: &Self, b: &Self, c: &Self, d: &Self) -> Self {
+        if let (Int::Small(a), Int::Small(b), Int::Small(c), Int::Small(d)) = (a, b, c, d) {
+            // |a·b|, |c·d| ≤ 2^126, so the difference fits an i128.
+            return Int::from_i128(*a as i128 * *b as i128 - *c as i128 * *d as i128);
+        }
+        a.mul(b).sub(&c.mul(d))
+    }
+    fn div_exact(&self, other: &Self) -> Self {
+        match (self, other) {
+            (Int::Small(a), Int::Small(b)) => {
+                debug_assert!(*b != 0 && a % b == 0, "inexact division");
+                Int::from_i128(*a as i128 / *b as i128)
+            }
+            _ => {
+                let (a, b) = (self.big(), other.big());
+                debug_assert!(Zero::is_zero(&(&a % &b)), "inexact division");
+                Int::from_big(a / b)
+            }
+        }
+    }
+    fn gcd(&self, other: &Self) -> Self {
+        match (self, other) {
+            (Int::Small(a), Int::Small(b)) => {
+                let g = binary_gcd(a.unsigned_abs(), b.unsigned_abs());
+                Int::from_i128(g as i128)
+            }
+            (Int::Small(a), Int::Big(b)) | (Int::Big(b), Int::Small(a)) if *a != 0 => {
+                // gcd(big, small) = gcd(small, big mod small): one bignum division.
+                let rem = (&**b % BigInt::from(*a)).to_i64().unwrap_or(0);
+                Int::from_i128(binary_gcd(a.unsigned_abs(), rem.unsigned_abs()) as i128)
+            }
+            _ => Int::from_big(num_integer::Integer::gcd(&self.big(), &other.big())),
+        }
+    }
+    fn abs_cmp(&self, other: &Self) -> Ordering {
+        match (self, other) {
+            (Int::Small(a), Int::Small(b)) => a.unsigned_abs().cmp(&b.unsigned_abs()),
+            (Int::Small(_), Int::Big(_)) => Ordering::Less,
+            (Int::Big(_), Int::Small(_)) => Ordering::Greater,
+            (Int::Big(a), Int::Big(b)) => a.magnitude().cmp(b.magnitude()),
+        }
+    }
+    fn cmp_value(&self, other: &Self) -> Ordering {
+        match (self, other) {
+            (Int::Small(a), Int::Small(b)) => a.cmp(b),
+            _ => self.big().cmp(&other.big()),
+        }
+    }
+    fn bits(&self) -> u64 {
+        match self {
+            Int::Small(v) => 64 - v.unsigned_abs().leading_zeros() as u64,
+            Int::Big(b) => b.bits(),
+        }
+    }
+}
+
+/// `gcd` of a slice (non-negative; 0 for an empty or all-zero slice). Stops early at 1.
+pub fn gcd_all<R: Ring>(values: &[R]) -> R {
+    let mut g = R::zero();
+    for v in values {
+        if v.is_zero() {
+            continue;
+        }
+        g = g.gcd(v);
+        if g.is_one() {
+            break;
+        }
+    }
+    g
+}
+
+/// Least common multiple of two positive values.
+pub fn lcm<R: Ring>(a: &R, b: &R) -> R {
+    if a == b {
+        return a.clone();
+    }
+    let g = a.gcd(b);
+    a.div_exact(&g).mul(b).abs()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn interesting() -> impl Strategy<Value = i64> {
+        prop_oneof![
+            any::<i64>(),
+            -1000i64..1000,
+            Just(i64::MIN),
+            Just(i64::MAX),
+            Just(i64::MIN + 1),
+            Just(0),
+        ]
+    }
+
+    fn both(v: &BigInt) -> (Int, BigInt) {
+        (Int::from_bigint(v), v.clone())
+    }
+
+    fn check_normal(v: &Int) {
+        if let Int::Big(b) = v {
+            assert!(b.to_i64().is_none(), "unnormalised big {b}");
+        }
+    }
+
+    proptest! {
+        #[test]
+        fn int_matches_bigint(a in interesting(), b in interesting(), c in interesting(), d in interesting(), scale in 0u32..3) {
+            // Lift some operands beyond i64 to exercise the big paths.
+            let lift = |x: i64| BigInt::from(x) * BigInt::from(3).pow(scale * 30);
+            let (ia, ba) = both(&lift(a));
+            let (ib, bb) = both(&BigInt::from(b));
+            let (ic, bc) = both(&lift(c));
+            let (id, bd) = both(&BigInt::from(d));
+            for (x, y) in [
+                (ia.add(&ib), Ring::add(&ba, &bb)),
+                (ia.sub(&ib), Ring::sub(&ba, &bb)),
+                (ia.mul(&ib), Ring::mul(&ba, &bb)),
+                (ia.neg(), Ring::neg(&ba)),
+                (Int::mul_sub(&ia, &ib, &ic, &id), BigInt::mul_sub(&ba, &bb, &bc, &bd)),
+                (ia.gcd(&ib), Ring::gcd(&ba, &bb)),
+                (ia.gcd(&ic), Ring::gcd(&ba, &bc)),
+                (ia.abs(), Ring::abs(&ba)),
+            ] {
+                check_normal(&x);
+                prop_assert_eq!(x.to_bigint(), y);
+            }
+            prop_assert_eq!(ia.abs_cmp(&ib), ba.abs_cmp(&bb));
+            prop_assert_eq!(ia.cmp_value(&ic), ba.cmp_value(&bc));
+            prop_assert_eq!(ia.bits(), Ring::bits(&ba));
+            if b != 0 {
+                let prod = ia.mul(&ib);
+                let q = prod.div_exact(&ib);
+                check_normal(&q);
+                prop_assert_eq!(q.to_bigint(), ba.clone());
+            }
+        }
+    }
+
+    #[test]
+    fn overflow_moves_to_big_and_back() {
+        let a = Int::Small(i64::MAX);
+        let sum = a.add(&Int::Small(1));
+        assert!(!sum.is_small());
+        let back = sum.sub(&Int::Small(1));
+        assert!(back.is_small());
+        assert_eq!(Int::Small(i64::MIN).neg().to_bigint(), -BigInt::from(i64::MIN));
+        assert_eq!(
+            Int::Small(i64::MIN).gcd(&Int::Small(0)).to_bigint(),
+            BigInt::from(2u64.pow(63))
+        );
+        assert_eq!(gcd_all(&[Int::Small(0), Int::Small(6), Int::Small(-4)]), Int::Small(2));
+        assert_eq!(lcm(&Int::Small(4), &Int::Small(6)), Int::Small(12));
+    }
+}
