@@ -98,16 +98,15 @@ pub enum RowBody {
 }
 
 impl RowBody {
-    /// The parameters the row involves (with a nonzero coefficient), in term order.
+    /// The distinct parameters the row involves, increasing.
     pub fn params(&self) -> Vec<ParamId> {
-        match self {
+        let mut out: Vec<ParamId> = match self {
             RowBody::Vector { terms, .. } => terms.iter().map(|(p, _)| *p).collect(),
-            RowBody::Scalar { terms, .. } => {
-                let mut out: Vec<ParamId> = terms.iter().map(|(c, _)| c.param).collect();
-                out.dedup();
-                out
-            }
-        }
+            RowBody::Scalar { terms, .. } => terms.iter().map(|(c, _)| c.param).collect(),
+        };
+        out.sort();
+        out.dedup();
+        out
     }
 
     /// Number of scalar equations the row stands for.
@@ -205,6 +204,8 @@ pub struct ConstraintSystem {
     params: Vec<Parameter>,
     by_name: HashMap<String, ParamId>,
     rows: Vec<ConstraintRow>,
+    /// For each parameter, the rows that involve it (increasing).
+    incidence: Vec<Vec<RowId>>,
 }
 
 impl ConstraintSystem {
@@ -229,6 +230,7 @@ impl ConstraintSystem {
         let id = ParamId(self.params.len() as u32);
         self.by_name.insert(name.clone(), id);
         self.params.push(Parameter { name, dim });
+        self.incidence.push(Vec::new());
         Ok(id)
     }
 
@@ -269,6 +271,9 @@ impl ConstraintSystem {
             }
         }
         let id = RowId(self.rows.len() as u32);
+        for p in row.body.params() {
+            self.incidence[p.index()].push(id);
+        }
         self.rows.push(row);
         Ok(id)
     }
@@ -291,6 +296,14 @@ impl ConstraintSystem {
     /// One parameter, if the id exists.
     pub fn param(&self, id: ParamId) -> Option<&Parameter> {
         self.params.get(id.index())
+    }
+
+    /// The rows in which a parameter has a nonzero coefficient, increasing.
+    ///
+    /// # Panics
+    /// Panics if `id` is not a parameter of this system.
+    pub fn rows_of(&self, id: ParamId) -> &[RowId] {
+        &self.incidence[id.index()]
     }
 
     /// Looks a parameter up by name.

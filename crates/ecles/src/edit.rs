@@ -1,0 +1,683 @@
+//! ECLES.Initialize and ECLES.Update (thesis, algorithms 1, 3, 4, 5).
+
+use crate::error::{Conflict, ConflictingRow, EditError};
+use crate::relevant::{extract_relevant, Relevant};
+use api::{
+    ConstraintSystem, Coord, Factorization, Inconsistency, Integer, IntMatrix,
+    LinearBackend, ParamId, PreparedLeastSquares, Rational, RhsFamily, RowBody, RowId,
+    SolveError, StrongFailure, Values,
+};
+use num_traits::{One, Zero};
+use std::collections::HashMap;
+
+/// What the user asks for: anchors `A`, derived parameters `D` with weights, and whether strong
+/// solvability must be checked at initialisation.
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct EditSpec {
+    /// `A`: parameters whose new values are given (at least one).
+    pub anchors: Vec<ParamId>,
+    /// `D`: parameters that may change to keep the constraints (disjoint from `A`).
+    pub derived: Vec<ParamId>,
+    /// One positive weight per derived parameter (all 1 when `None`): how strongly its hint is
+    /// honoured.
+    pub weights: Option<Vec<Rational>>,
+    /// Check at initialisation that every anchor value is reachable (algorithm 3).
+    pub strong: bool,
+}
+
+impl EditSpec {
+    /// An edit with unit weights and no strong check.
+    pub fn new(anchors: Vec<ParamId>, derived: Vec<ParamId>) -> Self {
+        EditSpec {
+            anchors,
+            derived,
+            weights: None,
+            strong: false,
+        }
+    }
+
+    /// Sets one weight per derived parameter.
+    pub fn with_weights(mut self, weights: Vec<Rational>) -> Self {
+        self.weights = Some(weights);
+        self
+    }
+
+    /// Requests the strong-solvability check.
+    pub fn strong(mut self) -> Self {
+        self.strong = true;
+        self
+    }
+}
+
+/// How the reduced system is laid out.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Layout {
+    /// All relevant rows are vector rows of dimension `dim` over parameters of that dimension:
+    /// one unknown per parameter and `dim` right-hand sides sharing one factorization.
+    Vector {
+        /// The common dimension.
+        dim: usize,
+    },
+    /// One unknown per coordinate (vector rows are split into one scalar row per coordinate).
+    Scalar,
+}
+
+/// A row of the reduced system: a constraint and, when a vector row was split, the coordinate.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct RowRef {
+    /// The constraint.
+    pub row: RowId,
+    /// The coordinate of a split vector row (`None` for scalar rows and vector layouts).
+    pub component: Option<usize>,
+}
+
+/// What initialisation found out about an edit.
+#[derive(Debug, Clone, PartialEq)]
+pub struct EditReport<S> {
+    /// Name of the backend.
+    pub backend: &'static str,
+    /// `E`, the relevant constraints.
+    pub relevant: Vec<RowId>,
+    /// `F'`, the fixed relevant parameters.
+    pub fixed_relevant: Vec<ParamId>,
+    /// The layout of the reduced system.
+    pub layout: Layout,
+    /// Equations of the reduced system (rows of `R_ED`).
+    pub equations: usize,
+    /// Unknowns of the reduced system (columns of `R_ED`).
+    pub unknowns: usize,
+    /// Rank of `R_ED`.
+    pub rank: usize,
+    /// Rows kept as independent.
+    pub independent: Vec<RowRef>,
+    /// Each redundant row with the combination of independent rows equal to it.
+    pub redundant: Vec<(RowRef, Vec<(RowRef, S)>)>,
+    /// `Some(true)` when strong solvability was checked (it failed otherwise), `None` when not
+    /// asked.
+    pub strongly_solvable: Option<bool>,
+}
+
+/// The outcome of one update: new values of the anchors (as given) and of the derived parameters.
+#[derive(Debug, Clone, PartialEq)]
+pub struct UpdateResult<S> {
+    /// Anchors with their required values.
+    pub anchors: Vec<(ParamId, Vec<Rational>)>,
+    /// Derived parameters with their computed values.
+    pub derived: Vec<(ParamId, Vec<S>)>,
+}
+
+/// An initialised editing action: call [`Edit::update`] (or [`Edit::apply`]) once per new set of
+/// anchor values and hints.
+#[derive(Debug, Clone)]
+pub struct Edit<F: Factorization> {
+    backend: &'static str,
+    anchors: Vec<ParamId>,
+    anchor_names: Vec<String>,
+    anchor_dims: Vec<usize>,
+    derived: Vec<ParamId>,
+    derived_names: Vec<String>,
+    derived_dims: Vec<usize>,
+    relevant: Relevant,
+    layout: Layout,
+    rows: Vec<RowRef>,
+    labels: Vec<String>,
+    factorization: F,
+    prepared: F::LeastSquares,
+    strongly_solvable: Option<bool>,
+}
+
+/// The reduced system of an edit before factoring.
+struct Reduced {
+    layout: Layout,
+    r_ed: IntMatrix,
+    family: RhsFamily,
+    rows: Vec<RowRef>,
+    labels: Vec<String>,
+}
+
+/// Scalar equations of one row: `(terms over coordinates, rhs, component)`.
+type ScalarEquation = (Vec<(Coord, Integer)>, Integer, Option<usize>);
+
+fn scalar_equations(body: &RowBody) -> Vec<ScalarEquation> {
+    match body {
+        RowBody::Vector { terms, rhs } => rhs
+            .iter()
+            .enumerate()
+            .map(|(k, q)| {
+                let terms = terms
+                    .iter()
+                    .map(|(p, c)| (Coord { param: *p, component: k }, c.clone()))
+                    .collect();
+                (terms, q.clone(), Some(k))
+            })
+            .collect(),
+        RowBody::Scalar { terms, rhs } => vec![(terms.clone(), rhs.clone(), None)],
+    }
+}
+
+/// Where a parameter sits in the reduced system.
+#[derive(Clone, Copy)]
+enum Role {
+    Anchor(usize),
+    Derived(usize),
+}
+
+impl<F: Factorization> Edit<F> {
+    /// ECLES.Initialize: validates `spec`, extracts the relevant part of `system`, factors
+    /// `R_ED` with `backend`, checks strong solvability if asked, and prepares the
+    /// least-squares solve. `values` supplies the current values of the fixed relevant
+    /// parameters; they are captured here.
+    pub fn initialize<B>(
+        backend: &B,
+        system: &ConstraintSystem,
+        values: &Values,
+        spec: &EditSpec,
+    ) -> Result<Self, EditError<F::Scalar>>
+    where
+        B: LinearBackend<Factorization = F>,
+    {
+        let weights = validate_spec(system, values, spec)?;
+        let relevant = extract_relevant(system, &spec.anchors, &spec.derived);
+        let reduced = reduce(system, values, spec, &relevant);
+        let factorization = backend.factor(&reduced.r_ed)?;
+
+        let dims = |ids: &[ParamId]| -> Vec<usize> {
+            ids.iter().map(|p| system.params()[p.index()].dim).collect()
+        };
+        let names = |ids: &[ParamId]| -> Vec<String> {
+            ids.iter()
+                .map(|p| system.params()[p.index()].name.clone())
+                .collect()
+        };
+        let mut edit_weights = Vec::with_capacity(reduced.r_ed.cols());
+        for (w, p) in weights.iter().zip(&spec.derived) {
+            let copies = match reduced.layout {
+                Layout::Vector { .. } => 1,
+                Layout::Scalar => system.params()[p.index()].dim,
+            };
+            edit_weights.extend(std::iter::repeat_n(w.clone(), copies));
+        }
+        let mut strongly_solvable = None;
+        let anchor_names = names(&spec.anchors);
+        let anchor_dims = dims(&spec.anchors);
+        if spec.strong {
+            match factorization.check_strongly_consistent(&reduced.family)? {
+                Ok(()) => strongly_solvable = Some(true),
+                Err(StrongFailure::Constant {
+                    column,
+                    inconsistency,
+                }) => {
+                    return Err(EditError::CurrentStateInconsistent(conflict(
+                        &reduced.rows,
+                        &reduced.labels,
+                        reduced.layout,
+                        column,
+                        inconsistency,
+                    )))
+                }
+                Err(StrongFailure::Direction {
+                    parameter,
+                    inconsistency,
+                }) => {
+                    let (anchor, component) = match reduced.layout {
+                        Layout::Vector { .. } => (anchor_names[parameter].clone(), None),
+                        Layout::Scalar => {
+                            let mut offset = 0;
+                            let mut found = (String::new(), None);
+                            for (name, dim) in anchor_names.iter().zip(&anchor_dims) {
+                                if parameter < offset + dim {
+                                    let k = parameter - offset;
+                                    found = (name.clone(), (*dim > 1).then_some(k));
+                                    break;
+                                }
+                                offset += dim;
+                            }
+                            found
+                        }
+                    };
+                    return Err(EditError::NotStronglySolvable {
+                        anchor,
+                        component,
+                        conflict: conflict(
+                            &reduced.rows,
+                            &reduced.labels,
+                            Layout::Scalar,
+                            0,
+                            inconsistency,
+                        ),
+                    });
+                }
+            }
+        }
+        let prepared = factorization.prepare_least_squares(&reduced.family, &edit_weights)?;
+        Ok(Edit {
+            backend: backend.name(),
+            anchors: spec.anchors.clone(),
+            anchor_names,
+            anchor_dims,
+            derived: spec.derived.clone(),
+            derived_names: names(&spec.derived),
+            derived_dims: dims(&spec.derived),
+            relevant,
+            layout: reduced.layout,
+            rows: reduced.rows,
+            labels: reduced.labels,
+            factorization,
+            prepared,
+            strongly_solvable,
+        })
+    }
+
+    /// The layout of the reduced system.
+    pub fn layout(&self) -> Layout {
+        self.layout
+    }
+
+    /// `E` and `F'`.
+    pub fn relevant(&self) -> &Relevant {
+        &self.relevant
+    }
+
+    /// The factorization of `R_ED`.
+    pub fn factorization(&self) -> &F {
+        &self.factorization
+    }
+
+    /// The anchors, in the order their values are passed to [`Edit::update`].
+    pub fn anchors(&self) -> &[ParamId] {
+        &self.anchors
+    }
+
+    /// The derived parameters, in the order hints are passed and results returned.
+    pub fn derived(&self) -> &[ParamId] {
+        &self.derived
+    }
+
+    /// Relevant and redundant constraints, rank, layout and strong-solvability verdict.
+    pub fn report(&self) -> EditReport<F::Scalar> {
+        let redundant = self
+            .factorization
+            .redundancies()
+            .into_iter()
+            .map(|red| {
+                (
+                    self.rows[red.row],
+                    red.combination
+                        .into_iter()
+                        .map(|(i, c)| (self.rows[i], c))
+                        .collect(),
+                )
+            })
+            .collect();
+        EditReport {
+            backend: self.backend,
+            relevant: self.relevant.constraints.clone(),
+            fixed_relevant: self.relevant.fixed.clone(),
+            layout: self.layout,
+            equations: self.factorization.rows(),
+            unknowns: self.factorization.cols(),
+            rank: self.factorization.rank(),
+            independent: self
+                .factorization
+                .independent_rows()
+                .into_iter()
+                .map(|i| self.rows[i])
+                .collect(),
+            redundant,
+            strongly_solvable: self.strongly_solvable,
+        }
+    }
+
+    fn check_values(
+        &self,
+        what: &'static str,
+        given: &[Vec<Rational>],
+        names: &[String],
+        dims: &[usize],
+    ) -> Result<(), EditError<F::Scalar>> {
+        if given.len() != dims.len() {
+            return Err(EditError::Count {
+                what,
+                expected: dims.len(),
+                found: given.len(),
+            });
+        }
+        for ((v, name), dim) in given.iter().zip(names).zip(dims) {
+            if v.len() != *dim {
+                return Err(EditError::ValueDimension {
+                    name: name.clone(),
+                    expected: *dim,
+                    found: v.len(),
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// ECLES.Update: checks that the anchor values are reachable (weak solvability) and returns
+    /// the derived values closest to the hints that satisfy every relevant constraint.
+    ///
+    /// `anchor_values[k]` is the new value of anchor `k`; `hints[k]` the suggested value of
+    /// derived parameter `k`. Nothing is modified; see [`Edit::apply`].
+    pub fn update(
+        &self,
+        anchor_values: &[Vec<Rational>],
+        hints: &[Vec<Rational>],
+    ) -> Result<UpdateResult<F::Scalar>, EditError<F::Scalar>> {
+        self.check_values(
+            "anchor values",
+            anchor_values,
+            &self.anchor_names,
+            &self.anchor_dims,
+        )?;
+        self.check_values("hints", hints, &self.derived_names, &self.derived_dims)?;
+        let derived_values: Vec<Vec<F::Scalar>> = match self.layout {
+            Layout::Vector { dim } => {
+                let mut out: Vec<Vec<F::Scalar>> =
+                    vec![Vec::with_capacity(dim); self.derived.len()];
+                for j in 0..dim {
+                    let alpha: Vec<Rational> =
+                        anchor_values.iter().map(|v| v[j].clone()).collect();
+                    let h: Vec<Rational> = hints.iter().map(|v| v[j].clone()).collect();
+                    let x = self
+                        .prepared
+                        .solve(j, &alpha, &h)
+                        .map_err(|e| self.solve_error(e, j))?;
+                    for (slot, value) in out.iter_mut().zip(x) {
+                        slot.push(value);
+                    }
+                }
+                out
+            }
+            Layout::Scalar => {
+                let alpha: Vec<Rational> = anchor_values.iter().flatten().cloned().collect();
+                let h: Vec<Rational> = hints.iter().flatten().cloned().collect();
+                let mut x = self
+                    .prepared
+                    .solve(0, &alpha, &h)
+                    .map_err(|e| self.solve_error(e, 0))?
+                    .into_iter();
+                self.derived_dims
+                    .iter()
+                    .map(|&dim| x.by_ref().take(dim).collect())
+                    .collect()
+            }
+        };
+        Ok(UpdateResult {
+            anchors: self
+                .anchors
+                .iter()
+                .copied()
+                .zip(anchor_values.iter().cloned())
+                .collect(),
+            derived: self.derived.iter().copied().zip(derived_values).collect(),
+        })
+    }
+
+    fn solve_error(&self, e: SolveError<F::Scalar>, column: usize) -> EditError<F::Scalar> {
+        match e {
+            SolveError::Input(e) => EditError::Backend(e),
+            SolveError::Inconsistent(inc) => EditError::Conflict(conflict(
+                &self.rows,
+                &self.labels,
+                self.layout,
+                column,
+                inc,
+            )),
+        }
+    }
+}
+
+impl<F: Factorization<Scalar = Rational>> Edit<F> {
+    /// Runs [`Edit::update`] and, only if it succeeds, writes the anchor and derived values into
+    /// `values`. On any error `values` is left exactly as it was.
+    pub fn apply(
+        &self,
+        system: &ConstraintSystem,
+        values: &mut Values,
+        anchor_values: &[Vec<Rational>],
+        hints: &[Vec<Rational>],
+    ) -> Result<UpdateResult<Rational>, EditError<Rational>> {
+        if values.len() != system.params().len() {
+            return Err(EditError::Count {
+                what: "parameter values",
+                expected: system.params().len(),
+                found: values.len(),
+            });
+        }
+        let result = self.update(anchor_values, hints)?;
+        let mut updates = result.anchors.clone();
+        updates.extend(result.derived.iter().cloned());
+        values.replace_all(updates);
+        Ok(result)
+    }
+}
+
+fn conflict<S: Clone>(
+    rows: &[RowRef],
+    labels: &[String],
+    layout: Layout,
+    column: usize,
+    inc: Inconsistency<S>,
+) -> Conflict<S> {
+    Conflict {
+        coordinate: match layout {
+            Layout::Vector { .. } => Some(column),
+            Layout::Scalar => None,
+        },
+        rows: inc
+            .rows
+            .iter()
+            .zip(inc.certificate)
+            .map(|(&i, multiplier)| ConflictingRow {
+                row: rows[i],
+                label: labels[i].clone(),
+                multiplier,
+            })
+            .collect(),
+        discrepancy: inc.discrepancy,
+    }
+}
+
+/// Checks ids, overlaps and weights; returns one weight per derived parameter.
+fn validate_spec<S: std::fmt::Debug>(
+    system: &ConstraintSystem,
+    values: &Values,
+    spec: &EditSpec,
+) -> Result<Vec<Rational>, EditError<S>> {
+    if spec.anchors.is_empty() {
+        return Err(EditError::NoAnchors);
+    }
+    let mut seen: HashMap<ParamId, bool> = HashMap::new();
+    for (p, is_anchor) in spec
+        .anchors
+        .iter()
+        .map(|p| (p, true))
+        .chain(spec.derived.iter().map(|p| (p, false)))
+    {
+        let Some(param) = system.param(*p) else {
+            return Err(EditError::UnknownParameter(*p));
+        };
+        if let Some(&was_anchor) = seen.get(p) {
+            let name = param.name.clone();
+            return Err(if was_anchor != is_anchor {
+                EditError::AnchorAlsoDerived { name }
+            } else {
+                EditError::Duplicate { name }
+            });
+        }
+        seen.insert(*p, is_anchor);
+    }
+    if values.len() != system.params().len() {
+        return Err(EditError::Count {
+            what: "parameter values",
+            expected: system.params().len(),
+            found: values.len(),
+        });
+    }
+    let weights = match &spec.weights {
+        None => vec![Rational::one(); spec.derived.len()],
+        Some(w) => {
+            if w.len() != spec.derived.len() {
+                return Err(EditError::WeightCount {
+                    expected: spec.derived.len(),
+                    found: w.len(),
+                });
+            }
+            for (wi, p) in w.iter().zip(&spec.derived) {
+                if *wi <= Rational::zero() {
+                    return Err(EditError::NonPositiveWeight {
+                        name: system.params()[p.index()].name.clone(),
+                        weight: api::format_rational(wi),
+                    });
+                }
+            }
+            w.clone()
+        }
+    };
+    Ok(weights)
+}
+
+/// Chooses the layout and builds `R_ED`, `R_EA` and the constant parts `q_E − R_EF' P_F'`.
+fn reduce(
+    system: &ConstraintSystem,
+    values: &Values,
+    spec: &EditSpec,
+    relevant: &Relevant,
+) -> Reduced {
+    let dim_of = |p: &ParamId| system.params()[p.index()].dim;
+    let first_dim = dim_of(&spec.anchors[0]);
+    let uniform = spec
+        .anchors
+        .iter()
+        .chain(&spec.derived)
+        .chain(&relevant.fixed)
+        .all(|p| dim_of(p) == first_dim);
+    let all_vector = relevant.constraints.iter().all(|r| {
+        matches!(&system.rows()[r.index()].body, RowBody::Vector { rhs, .. } if rhs.len() == first_dim)
+    });
+    let layout = if uniform && all_vector {
+        Layout::Vector { dim: first_dim }
+    } else {
+        Layout::Scalar
+    };
+
+    let mut role: HashMap<ParamId, Role> = HashMap::new();
+    for (k, p) in spec.anchors.iter().enumerate() {
+        role.insert(*p, Role::Anchor(k));
+    }
+    for (k, p) in spec.derived.iter().enumerate() {
+        role.insert(*p, Role::Derived(k));
+    }
+
+    let mut ed_rows = Vec::new();
+    let mut ea_rows = Vec::new();
+    let mut rows = Vec::new();
+    let mut labels = Vec::new();
+    match layout {
+        Layout::Vector { dim } => {
+            let mut constant = vec![Vec::with_capacity(relevant.constraints.len()); dim];
+            for &id in &relevant.constraints {
+                let row = &system.rows()[id.index()];
+                let RowBody::Vector { terms, rhs } = &row.body else {
+                    unreachable!("vector layout has only vector rows")
+                };
+                let mut ed = Vec::new();
+                let mut ea = Vec::new();
+                let mut c: Vec<Rational> =
+                    rhs.iter().map(|q| Rational::from_integer(q.clone())).collect();
+                for (p, coeff) in terms {
+                    match role.get(p) {
+                        Some(Role::Derived(k)) => ed.push((*k, coeff.clone())),
+                        Some(Role::Anchor(k)) => ea.push((*k, coeff.clone())),
+                        None => {
+                            let coeff = Rational::from_integer(coeff.clone());
+                            for (cj, pj) in c.iter_mut().zip(values.get(*p)) {
+                                *cj -= &coeff * pj;
+                            }
+                        }
+                    }
+                }
+                for (column, cj) in constant.iter_mut().zip(c) {
+                    column.push(cj);
+                }
+                ed_rows.push(ed);
+                ea_rows.push(ea);
+                rows.push(RowRef {
+                    row: id,
+                    component: None,
+                });
+                labels.push(row.label.clone());
+            }
+            let r_ed = IntMatrix::from_sparse(spec.derived.len(), ed_rows)
+                .expect("columns index derived parameters");
+            let r_ea = IntMatrix::from_sparse(spec.anchors.len(), ea_rows)
+                .expect("columns index anchors");
+            Reduced {
+                layout,
+                r_ed,
+                family: RhsFamily {
+                    constant,
+                    coefficients: r_ea,
+                },
+                rows,
+                labels,
+            }
+        }
+        Layout::Scalar => {
+            let offsets = |ids: &[ParamId]| -> (Vec<usize>, usize) {
+                let mut out = Vec::with_capacity(ids.len());
+                let mut next = 0;
+                for p in ids {
+                    out.push(next);
+                    next += dim_of(p);
+                }
+                (out, next)
+            };
+            let (d_off, d_cols) = offsets(&spec.derived);
+            let (a_off, a_cols) = offsets(&spec.anchors);
+            let mut constant = Vec::new();
+            for &id in &relevant.constraints {
+                let row = &system.rows()[id.index()];
+                for (terms, rhs, component) in scalar_equations(&row.body) {
+                    let mut ed = Vec::new();
+                    let mut ea = Vec::new();
+                    let mut c = Rational::from_integer(rhs);
+                    for (coord, coeff) in terms {
+                        match role.get(&coord.param) {
+                            Some(Role::Derived(k)) => {
+                                ed.push((d_off[*k] + coord.component, coeff))
+                            }
+                            Some(Role::Anchor(k)) => {
+                                ea.push((a_off[*k] + coord.component, coeff))
+                            }
+                            None => {
+                                c -= Rational::from_integer(coeff)
+                                    * &values.get(coord.param)[coord.component];
+                            }
+                        }
+                    }
+                    constant.push(c);
+                    ed_rows.push(ed);
+                    ea_rows.push(ea);
+                    rows.push(RowRef { row: id, component });
+                    labels.push(row.label.clone());
+                }
+            }
+            let r_ed = IntMatrix::from_sparse(d_cols, ed_rows)
+                .expect("columns index derived coordinates");
+            let r_ea =
+                IntMatrix::from_sparse(a_cols, ea_rows).expect("columns index anchor coordinates");
+            Reduced {
+                layout,
+                r_ed,
+                family: RhsFamily {
+                    constant: vec![constant],
+                    coefficients: r_ea,
+                },
+                rows,
+                labels,
+            }
+        }
+    }
+}

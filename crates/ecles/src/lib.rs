@@ -1,0 +1,27 @@
+//! ECLES: Editing by Constrained LEast Squares (thesis, chapter 5).
+//!
+//! An *editing action* moves a set `A` of anchor parameters to required values; a set `D` of
+//! derived parameters follows, as close as possible (weighted least squares) to hints, while every
+//! constraint keeps holding exactly; every other parameter stays fixed.
+//!
+//! * [`extract_relevant`] (algorithm 2) finds the relevant constraints `E` (those that involve
+//!   `A ∪ D`) and the fixed relevant parameters `F'`.
+//! * [`Edit::initialize`] (algorithm 1) validates the action, factors `R_ED` once, optionally
+//!   checks strong solvability (algorithm 3) and prepares the least-squares solve for the family
+//!   of right-hand sides `q_E − R_EF' P_F' − R_EA α`.
+//! * [`Edit::update`] (algorithm 4) checks weak solvability (algorithm 5) for new anchor values
+//!   and solves the least-squares problem for new hints. It is cheap: everything that does not
+//!   depend on anchor values and hints was computed by `initialize`.
+//!
+//! Parameters of dimension `d` whose relevant constraints are all vector rows share one
+//! factorization for their `d` coordinates ([`Layout::Vector`]); otherwise the edit works on
+//! single coordinates ([`Layout::Scalar`]). The crate is generic over the backend and knows
+//! nothing about splines.
+
+mod edit;
+mod error;
+mod relevant;
+
+pub use edit::{Edit, EditReport, EditSpec, Layout, RowRef, UpdateResult};
+pub use error::{Conflict, ConflictingRow, EditError};
+pub use relevant::{extract_relevant, Relevant};

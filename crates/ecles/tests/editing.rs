@@ -1,0 +1,254 @@
+//! ECLES edits on the thesis examples and on deliberately bad input, with the exact backend.
+
+use api::{ConstraintRow, ConstraintSystem, Coord, Origin, ParamId, Rational, RowBody, RowId, Values};
+use ecles::{Edit, EditError, EditSpec, Layout};
+use exact_ldu::{ExactFactorization, ExactLdu, Simplification};
+
+type ExactEdit = Edit<ExactFactorization>;
+
+fn q(n: i64, d: i64) -> Rational {
+    Rational::new(n.into(), d.into())
+}
+
+fn z(n: i64) -> Rational {
+    q(n, 1)
+}
+
+fn vector_row(label: &str, terms: &[(ParamId, i64)], rhs: &[i64]) -> ConstraintRow {
+    ConstraintRow {
+        label: label.into(),
+        origin: Origin {
+            source: "test".into(),
+            item: label.into(),
+        },
+        body: RowBody::Vector {
+            terms: terms.iter().map(|(p, c)| (*p, (*c).into())).collect(),
+            rhs: rhs.iter().map(|&v| v.into()).collect(),
+        },
+    }
+}
+
+/// The pump example (2.2): p1 + p2 = p3 and p4 = p3 + 5.
+fn pumps() -> (ConstraintSystem, Vec<ParamId>, Values) {
+    let mut s = ConstraintSystem::new();
+    let p: Vec<ParamId> = (1..=4)
+        .map(|i| s.add_parameter(format!("p{i}"), 1).expect("name"))
+        .collect();
+    s.add_row(vector_row("mix", &[(p[0], 1), (p[1], 1), (p[2], -1)], &[0]))
+        .expect("row");
+    s.add_row(vector_row("offset", &[(p[2], -1), (p[3], 1)], &[5]))
+        .expect("row");
+    let values = Values::from_vecs(&s, vec![vec![z(1)], vec![z(2)], vec![z(3)], vec![z(8)]])
+        .expect("values");
+    assert!(s.violations(&values).is_empty());
+    (s, p, values)
+}
+
+fn backend() -> ExactLdu {
+    ExactLdu::new(Simplification::Gcd)
+}
+
+#[test]
+fn pump_with_exactly_determined_derived_rates() {
+    let (s, p, mut values) = pumps();
+    let spec = EditSpec::new(vec![p[0]], vec![p[2], p[3]]).strong();
+    let edit: ExactEdit = Edit::initialize(&backend(), &s, &values, &spec).expect("init");
+    let report = edit.report();
+    assert_eq!(report.relevant, vec![RowId(0), RowId(1)]);
+    assert_eq!(report.fixed_relevant, vec![p[1]]);
+    assert_eq!(report.rank, 2);
+    assert!(report.redundant.is_empty());
+    assert_eq!(report.strongly_solvable, Some(true));
+    assert_eq!(report.layout, Layout::Vector { dim: 1 });
+    edit.apply(&s, &mut values, &[vec![z(4)]], &[vec![z(0)], vec![z(0)]])
+        .expect("update");
+    assert_eq!(values.get(p[0]), &[z(4)]);
+    assert_eq!(values.get(p[2]), &[z(6)]);
+    assert_eq!(values.get(p[3]), &[z(11)]);
+    assert!(s.violations(&values).is_empty());
+}
+
+#[test]
+fn pump_with_least_squares_over_three_derived_rates() {
+    let (s, p, mut values) = pumps();
+    let spec = EditSpec::new(vec![p[0]], vec![p[1], p[2], p[3]]);
+    let edit: ExactEdit = Edit::initialize(&backend(), &s, &values, &spec).expect("init");
+    // Hints = current values; minimise (p2−2)² + (p3−3)² + (p4−8)² with p1 = 4:
+    // p3 = p2 + 4, p4 = p2 + 9 ⇒ p2 = 0.
+    let hints = vec![vec![z(2)], vec![z(3)], vec![z(8)]];
+    edit.apply(&s, &mut values, &[vec![z(4)]], &hints)
+        .expect("update");
+    assert_eq!(values.get(p[1]), &[z(0)]);
+    assert_eq!(values.get(p[2]), &[z(4)]);
+    assert_eq!(values.get(p[3]), &[z(9)]);
+    // With weight 5 on p2 it moves less: (p2−2)·5 + (p2+1) + (p2+1) = 0 ⇒ p2 = 8/7.
+    let spec = EditSpec::new(vec![p[0]], vec![p[1], p[2], p[3]])
+        .with_weights(vec![z(5), z(1), z(1)]);
+    let (s, _, values) = pumps();
+    let edit: ExactEdit = Edit::initialize(&backend(), &s, &values, &spec).expect("init");
+    let out = edit.update(&[vec![z(4)]], &hints).expect("update");
+    assert_eq!(out.derived[0].1, vec![q(8, 7)]);
+    assert_eq!(out.derived[1].1, vec![q(36, 7)]);
+}
+
+/// Figure 2.1: five points of the plane; p0 p1 p2 p3 must stay a parallelogram
+/// (p0 − p1 + p2 − p3 = 0); p4 is unrelated. Moving p0 by v with the current positions as hints
+/// moves p1 and p3 by v/3 and p2 by −v/3.
+fn parallelogram(split: bool) -> (ConstraintSystem, Vec<ParamId>, Values) {
+    let mut s = ConstraintSystem::new();
+    let p: Vec<ParamId> = (0..5)
+        .map(|i| s.add_parameter(format!("p{i}"), 2).expect("name"))
+        .collect();
+    if split {
+        for k in 0..2 {
+            s.add_row(ConstraintRow {
+                label: format!("parallelogram[{k}]"),
+                origin: Origin::default(),
+                body: RowBody::Scalar {
+                    terms: [(0, 1), (1, -1), (2, 1), (3, -1)]
+                        .iter()
+                        .map(|&(i, c)| (Coord { param: p[i], component: k }, c.into()))
+                        .collect(),
+                    rhs: 0.into(),
+                },
+            })
+            .expect("row");
+        }
+    } else {
+        s.add_row(vector_row(
+            "parallelogram",
+            &[(p[0], 1), (p[1], -1), (p[2], 1), (p[3], -1)],
+            &[0, 0],
+        ))
+        .expect("row");
+    }
+    let pts = [(0, 0), (4, 0), (5, 3), (1, 3), (9, 9)];
+    let values = Values::from_vecs(
+        &s,
+        pts.iter().map(|&(x, y)| vec![z(x), z(y)]).collect(),
+    )
+    .expect("values");
+    assert!(s.violations(&values).is_empty());
+    (s, p, values)
+}
+
+#[test]
+fn parallelogram_vector_and_scalar_layouts_agree() {
+    for split in [false, true] {
+        let (s, p, mut values) = parallelogram(split);
+        let spec = EditSpec::new(vec![p[0]], vec![p[1], p[2], p[3]]).strong();
+        let edit: ExactEdit = Edit::initialize(&backend(), &s, &values, &spec).expect("init");
+        let expected_layout = if split { Layout::Scalar } else { Layout::Vector { dim: 2 } };
+        assert_eq!(edit.layout(), expected_layout);
+        assert_eq!(edit.report().fixed_relevant, vec![]);
+        let hints: Vec<Vec<Rational>> = (1..4).map(|i| values.get(p[i]).to_vec()).collect();
+        edit.apply(&s, &mut values, &[vec![z(3), z(-6)]], &hints)
+            .expect("update");
+        assert_eq!(values.get(p[1]), &[z(5), z(-2)]);
+        assert_eq!(values.get(p[2]), &[z(4), z(5)]);
+        assert_eq!(values.get(p[3]), &[z(2), z(1)]);
+        assert_eq!(values.get(p[4]), &[z(9), z(9)]);
+        assert!(s.violations(&values).is_empty());
+    }
+}
+
+/// p1 = p2 = p3 with A = {p1, p3}, D = {p2}: anchors can only move together.
+fn chain() -> (ConstraintSystem, Vec<ParamId>, Values) {
+    let mut s = ConstraintSystem::new();
+    let p: Vec<ParamId> = (1..=3)
+        .map(|i| s.add_parameter(format!("p{i}"), 1).expect("name"))
+        .collect();
+    s.add_row(vector_row("p1=p2", &[(p[0], 1), (p[1], -1)], &[0]))
+        .expect("row");
+    s.add_row(vector_row("p2=p3", &[(p[1], 1), (p[2], -1)], &[0]))
+        .expect("row");
+    let values = Values::from_vecs(&s, vec![vec![z(0)]; 3]).expect("values");
+    (s, p, values)
+}
+
+#[test]
+fn inconsistent_anchor_move_is_rejected_with_labels_and_changes_nothing() {
+    let (s, p, mut values) = chain();
+    let spec = EditSpec::new(vec![p[0], p[2]], vec![p[1]]);
+    let edit: ExactEdit = Edit::initialize(&backend(), &s, &values, &spec).expect("init");
+    assert_eq!(edit.report().rank, 1);
+    assert_eq!(edit.report().redundant.len(), 1);
+    let before = values.clone();
+    let err = edit
+        .apply(&s, &mut values, &[vec![z(5)], vec![z(0)]], &[vec![z(0)]])
+        .expect_err("p1 = 5 and p3 = 0 cannot both hold");
+    let EditError::Conflict(conflict) = &err else {
+        panic!("expected a conflict, got {err:?}")
+    };
+    let mut labels = conflict.labels();
+    labels.sort();
+    assert_eq!(labels, vec!["p1=p2", "p2=p3"]);
+    assert_ne!(conflict.discrepancy, z(0));
+    assert_eq!(values, before);
+    assert!(err.to_string().contains("p1=p2"));
+    // Moving both anchors together is fine.
+    edit.apply(&s, &mut values, &[vec![z(5)], vec![z(5)]], &[vec![z(0)]])
+        .expect("consistent move");
+    assert_eq!(values.get(p[1]), &[z(5)]);
+    // The strong check refuses the same edit up front.
+    let err = Edit::<ExactFactorization>::initialize(&backend(), &s, &values, &spec.clone().strong())
+        .expect_err("not strongly solvable");
+    assert!(matches!(err, EditError::NotStronglySolvable { .. }), "{err:?}");
+}
+
+#[test]
+fn bad_specs_are_typed_errors() {
+    let (s, p, values) = pumps();
+    let init = |spec: EditSpec| Edit::<ExactFactorization>::initialize(&backend(), &s, &values, &spec);
+    assert!(matches!(init(EditSpec::new(vec![], vec![p[1]])), Err(EditError::NoAnchors)));
+    assert!(matches!(
+        init(EditSpec::new(vec![ParamId(99)], vec![])),
+        Err(EditError::UnknownParameter(ParamId(99)))
+    ));
+    assert!(matches!(
+        init(EditSpec::new(vec![p[0]], vec![p[0]])),
+        Err(EditError::AnchorAlsoDerived { .. })
+    ));
+    assert!(matches!(
+        init(EditSpec::new(vec![p[0]], vec![p[1], p[1]])),
+        Err(EditError::Duplicate { .. })
+    ));
+    assert!(matches!(
+        init(EditSpec::new(vec![p[0]], vec![p[1]]).with_weights(vec![])),
+        Err(EditError::WeightCount { .. })
+    ));
+    assert!(matches!(
+        init(EditSpec::new(vec![p[0]], vec![p[1]]).with_weights(vec![z(0)])),
+        Err(EditError::NonPositiveWeight { .. })
+    ));
+    let edit = init(EditSpec::new(vec![p[0]], vec![p[1], p[2], p[3]])).expect("init");
+    assert!(matches!(
+        edit.update(&[], &[vec![z(0)], vec![z(0)], vec![z(0)]]),
+        Err(EditError::Count { what: "anchor values", .. })
+    ));
+    assert!(matches!(
+        edit.update(&[vec![z(1), z(2)]], &[vec![z(0)], vec![z(0)], vec![z(0)]]),
+        Err(EditError::ValueDimension { .. })
+    ));
+    assert!(matches!(
+        edit.update(&[vec![z(1)]], &[vec![z(0)]]),
+        Err(EditError::Count { what: "hints", .. })
+    ));
+}
+
+/// A derived parameter in no relevant constraint simply takes its hint; an anchor in no
+/// constraint just moves.
+#[test]
+fn unconstrained_parameters_take_their_hints() {
+    let (s, p, mut values) = parallelogram(false);
+    let spec = EditSpec::new(vec![p[4]], vec![p[3]]);
+    let edit: ExactEdit = Edit::initialize(&backend(), &s, &values, &spec).expect("init");
+    // p3 is in the parallelogram row, which becomes relevant with p0, p1, p2 fixed: p3 cannot move.
+    let out = edit.update(&[vec![z(1), z(1)]], &[vec![z(7), z(7)]]).expect("update");
+    assert_eq!(out.derived[0].1, vec![z(1), z(3)]);
+    let spec = EditSpec::new(vec![p[4]], vec![]);
+    let edit: ExactEdit = Edit::initialize(&backend(), &s, &values, &spec).expect("init");
+    assert!(edit.report().relevant.is_empty());
+    edit.apply(&s, &mut values, &[vec![q(1, 3), z(2)]], &[]).expect("free move");
+    assert_eq!(values.get(p[4]), &[q(1, 3), z(2)]);
+}
