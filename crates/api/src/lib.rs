@@ -23,6 +23,6 @@ pub use backend::{
 pub use exact::{format_rational, parse_rational, Integer, ParseRationalError, Rational};
 pub use matrix::{IntMatrix, MatrixError};
 pub use system::{
-    ConstraintRow, ConstraintSystem, Coord, Origin, ParamId, Parameter, RowBody, RowId, SystemError,
-    Values,
+    ConstraintRow, ConstraintSystem, Coord, Origin, ParamId, Parameter, RowBody, RowId,
+    SystemError, Values,
 };

@@ -75,10 +75,7 @@ impl IntMatrix {
 
     /// Builds a matrix from sparse rows `(column, value)`; entries of a row are summed per
     /// column and zeros dropped.
-    pub fn from_sparse(
-        cols: usize,
-        rows: Vec<Vec<(usize, Integer)>>,
-    ) -> Result<Self, MatrixError> {
+    pub fn from_sparse(cols: usize, rows: Vec<Vec<(usize, Integer)>>) -> Result<Self, MatrixError> {
         let mut out = IntMatrix::zeros(0, cols);
         for (i, mut row) in rows.into_iter().enumerate() {
             if let Some((col, _)) = row.iter().find(|(c, _)| *c >= cols) {

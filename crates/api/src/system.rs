@@ -396,7 +396,8 @@ impl ConstraintSystem {
                 RowBody::Scalar { terms, rhs } => {
                     let mut sum = -Rational::from_integer(rhs.clone());
                     for (c, v) in terms {
-                        sum += &values.get(c.param)[c.component] * Rational::from_integer(v.clone());
+                        sum +=
+                            &values.get(c.param)[c.component] * Rational::from_integer(v.clone());
                     }
                     if !sum.is_zero() {
                         out.push((RowId(i as u32), 0, sum));
@@ -532,8 +533,20 @@ mod tests {
             origin: Origin::default(),
             body: RowBody::Scalar {
                 terms: vec![
-                    (Coord { param: a, component: 0 }, 1.into()),
-                    (Coord { param: t, component: 0 }, (-1).into()),
+                    (
+                        Coord {
+                            param: a,
+                            component: 0,
+                        },
+                        1.into(),
+                    ),
+                    (
+                        Coord {
+                            param: t,
+                            component: 0,
+                        },
+                        (-1).into(),
+                    ),
                 ],
                 rhs: 0.into(),
             },
@@ -584,7 +597,13 @@ mod tests {
             label: "y".into(),
             origin: Origin::default(),
             body: RowBody::Scalar {
-                terms: vec![(Coord { param: ParamId(7), component: 0 }, 1.into())],
+                terms: vec![(
+                    Coord {
+                        param: ParamId(7),
+                        component: 0,
+                    },
+                    1.into(),
+                )],
                 rhs: 0.into(),
             },
         };
@@ -596,7 +615,13 @@ mod tests {
             label: "z".into(),
             origin: Origin::default(),
             body: RowBody::Scalar {
-                terms: vec![(Coord { param: a, component: 2 }, 1.into())],
+                terms: vec![(
+                    Coord {
+                        param: a,
+                        component: 2,
+                    },
+                    1.into(),
+                )],
                 rhs: 0.into(),
             },
         };

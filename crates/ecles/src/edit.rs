@@ -3,9 +3,9 @@
 use crate::error::{Conflict, ConflictingRow, EditError};
 use crate::relevant::{extract_relevant, Relevant};
 use api::{
-    ConstraintSystem, Coord, Factorization, Inconsistency, Integer, IntMatrix,
-    LinearBackend, ParamId, PreparedLeastSquares, Rational, RhsFamily, RowBody, RowId,
-    SolveError, StrongFailure, Values,
+    ConstraintSystem, Coord, Factorization, Inconsistency, IntMatrix, Integer, LinearBackend,
+    ParamId, PreparedLeastSquares, Rational, RhsFamily, RowBody, RowId, SolveError, StrongFailure,
+    Values,
 };
 use num_traits::{One, Zero};
 use std::collections::HashMap;
@@ -146,7 +146,15 @@ fn scalar_equations(body: &RowBody) -> Vec<ScalarEquation> {
             .map(|(k, q)| {
                 let terms = terms
                     .iter()
-                    .map(|(p, c)| (Coord { param: *p, component: k }, c.clone()))
+                    .map(|(p, c)| {
+                        (
+                            Coord {
+                                param: *p,
+                                component: k,
+                            },
+                            c.clone(),
+                        )
+                    })
                     .collect();
                 (terms, q.clone(), Some(k))
             })
@@ -207,13 +215,13 @@ impl<F: Factorization> Edit<F> {
                     column,
                     inconsistency,
                 }) => {
-                    return Err(EditError::CurrentStateInconsistent(conflict(
+                    return Err(EditError::CurrentStateInconsistent(Box::new(conflict(
                         &reduced.rows,
                         &reduced.labels,
                         reduced.layout,
                         column,
                         inconsistency,
-                    )))
+                    ))))
                 }
                 Err(StrongFailure::Direction {
                     parameter,
@@ -238,13 +246,13 @@ impl<F: Factorization> Edit<F> {
                     return Err(EditError::NotStronglySolvable {
                         anchor,
                         component,
-                        conflict: conflict(
+                        conflict: Box::new(conflict(
                             &reduced.rows,
                             &reduced.labels,
                             Layout::Scalar,
                             0,
                             inconsistency,
-                        ),
+                        )),
                     });
                 }
             }
@@ -376,8 +384,7 @@ impl<F: Factorization> Edit<F> {
                 let mut out: Vec<Vec<F::Scalar>> =
                     vec![Vec::with_capacity(dim); self.derived.len()];
                 for j in 0..dim {
-                    let alpha: Vec<Rational> =
-                        anchor_values.iter().map(|v| v[j].clone()).collect();
+                    let alpha: Vec<Rational> = anchor_values.iter().map(|v| v[j].clone()).collect();
                     let h: Vec<Rational> = hints.iter().map(|v| v[j].clone()).collect();
                     let x = self
                         .prepared
@@ -417,13 +424,13 @@ impl<F: Factorization> Edit<F> {
     fn solve_error(&self, e: SolveError<F::Scalar>, column: usize) -> EditError<F::Scalar> {
         match e {
             SolveError::Input(e) => EditError::Backend(e),
-            SolveError::Inconsistent(inc) => EditError::Conflict(conflict(
+            SolveError::Inconsistent(inc) => EditError::Conflict(Box::new(conflict(
                 &self.rows,
                 &self.labels,
                 self.layout,
                 column,
                 inc,
-            )),
+            ))),
         }
     }
 }
@@ -462,8 +469,8 @@ fn conflict<S: Clone>(
 ) -> Conflict<S> {
     Conflict {
         coordinate: match layout {
-            Layout::Vector { .. } => Some(column),
-            Layout::Scalar => None,
+            Layout::Vector { dim } if dim > 1 => Some(column),
+            _ => None,
         },
         rows: inc
             .rows
@@ -584,8 +591,10 @@ fn reduce(
                 };
                 let mut ed = Vec::new();
                 let mut ea = Vec::new();
-                let mut c: Vec<Rational> =
-                    rhs.iter().map(|q| Rational::from_integer(q.clone())).collect();
+                let mut c: Vec<Rational> = rhs
+                    .iter()
+                    .map(|q| Rational::from_integer(q.clone()))
+                    .collect();
                 for (p, coeff) in terms {
                     match role.get(p) {
                         Some(Role::Derived(k)) => ed.push((*k, coeff.clone())),
@@ -611,8 +620,8 @@ fn reduce(
             }
             let r_ed = IntMatrix::from_sparse(spec.derived.len(), ed_rows)
                 .expect("columns index derived parameters");
-            let r_ea = IntMatrix::from_sparse(spec.anchors.len(), ea_rows)
-                .expect("columns index anchors");
+            let r_ea =
+                IntMatrix::from_sparse(spec.anchors.len(), ea_rows).expect("columns index anchors");
             Reduced {
                 layout,
                 r_ed,
@@ -645,12 +654,8 @@ fn reduce(
                     let mut c = Rational::from_integer(rhs);
                     for (coord, coeff) in terms {
                         match role.get(&coord.param) {
-                            Some(Role::Derived(k)) => {
-                                ed.push((d_off[*k] + coord.component, coeff))
-                            }
-                            Some(Role::Anchor(k)) => {
-                                ea.push((a_off[*k] + coord.component, coeff))
-                            }
+                            Some(Role::Derived(k)) => ed.push((d_off[*k] + coord.component, coeff)),
+                            Some(Role::Anchor(k)) => ea.push((a_off[*k] + coord.component, coeff)),
                             None => {
                                 c -= Rational::from_integer(coeff)
                                     * &values.get(coord.param)[coord.component];
@@ -664,8 +669,8 @@ fn reduce(
                     labels.push(row.label.clone());
                 }
             }
-            let r_ed = IntMatrix::from_sparse(d_cols, ed_rows)
-                .expect("columns index derived coordinates");
+            let r_ed =
+                IntMatrix::from_sparse(d_cols, ed_rows).expect("columns index derived coordinates");
             let r_ea =
                 IntMatrix::from_sparse(a_cols, ea_rows).expect("columns index anchor coordinates");
             Reduced {

@@ -18,7 +18,8 @@ pub struct ConflictingRow<S> {
 /// A set of constraints that cannot hold together, with the proof.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Conflict<S> {
-    /// The coordinate of a vector edit in which the conflict arises (`None` for scalar edits).
+    /// The coordinate of a vector edit (dimension > 1) in which the conflict arises; `None` for
+    /// scalar edits.
     pub coordinate: Option<usize>,
     /// The conflicting constraints (a minimal set for the exact backend).
     pub rows: Vec<ConflictingRow<S>>,
@@ -121,7 +122,7 @@ pub enum EditError<S: fmt::Debug> {
     /// The current values of the fixed relevant parameters already violate the relevant
     /// constraints for every choice of the derived parameters.
     #[error("the current values violate constraints that no derived parameter can repair: {0}")]
-    CurrentStateInconsistent(Conflict<S>),
+    CurrentStateInconsistent(Box<Conflict<S>>),
     /// Strong solvability fails: moving the named anchor coordinate alone breaks the constraints.
     #[error("not strongly solvable: moving {anchor:?}{} conflicts with {conflict}",
         .component.map(|k| format!("[{k}]")).unwrap_or_default())]
@@ -131,9 +132,9 @@ pub enum EditError<S: fmt::Debug> {
         /// Its coordinate, for scalar edits of vector parameters.
         component: Option<usize>,
         /// The constraints that block it.
-        conflict: Conflict<S>,
+        conflict: Box<Conflict<S>>,
     },
     /// Weak solvability fails for these anchor values: the anchors contradict the constraints.
     #[error("the anchor values conflict with constraints {0}")]
-    Conflict(Conflict<S>),
+    Conflict(Box<Conflict<S>>),
 }

@@ -1,6 +1,8 @@
 //! ECLES edits on the thesis examples and on deliberately bad input, with the exact backend.
 
-use api::{ConstraintRow, ConstraintSystem, Coord, Origin, ParamId, Rational, RowBody, RowId, Values};
+use api::{
+    ConstraintRow, ConstraintSystem, Coord, Origin, ParamId, Rational, RowBody, RowId, Values,
+};
 use ecles::{Edit, EditError, EditSpec, Layout};
 use exact_ldu::{ExactFactorization, ExactLdu, Simplification};
 
@@ -82,8 +84,8 @@ fn pump_with_least_squares_over_three_derived_rates() {
     assert_eq!(values.get(p[2]), &[z(4)]);
     assert_eq!(values.get(p[3]), &[z(9)]);
     // With weight 5 on p2 it moves less: (p2−2)·5 + (p2+1) + (p2+1) = 0 ⇒ p2 = 8/7.
-    let spec = EditSpec::new(vec![p[0]], vec![p[1], p[2], p[3]])
-        .with_weights(vec![z(5), z(1), z(1)]);
+    let spec =
+        EditSpec::new(vec![p[0]], vec![p[1], p[2], p[3]]).with_weights(vec![z(5), z(1), z(1)]);
     let (s, _, values) = pumps();
     let edit: ExactEdit = Edit::initialize(&backend(), &s, &values, &spec).expect("init");
     let out = edit.update(&[vec![z(4)]], &hints).expect("update");
@@ -107,7 +109,15 @@ fn parallelogram(split: bool) -> (ConstraintSystem, Vec<ParamId>, Values) {
                 body: RowBody::Scalar {
                     terms: [(0, 1), (1, -1), (2, 1), (3, -1)]
                         .iter()
-                        .map(|&(i, c)| (Coord { param: p[i], component: k }, c.into()))
+                        .map(|&(i, c)| {
+                            (
+                                Coord {
+                                    param: p[i],
+                                    component: k,
+                                },
+                                c.into(),
+                            )
+                        })
                         .collect(),
                     rhs: 0.into(),
                 },
@@ -123,11 +133,8 @@ fn parallelogram(split: bool) -> (ConstraintSystem, Vec<ParamId>, Values) {
         .expect("row");
     }
     let pts = [(0, 0), (4, 0), (5, 3), (1, 3), (9, 9)];
-    let values = Values::from_vecs(
-        &s,
-        pts.iter().map(|&(x, y)| vec![z(x), z(y)]).collect(),
-    )
-    .expect("values");
+    let values = Values::from_vecs(&s, pts.iter().map(|&(x, y)| vec![z(x), z(y)]).collect())
+        .expect("values");
     assert!(s.violations(&values).is_empty());
     (s, p, values)
 }
@@ -138,7 +145,11 @@ fn parallelogram_vector_and_scalar_layouts_agree() {
         let (s, p, mut values) = parallelogram(split);
         let spec = EditSpec::new(vec![p[0]], vec![p[1], p[2], p[3]]).strong();
         let edit: ExactEdit = Edit::initialize(&backend(), &s, &values, &spec).expect("init");
-        let expected_layout = if split { Layout::Scalar } else { Layout::Vector { dim: 2 } };
+        let expected_layout = if split {
+            Layout::Scalar
+        } else {
+            Layout::Vector { dim: 2 }
+        };
         assert_eq!(edit.layout(), expected_layout);
         assert_eq!(edit.report().fixed_relevant, vec![]);
         let hints: Vec<Vec<Rational>> = (1..4).map(|i| values.get(p[i]).to_vec()).collect();
@@ -191,16 +202,24 @@ fn inconsistent_anchor_move_is_rejected_with_labels_and_changes_nothing() {
         .expect("consistent move");
     assert_eq!(values.get(p[1]), &[z(5)]);
     // The strong check refuses the same edit up front.
-    let err = Edit::<ExactFactorization>::initialize(&backend(), &s, &values, &spec.clone().strong())
-        .expect_err("not strongly solvable");
-    assert!(matches!(err, EditError::NotStronglySolvable { .. }), "{err:?}");
+    let err =
+        Edit::<ExactFactorization>::initialize(&backend(), &s, &values, &spec.clone().strong())
+            .expect_err("not strongly solvable");
+    assert!(
+        matches!(err, EditError::NotStronglySolvable { .. }),
+        "{err:?}"
+    );
 }
 
 #[test]
 fn bad_specs_are_typed_errors() {
     let (s, p, values) = pumps();
-    let init = |spec: EditSpec| Edit::<ExactFactorization>::initialize(&backend(), &s, &values, &spec);
-    assert!(matches!(init(EditSpec::new(vec![], vec![p[1]])), Err(EditError::NoAnchors)));
+    let init =
+        |spec: EditSpec| Edit::<ExactFactorization>::initialize(&backend(), &s, &values, &spec);
+    assert!(matches!(
+        init(EditSpec::new(vec![], vec![p[1]])),
+        Err(EditError::NoAnchors)
+    ));
     assert!(matches!(
         init(EditSpec::new(vec![ParamId(99)], vec![])),
         Err(EditError::UnknownParameter(ParamId(99)))
@@ -224,7 +243,10 @@ fn bad_specs_are_typed_errors() {
     let edit = init(EditSpec::new(vec![p[0]], vec![p[1], p[2], p[3]])).expect("init");
     assert!(matches!(
         edit.update(&[], &[vec![z(0)], vec![z(0)], vec![z(0)]]),
-        Err(EditError::Count { what: "anchor values", .. })
+        Err(EditError::Count {
+            what: "anchor values",
+            ..
+        })
     ));
     assert!(matches!(
         edit.update(&[vec![z(1), z(2)]], &[vec![z(0)], vec![z(0)], vec![z(0)]]),
@@ -244,11 +266,14 @@ fn unconstrained_parameters_take_their_hints() {
     let spec = EditSpec::new(vec![p[4]], vec![p[3]]);
     let edit: ExactEdit = Edit::initialize(&backend(), &s, &values, &spec).expect("init");
     // p3 is in the parallelogram row, which becomes relevant with p0, p1, p2 fixed: p3 cannot move.
-    let out = edit.update(&[vec![z(1), z(1)]], &[vec![z(7), z(7)]]).expect("update");
+    let out = edit
+        .update(&[vec![z(1), z(1)]], &[vec![z(7), z(7)]])
+        .expect("update");
     assert_eq!(out.derived[0].1, vec![z(1), z(3)]);
     let spec = EditSpec::new(vec![p[4]], vec![]);
     let edit: ExactEdit = Edit::initialize(&backend(), &s, &values, &spec).expect("init");
     assert!(edit.report().relevant.is_empty());
-    edit.apply(&s, &mut values, &[vec![q(1, 3), z(2)]], &[]).expect("free move");
+    edit.apply(&s, &mut values, &[vec![q(1, 3), z(2)]], &[])
+        .expect("free move");
     assert_eq!(values.get(p[4]), &[q(1, 3), z(2)]);
 }

@@ -156,9 +156,8 @@ impl<R: Ring> ExactFactorization<R> {
         let n = self.ldu.cols();
         (r..n)
             .map(|f| {
-                let mut y = QVec::from_integers(
-                    (0..r).map(|k| self.ldu.u_row(k)[f].neg()).collect(),
-                );
+                let mut y =
+                    QVec::from_integers((0..r).map(|k| self.ldu.u_row(k)[f].neg()).collect());
                 self.ldu.backward(&mut y);
                 let mut x = vec![R::zero(); n];
                 for (k, v) in y.num.iter().enumerate() {

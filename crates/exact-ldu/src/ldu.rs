@@ -28,8 +28,8 @@
 
 use crate::qvec::QVec;
 use crate::ring::{gcd_all, Ring};
-use num_bigint::BigInt;
 use api::Rational as BigRational;
+use num_bigint::BigInt;
 use num_traits::Zero;
 use std::cmp::Ordering;
 

@@ -22,12 +22,14 @@
 //! ```
 
 mod factorization;
+mod gcd;
 mod ldu;
 mod lsq;
 mod qvec;
 mod ring;
 
 pub use factorization::ExactFactorization;
+pub use gcd::{gcd_bigint, reduced_ratio};
 pub use ldu::{Ldu, Pivoting, Simplification};
 pub use lsq::ExactLeastSquares;
 pub use qvec::QVec;

@@ -199,7 +199,11 @@ impl<R: Ring> ExactLeastSquares<R> {
 }
 
 /// `G⁻¹` for `G = Â V Âᵀ` as `(integer matrix, positive denominator)`.
-fn inverse_of_normal_matrix<R: Ring>(a_hat: &[SparseRow<R>], v: &[R], n: usize) -> (Vec<Vec<R>>, R) {
+fn inverse_of_normal_matrix<R: Ring>(
+    a_hat: &[SparseRow<R>],
+    v: &[R],
+    n: usize,
+) -> (Vec<Vec<R>>, R) {
     let r = a_hat.len();
     // Accumulate G column by column of Â: G_kl += A_ks V_s A_ls.
     let mut by_column: Vec<Vec<(usize, R)>> = vec![Vec::new(); n];
@@ -297,16 +301,13 @@ impl<R: Ring> PreparedLeastSquares for ExactLeastSquares<R> {
         // λ = G⁻¹ ρ over g_den · common; μ = Âᵀ λ.
         let mut mu = vec![R::zero(); self.n];
         for (k, row) in self.g_inv.iter().enumerate() {
-            let lambda_k = row
-                .iter()
-                .zip(&rho)
-                .fold(R::zero(), |acc, (gi, p)| {
-                    if gi.is_zero() || p.is_zero() {
-                        acc
-                    } else {
-                        acc.add(&gi.mul(p))
-                    }
-                });
+            let lambda_k = row.iter().zip(&rho).fold(R::zero(), |acc, (gi, p)| {
+                if gi.is_zero() || p.is_zero() {
+                    acc
+                } else {
+                    acc.add(&gi.mul(p))
+                }
+            });
             if lambda_k.is_zero() {
                 continue;
             }
@@ -356,6 +357,9 @@ mod tests {
         let err = f
             .prepare_least_squares(&family, &[Rational::one(), Rational::zero()])
             .expect_err("zero weight");
-        assert!(matches!(err, BackendError::NonPositiveWeight { index: 1, .. }));
+        assert!(matches!(
+            err,
+            BackendError::NonPositiveWeight { index: 1, .. }
+        ));
     }
 }

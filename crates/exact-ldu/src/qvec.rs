@@ -5,8 +5,8 @@
 //! the end instead of after every operation.
 
 use crate::ring::{gcd_all, lcm, Ring};
-use num_bigint::BigInt;
 use api::Rational as BigRational;
+use num_bigint::BigInt;
 use num_traits::One;
 
 /// A rational vector `num / den` with `den > 0`.
@@ -58,7 +58,7 @@ impl<R: Ring> QVec<R> {
         let den = self.den.to_bigint();
         self.num
             .iter()
-            .map(|v| BigRational::new(v.to_bigint(), den.clone()))
+            .map(|v| crate::gcd::reduced_ratio(v.to_bigint(), den.clone()))
             .collect()
     }
 

@@ -104,7 +104,7 @@ impl Ring for BigInt {
         self / other
     }
     fn gcd(&self, other: &Self) -> Self {
-        num_integer::Integer::gcd(self, other)
+        crate::gcd::gcd_bigint(self, other)
     }
     fn abs_cmp(&self, other: &Self) -> Ordering {
         self.magnitude().cmp(other.magnitude())
@@ -237,9 +237,7 @@ impl Ring for Int {
         match (self, other) {
             (Int::Small(a), Int::Small(b)) => Int::from_i128(*a as i128 * *b as i128),
             (Int::Small(0), _) | (_, Int::Small(0)) => Int::Small(0),
-            (Int::Small(a), Int::Big(b)) | (Int::Big(b), Int::Small(a)) => {
-                Int::from_big(&**b * *a)
-            }
+            (Int::Small(a), Int::Big(b)) | (Int::Big(b), Int::Small(a)) => Int::from_big(&**b * *a),
             (Int::Big(a), Int::Big(b)) => Int::from_big(&**a * &**b),
         }
     }
@@ -280,7 +278,7 @@ impl Ring for Int {
                 let rem = (&**b % BigInt::from(*a)).to_i64().unwrap_or(0);
                 Int::from_i128(binary_gcd(a.unsigned_abs(), rem.unsigned_abs()) as i128)
             }
-            _ => Int::from_big(num_integer::Integer::gcd(&self.big(), &other.big())),
+            _ => Int::from_big(crate::gcd::gcd_bigint(&self.big(), &other.big())),
         }
     }
     fn abs_cmp(&self, other: &Self) -> Ordering {
@@ -396,12 +394,18 @@ mod tests {
         assert!(!sum.is_small());
         let back = sum.sub(&Int::Small(1));
         assert!(back.is_small());
-        assert_eq!(Int::Small(i64::MIN).neg().to_bigint(), -BigInt::from(i64::MIN));
+        assert_eq!(
+            Int::Small(i64::MIN).neg().to_bigint(),
+            -BigInt::from(i64::MIN)
+        );
         assert_eq!(
             Int::Small(i64::MIN).gcd(&Int::Small(0)).to_bigint(),
             BigInt::from(2u64.pow(63))
         );
-        assert_eq!(gcd_all(&[Int::Small(0), Int::Small(6), Int::Small(-4)]), Int::Small(2));
+        assert_eq!(
+            gcd_all(&[Int::Small(0), Int::Small(6), Int::Small(-4)]),
+            Int::Small(2)
+        );
         assert_eq!(lcm(&Int::Small(4), &Int::Small(6)), Int::Small(12));
     }
 }

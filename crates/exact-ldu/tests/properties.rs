@@ -3,9 +3,12 @@
 //! An independent oracle (plain rational Gauss–Jordan elimination written here) decides ranks
 //! and consistency, so the backend is never checked against itself.
 
+// Matrix code below indexes rows and columns explicitly; iterators would hide the algebra.
+#![allow(clippy::needless_range_loop)]
+
 use api::{
-    Factorization, IntMatrix, LinearBackend, PreparedLeastSquares, Rational, RhsFamily,
-    SolveError, StrongFailure,
+    Factorization, IntMatrix, LinearBackend, PreparedLeastSquares, Rational, RhsFamily, SolveError,
+    StrongFailure,
 };
 use exact_ldu::{ExactLdu, Simplification};
 use num_bigint::BigInt;
@@ -48,7 +51,9 @@ fn oracle_rank(rows: &[Vec<Rational>]) -> usize {
 }
 
 fn to_rational(a: &[Vec<i64>]) -> Vec<Vec<Rational>> {
-    a.iter().map(|row| row.iter().map(|&v| r(v)).collect()).collect()
+    a.iter()
+        .map(|row| row.iter().map(|&v| r(v)).collect())
+        .collect()
 }
 
 fn with_column(a: &[Vec<Rational>], b: &[Rational]) -> Vec<Vec<Rational>> {
@@ -114,20 +119,40 @@ fn case() -> impl Strategy<Value = Case> {
 }
 
 fn rationals(len: usize) -> impl Strategy<Value = Vec<Rational>> {
-    prop::collection::vec((-20i64..=20, 1i64..=6), len)
-        .prop_map(|v| v.into_iter().map(|(p, q)| Rational::new(p.into(), q.into())).collect())
+    prop::collection::vec((-20i64..=20, 1i64..=6), len).prop_map(|v| {
+        v.into_iter()
+            .map(|(p, q)| Rational::new(p.into(), q.into()))
+            .collect()
+    })
 }
 
 fn positive_weights(len: usize) -> impl Strategy<Value = Vec<Rational>> {
-    prop::collection::vec((1i64..=9, 1i64..=4), len)
-        .prop_map(|v| v.into_iter().map(|(p, q)| Rational::new(p.into(), q.into())).collect())
+    prop::collection::vec((1i64..=9, 1i64..=4), len).prop_map(|v| {
+        v.into_iter()
+            .map(|(p, q)| Rational::new(p.into(), q.into()))
+            .collect()
+    })
 }
 
-fn case_with_vectors() -> impl Strategy<Value = (Case, Vec<Rational>, Vec<Rational>, Vec<Rational>, Vec<Rational>)> {
+fn case_with_vectors() -> impl Strategy<
+    Value = (
+        Case,
+        Vec<Rational>,
+        Vec<Rational>,
+        Vec<Rational>,
+        Vec<Rational>,
+    ),
+> {
     case().prop_flat_map(|c| {
         let n = c.cols;
         let m = c.a.len();
-        (Just(c), rationals(n), rationals(n), positive_weights(n), rationals(m))
+        (
+            Just(c),
+            rationals(n),
+            rationals(n),
+            positive_weights(n),
+            rationals(m),
+        )
     })
 }
 
@@ -338,10 +363,15 @@ fn bad_arguments_are_typed_errors() {
     ));
     assert!(matches!(
         f.least_squares(&[r(1), r(2)], &[r(0), r(0)], &[r(1), r(-1)]),
-        Err(SolveError::Input(api::BackendError::NonPositiveWeight { index: 1, .. }))
+        Err(SolveError::Input(api::BackendError::NonPositiveWeight {
+            index: 1,
+            ..
+        }))
     ));
     let family = RhsFamily::single(vec![r(1), r(2)]);
-    let prepared = f.prepare_least_squares(&family, &[r(1), r(1)]).expect("prepare");
+    let prepared = f
+        .prepare_least_squares(&family, &[r(1), r(1)])
+        .expect("prepare");
     assert!(matches!(
         prepared.solve(1, &[], &[r(0), r(0)]),
         Err(SolveError::Input(api::BackendError::NoSuchColumn { .. }))

@@ -1,5 +1,8 @@
 //! The worked examples of the thesis, reproduced exactly.
 
+// Matrix checks index rows and columns explicitly, as the thesis writes them.
+#![allow(clippy::needless_range_loop)]
+
 use api::{Factorization, IntMatrix, LinearBackend, Rational};
 use exact_ldu::{ExactLdu, Int, Ldu, Pivoting, Ring, Simplification};
 use num_bigint::BigInt;
@@ -29,10 +32,7 @@ fn matrix_4_3() -> IntMatrix {
 }
 
 fn rhs_8_17() -> Vec<Rational> {
-    [142, 42, 40, -128, 50]
-        .iter()
-        .map(|&v| q(v, 1))
-        .collect()
+    [142, 42, 40, -128, 50].iter().map(|&v| q(v, 1)).collect()
 }
 
 const ALL_METHODS: [Simplification; 3] = [
@@ -63,7 +63,10 @@ fn factoring_of_matrix_4_3() {
             &[5, 20, -120]
         ])
     );
-    assert_eq!(d, vec![BigInt::from(-1), BigInt::from(-1), BigInt::from(-80)]);
+    assert_eq!(
+        d,
+        vec![BigInt::from(-1), BigInt::from(-1), BigInt::from(-80)]
+    );
     assert_eq!(
         u,
         ints(&[&[-1, -6, -16, -19], &[0, 1, -3, 4], &[0, 0, -80, 0]])
@@ -93,7 +96,10 @@ fn gcd_factoring_of_matrix_4_3() {
         .factor(&matrix_4_3())
         .expect("factor");
     let (_, _, u) = f.ldu().dense_factors();
-    assert_eq!(u, ints(&[&[-1, -6, -16, -19], &[0, 1, -3, 4], &[0, 0, 1, 0]]));
+    assert_eq!(
+        u,
+        ints(&[&[-1, -6, -16, -19], &[0, 1, -3, 4], &[0, 0, 1, 0]])
+    );
 }
 
 /// Solve (8.17)–(8.22): the system is consistent (8.19) and X = Π_C P = (59, −95/2, 23/2, 0).
@@ -109,8 +115,16 @@ fn solve_8_17() {
         f.check_consistent(&rhs_8_17()).expect("consistent");
         let p = f.solve(&rhs_8_17()).expect("solvable");
         let x: Vec<Rational> = f.ldu().col_perm().iter().map(|&c| p[c].clone()).collect();
-        assert_eq!(x, vec![q(59, 1), q(-95, 2), q(23, 2), q(0, 1)], "{method:?}");
-        assert_eq!(p, vec![q(59, 1), q(-95, 2), q(0, 1), q(23, 2)], "{method:?}");
+        assert_eq!(
+            x,
+            vec![q(59, 1), q(-95, 2), q(23, 2), q(0, 1)],
+            "{method:?}"
+        );
+        assert_eq!(
+            p,
+            vec![q(59, 1), q(-95, 2), q(0, 1), q(23, 2)],
+            "{method:?}"
+        );
         for (row, b) in a.iter().zip(rhs_8_17()) {
             let s: Rational = row
                 .iter()
@@ -140,7 +154,11 @@ fn least_squares_9_9() {
         let p = f
             .least_squares(&rhs_8_17(), &hints, &weights)
             .expect("solvable");
-        assert_eq!(p, vec![q(3, 2), q(-3, 2), q(-23, 2), q(23, 2)], "{method:?}");
+        assert_eq!(
+            p,
+            vec![q(3, 2), q(-3, 2), q(-23, 2), q(23, 2)],
+            "{method:?}"
+        );
     }
 }
 
@@ -164,10 +182,30 @@ fn turner_example_stage_by_stage() {
     assert_eq!(
         none,
         vec![
-            ints(&[&[8, 7, 4, 1], &[0, 20, 40, 20], &[0, -18, 8, 42], &[0, 12, 48, 12]]),
-            ints(&[&[8, 7, 4, 1], &[0, 20, 40, 20], &[0, 0, 880, 1200], &[0, 0, 480, 0]]),
-            ints(&[&[8, 7, 4, 1], &[0, 20, 40, 20], &[0, 0, 880, 1200], &[0, 0, 0, -576000]]),
-            ints(&[&[8, 7, 4, 1], &[0, 20, 40, 20], &[0, 0, 880, 1200], &[0, 0, 0, -576000]]),
+            ints(&[
+                &[8, 7, 4, 1],
+                &[0, 20, 40, 20],
+                &[0, -18, 8, 42],
+                &[0, 12, 48, 12]
+            ]),
+            ints(&[
+                &[8, 7, 4, 1],
+                &[0, 20, 40, 20],
+                &[0, 0, 880, 1200],
+                &[0, 0, 480, 0]
+            ]),
+            ints(&[
+                &[8, 7, 4, 1],
+                &[0, 20, 40, 20],
+                &[0, 0, 880, 1200],
+                &[0, 0, 0, -576000]
+            ]),
+            ints(&[
+                &[8, 7, 4, 1],
+                &[0, 20, 40, 20],
+                &[0, 0, 880, 1200],
+                &[0, 0, 0, -576000]
+            ]),
         ]
     );
 
@@ -180,10 +218,30 @@ fn turner_example_stage_by_stage() {
     assert_eq!(
         turner,
         vec![
-            ints(&[&[8, 7, 4, 1], &[0, 20, 40, 20], &[0, -18, 8, 42], &[0, 12, 48, 12]]),
-            ints(&[&[8, 7, 4, 1], &[0, 20, 40, 20], &[0, 0, 110, 150], &[0, 0, 60, 0]]),
-            ints(&[&[8, 7, 4, 1], &[0, 20, 40, 20], &[0, 0, 110, 150], &[0, 0, 0, -450]]),
-            ints(&[&[8, 7, 4, 1], &[0, 20, 40, 20], &[0, 0, 110, 150], &[0, 0, 0, -450]]),
+            ints(&[
+                &[8, 7, 4, 1],
+                &[0, 20, 40, 20],
+                &[0, -18, 8, 42],
+                &[0, 12, 48, 12]
+            ]),
+            ints(&[
+                &[8, 7, 4, 1],
+                &[0, 20, 40, 20],
+                &[0, 0, 110, 150],
+                &[0, 0, 60, 0]
+            ]),
+            ints(&[
+                &[8, 7, 4, 1],
+                &[0, 20, 40, 20],
+                &[0, 0, 110, 150],
+                &[0, 0, 0, -450]
+            ]),
+            ints(&[
+                &[8, 7, 4, 1],
+                &[0, 20, 40, 20],
+                &[0, 0, 110, 150],
+                &[0, 0, 0, -450]
+            ]),
         ]
     );
     // Turner's last pivot is the determinant (det = -450 · sign of no exchanges = -450 ... up to
@@ -203,8 +261,18 @@ fn turner_example_stage_by_stage() {
         vec![
             ints(&[&[8, 7, 4, 1], &[0, 1, 2, 1], &[0, -9, 4, 21], &[0, 1, 4, 1]]),
             ints(&[&[8, 7, 4, 1], &[0, 1, 2, 1], &[0, 0, 11, 15], &[0, 0, 1, 0]]),
-            ints(&[&[8, 7, 4, 1], &[0, 1, 2, 1], &[0, 0, 11, 15], &[0, 0, 0, -1]]),
-            ints(&[&[8, 7, 4, 1], &[0, 1, 2, 1], &[0, 0, 11, 15], &[0, 0, 0, -1]]),
+            ints(&[
+                &[8, 7, 4, 1],
+                &[0, 1, 2, 1],
+                &[0, 0, 11, 15],
+                &[0, 0, 0, -1]
+            ]),
+            ints(&[
+                &[8, 7, 4, 1],
+                &[0, 1, 2, 1],
+                &[0, 0, 11, 15],
+                &[0, 0, 0, -1]
+            ]),
         ]
     );
 }
@@ -232,7 +300,12 @@ fn inconsistent_rhs_gets_a_certificate() {
             .sum();
         assert_eq!(s, q(0, 1));
     }
-    let yb: Rational = c.rows.iter().zip(&c.certificate).map(|(&i, y)| y * &b[i]).sum();
+    let yb: Rational = c
+        .rows
+        .iter()
+        .zip(&c.certificate)
+        .map(|(&i, y)| y * &b[i])
+        .sum();
     assert_eq!(yb, c.discrepancy);
     assert_ne!(yb, q(0, 1));
     assert!(c.certificate.iter().all(|y| y.is_integer()));

@@ -1,0 +1,105 @@
+//! Conversion of the exact input data (integers, rationals) to `f64`, refusing values that do
+//! not fit.
+
+use api::exact::rational_to_f64;
+use api::{BackendError, IntMatrix, Rational};
+use num_traits::ToPrimitive;
+
+/// A sparse row in `f64`: `(column, value)` by increasing column.
+pub(crate) type FloatRow = Vec<(usize, f64)>;
+
+/// The rows of an integer matrix in `f64`; `what` names the matrix in the error.
+pub(crate) fn matrix_rows(matrix: &IntMatrix, what: &str) -> Result<Vec<FloatRow>, BackendError> {
+    matrix
+        .row_iter()
+        .enumerate()
+        .map(|(i, row)| {
+            row.iter()
+                .map(|(j, v)| {
+                    let value = v
+                        .to_f64()
+                        .filter(|f| f.is_finite())
+                        .or_else(|| {
+                            Some(rational_to_f64(&Rational::from_integer(v.clone())))
+                                .filter(|f| f.is_finite())
+                        })
+                        .ok_or_else(|| {
+                            BackendError::Numerical(format!(
+                                "entry ({i}, {j}) of the {what} does not fit in f64"
+                            ))
+                        })?;
+                    Ok((*j, value))
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// A vector of rationals in `f64`; `what` names the vector in the error.
+pub(crate) fn rationals(values: &[Rational], what: &str) -> Result<Vec<f64>, BackendError> {
+    values
+        .iter()
+        .enumerate()
+        .map(|(i, v)| {
+            let f = rational_to_f64(v);
+            if f.is_finite() {
+                Ok(f)
+            } else {
+                Err(BackendError::Numerical(format!(
+                    "entry {i} of the {what} does not fit in f64"
+                )))
+            }
+        })
+        .collect()
+}
+
+/// `Σ row_j x_j` and `Σ |row_j| |x_j|` (the magnitude its rounding error is proportional to).
+pub(crate) fn dot_with_magnitude(row: &[(usize, f64)], x: &[f64]) -> (f64, f64) {
+    row.iter().fold((0.0, 0.0), |(s, m), (j, v)| {
+        (s + v * x[*j], m + (v * x[*j]).abs())
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use api::Integer;
+
+    #[test]
+    fn huge_values_are_refused() {
+        let huge = Integer::from(10).pow(400u32);
+        let a = IntMatrix::from_sparse(2, vec![vec![(1, huge.clone())]]).expect("matrix");
+        assert!(matches!(
+            matrix_rows(&a, "matrix"),
+            Err(BackendError::Numerical(_))
+        ));
+        let v = [
+            Rational::from_integer(1.into()),
+            Rational::from_integer(huge),
+        ];
+        assert!(matches!(
+            rationals(&v, "right-hand side"),
+            Err(BackendError::Numerical(_))
+        ));
+        let small = Rational::new(1.into(), Integer::from(10).pow(400u32));
+        assert_eq!(
+            rationals(&[small], "hints").expect("tiny is zero"),
+            vec![0.0]
+        );
+    }
+
+    #[test]
+    fn ordinary_values_convert() {
+        let a = IntMatrix::from_dense(2, &[vec![3, -4]]).expect("matrix");
+        assert_eq!(
+            matrix_rows(&a, "matrix").expect("fits"),
+            vec![vec![(0, 3.0), (1, -4.0)]]
+        );
+        let v = [Rational::new(1.into(), 4.into())];
+        assert_eq!(rationals(&v, "hints").expect("fits"), vec![0.25]);
+        assert_eq!(
+            dot_with_magnitude(&[(0, 3.0), (1, -4.0)], &[1.0, 1.0]),
+            (-1.0, 7.0)
+        );
+    }
+}
