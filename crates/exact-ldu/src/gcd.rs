@@ -54,10 +54,10 @@ fn bit_len(v: &[u64]) -> usize {
     }
 }
 
-/// `u·a − v·b`, which the caller knows to be non-negative.
-fn combine(a: &[u64], u: u64, b: &[u64], v: u64) -> Limbs {
+/// `out = u·a − v·b`, which the caller knows to be non-negative.
+fn combine(out: &mut Limbs, a: &[u64], u: u64, b: &[u64], v: u64) {
     let n = a.len().max(b.len());
-    let mut out = Vec::with_capacity(n + 1);
+    out.clear();
     let mut carry: i128 = 0;
     for i in 0..n {
         let ai = a.get(i).copied().unwrap_or(0) as i128;
@@ -71,47 +71,70 @@ fn combine(a: &[u64], u: u64, b: &[u64], v: u64) -> Limbs {
     }
     debug_assert!(carry >= 0, "combination must be non-negative");
     out.push(carry as u64);
-    trim(&mut out);
-    out
+    trim(out);
 }
 
+/// Binary GCD on 128-bit words (128-bit divisions are slow library calls).
 fn gcd_u128(mut a: u128, mut b: u128) -> u128 {
-    while b != 0 {
-        let r = a % b;
-        a = b;
-        b = r;
+    if a == 0 {
+        return b;
     }
-    a
+    if b == 0 {
+        return a;
+    }
+    let shift = (a | b).trailing_zeros();
+    a >>= a.trailing_zeros();
+    loop {
+        b >>= b.trailing_zeros();
+        if a > b {
+            std::mem::swap(&mut a, &mut b);
+        }
+        b -= a;
+        if b == 0 {
+            return a << shift;
+        }
+        if b >> 64 == 0 && a >> 64 == 0 {
+            return (crate::ring::binary_gcd(a as u64, b as u64) as u128) << shift;
+        }
+    }
 }
 
-fn small(v: &[u64]) -> Option<u128> {
-    match v.len() {
-        0 => Some(0),
-        1 => Some(v[0] as u128),
-        2 => Some(v[0] as u128 | (v[1] as u128) << 64),
-        _ => None,
+/// `a < b` for trimmed limb vectors.
+fn less(a: &[u64], b: &[u64]) -> bool {
+    if a.len() != b.len() {
+        return a.len() < b.len();
     }
-}
-
-fn from_u128(v: u128) -> Limbs {
-    let mut out = vec![v as u64, (v >> 64) as u64];
-    trim(&mut out);
-    out
+    for (x, y) in a.iter().rev().zip(b.iter().rev()) {
+        if x != y {
+            return x < y;
+        }
+    }
+    false
 }
 
 /// `gcd(a, b)` of magnitudes given as limbs.
 fn gcd_limbs(mut a: Limbs, mut b: Limbs) -> Limbs {
     trim(&mut a);
     trim(&mut b);
-    if bit_len(&a) < bit_len(&b) || (a.len() == b.len() && from_limbs(&a) < from_limbs(&b)) {
+    if less(&a, &b) {
         std::mem::swap(&mut a, &mut b);
     }
+    let mut next_a = Vec::with_capacity(a.len() + 1);
+    let mut next_b = Vec::with_capacity(a.len() + 1);
     loop {
         if b.is_empty() {
             return a;
         }
-        if let (Some(x), Some(y)) = (small(&a), small(&b)) {
-            return from_u128(gcd_u128(x, y));
+        if a.len() <= 2 {
+            let word = |v: &[u64]| {
+                v.iter()
+                    .rev()
+                    .fold(0u128, |acc, l| (acc << 64) | *l as u128)
+            };
+            let g = gcd_u128(word(&a), word(&b));
+            let mut out = vec![g as u64, (g >> 64) as u64];
+            trim(&mut out);
+            return out;
         }
         // Leading 62 bits of a and the same bits of b: every cofactor and intermediate below
         // stays under 2^63, so the emulated Euclid runs in machine words.
@@ -119,9 +142,25 @@ fn gcd_limbs(mut a: Limbs, mut b: Limbs) -> Limbs {
         let mut x = (bits_at(&a, shift) & (u64::MAX >> 2)) as i64;
         let mut y = (bits_at(&b, shift) & (u64::MAX >> 2)) as i64;
         let (mut ca, mut cb, mut cc, mut cd): (i64, i64, i64, i64) = (1, 0, 0, 1);
-        while y + cc != 0 && y + cd != 0 {
-            let q = (x + ca) / (y + cc);
-            if q != (x + cb) / (y + cd) {
+        loop {
+            // Knuth's test: the quotient is certain when ⌊(x+A)/(y+C)⌋ = ⌊(x+B)/(y+D)⌋.
+            let (xa, xb, yc, yd) = (x + ca, x + cb, y + cc, y + cd);
+            if yc <= 0 || yd <= 0 || xa < 0 || xb < 0 {
+                break;
+            }
+            // Quotients are mostly tiny: find small ones by subtraction, not division.
+            let mut q = 0i64;
+            let mut rem = xa;
+            while rem >= yc && q < 4 {
+                rem -= yc;
+                q += 1;
+            }
+            if rem >= yc {
+                q = xa / yc;
+            }
+            // ⌊xb/yd⌋ = q  ⇔  q·yd ≤ xb < (q+1)·yd, checked with one multiplication.
+            let low = q as i128 * yd as i128;
+            if (xb as i128) < low || xb as i128 >= low + yd as i128 {
                 break;
             }
             (ca, cc) = (cc, ca - q * cc);
@@ -138,18 +177,18 @@ fn gcd_limbs(mut a: Limbs, mut b: Limbs) -> Limbs {
         }
         // New a = ca·a + cb·b, new b = cc·a + cd·b; in each pair the signs differ (one of them
         // may be zero), so each is a difference of two non-negative products.
-        let next_a = if cb <= 0 {
-            combine(&a, ca as u64, &b, (-cb) as u64)
+        if cb <= 0 {
+            combine(&mut next_a, &a, ca as u64, &b, (-cb) as u64);
         } else {
-            combine(&b, cb as u64, &a, (-ca) as u64)
-        };
-        let next_b = if cd <= 0 {
-            combine(&a, cc as u64, &b, (-cd) as u64)
+            combine(&mut next_a, &b, cb as u64, &a, (-ca) as u64);
+        }
+        if cd <= 0 {
+            combine(&mut next_b, &a, cc as u64, &b, (-cd) as u64);
         } else {
-            combine(&b, cd as u64, &a, (-cc) as u64)
-        };
-        a = next_a;
-        b = next_b;
+            combine(&mut next_b, &b, cd as u64, &a, (-cc) as u64);
+        }
+        std::mem::swap(&mut a, &mut next_a);
+        std::mem::swap(&mut b, &mut next_b);
     }
 }
 

@@ -24,6 +24,7 @@
 mod factorization;
 mod gcd;
 mod ldu;
+mod limbs;
 mod lsq;
 mod qvec;
 mod ring;

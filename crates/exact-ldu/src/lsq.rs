@@ -10,13 +10,17 @@
 //! ```
 //!
 //! (the scale `δ` and the factor 2 of `M = 2W` cancel). Everything except `h` and `α` is fixed,
-//! so preparing computes `G⁻¹` exactly (as an integer matrix over one denominator), the rows of
-//! `K` and `c_j` at the independent positions, and, for the weak-consistency test, one primitive
-//! integer vector `y` with `yᵀA = 0` per redundant row together with `yᵀc_j` and `yᵀK`. An
-//! update is then a few integer matrix–vector products.
+//! so preparing computes `H = V Âᵀ G⁻¹` exactly, as an integer matrix over its reduced common
+//! denominator (much smaller than that of `G⁻¹`: the solution's denominators are what they are,
+//! not `det G`), the rows of `K` and `c_j` at the independent positions, and, for the
+//! weak-consistency test, one primitive integer vector `y` with `yᵀA = 0` per redundant row
+//! together with `yᵀc_j` and `yᵀK`. An update computes the small residual
+//! `ρ = Â h − ĉ_j + K̂ α` and `x = h − H ρ`: one pass of word-sized multiply-accumulate per entry
+//! of `H`, then one reduction per result.
 
 use crate::factorization::{ExactFactorization, SparseRow};
 use crate::ldu::{Ldu, Simplification};
+use crate::limbs::{Accumulator, Limbs};
 use crate::qvec::QVec;
 use crate::ring::{lcm, Int, Ring};
 use api::backend::{check_len, validate_family, validate_weights};
@@ -25,6 +29,8 @@ use api::{
     SolveError,
 };
 use num_bigint::BigInt;
+use num_integer::Integer as _;
+use num_traits::Zero;
 
 /// One left-null-space vector `y` (`yᵀA = 0`) with its products against the family.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -45,20 +51,19 @@ pub struct ExactLeastSquares<R: Ring = Int> {
     a_hat: Vec<SparseRow<R>>,
     k_hat: Vec<SparseRow<R>>,
     c_hat: Vec<QVec<R>>,
-    v: Vec<R>,
-    g_inv: Vec<Vec<R>>,
-    g_den: R,
+    /// `H` (`n × r`) times `h_den`.
+    h_rows: Vec<Vec<Limbs>>,
+    /// Positive common denominator of `H`.
+    h_den: BigInt,
     checks: Vec<ConsistencyCheck<R>>,
 }
 
 fn dot_sparse<R: Ring>(row: &[(usize, R)], x: &[R]) -> R {
-    row.iter().fold(R::zero(), |acc, (c, v)| {
-        if x[*c].is_zero() {
-            acc
-        } else {
-            acc.add(&v.mul(&x[*c]))
-        }
-    })
+    let mut acc = R::zero();
+    for (c, v) in row {
+        acc.add_mul(v, &x[*c]);
+    }
+    acc
 }
 
 impl<R: Ring> ExactLeastSquares<R> {
@@ -105,6 +110,7 @@ impl<R: Ring> ExactLeastSquares<R> {
             .collect();
 
         let (g_inv, g_den) = inverse_of_normal_matrix(&a_hat, &v, n);
+        let (h_rows, h_den) = projection_matrix(&a_hat, &v, &g_inv, &g_den, n);
 
         let constants: Vec<QVec<R>> = family
             .constant
@@ -149,9 +155,8 @@ impl<R: Ring> ExactLeastSquares<R> {
             a_hat,
             k_hat,
             c_hat,
-            v,
-            g_inv,
-            g_den,
+            h_rows,
+            h_den,
             checks,
         })
     }
@@ -256,6 +261,73 @@ fn inverse_of_normal_matrix<R: Ring>(
     (inv, den)
 }
 
+/// `H = V Âᵀ G⁻¹` as `(rows of H · h_den, h_den)` with `h_den` the reduced common denominator.
+fn projection_matrix<R: Ring>(
+    a_hat: &[SparseRow<R>],
+    v: &[R],
+    g_inv: &[Vec<R>],
+    g_den: &R,
+    n: usize,
+) -> (Vec<Vec<Limbs>>, BigInt) {
+    let r = a_hat.len();
+    let mut by_column: Vec<Vec<(usize, BigInt)>> = vec![Vec::new(); n];
+    for (l, row) in a_hat.iter().enumerate() {
+        for (s, val) in row {
+            by_column[*s].push((l, val.to_bigint()));
+        }
+    }
+    let g_inv: Vec<Vec<BigInt>> = g_inv
+        .iter()
+        .map(|row| row.iter().map(Ring::to_bigint).collect())
+        .collect();
+    let rows: Vec<Vec<BigInt>> = by_column
+        .iter()
+        .enumerate()
+        .map(|(s, column)| {
+            let vs = v[s].to_bigint();
+            (0..r)
+                .map(|k| {
+                    let mut sum = BigInt::from(0);
+                    for (l, als) in column {
+                        sum += als * &g_inv[*l][k];
+                    }
+                    sum * &vs
+                })
+                .collect()
+        })
+        .collect();
+    // The content gcd(g_den, all entries) without one big GCD per entry: the GCD of g_den with
+    // two fixed pseudo-random combinations of the entries is a multiple of the content (and
+    // almost always equal to it); every entry is then divided by it, and an entry that leaves a
+    // remainder shrinks the candidate by one exact GCD.
+    let g_den = g_den.to_bigint();
+    let mut combos = [BigInt::from(0), BigInt::from(0)];
+    for (i, entry) in rows.iter().flatten().enumerate() {
+        combos[0] += entry * BigInt::from(1 + (i as u64 * 7919) % 997);
+        combos[1] += entry * BigInt::from(1 + (i as u64 * 104_729) % 991);
+    }
+    let mut content =
+        crate::gcd::gcd_bigint(&g_den, &crate::gcd::gcd_bigint(&combos[0], &combos[1]));
+    let rows = 'divide: loop {
+        let mut divided = Vec::with_capacity(rows.len());
+        for row in &rows {
+            let mut out = Vec::with_capacity(row.len());
+            for entry in row {
+                let (q, rem) = entry.div_rem(&content);
+                if !Zero::is_zero(&rem) {
+                    content = crate::gcd::gcd_bigint(&content, entry);
+                    continue 'divide;
+                }
+                out.push(Limbs::from_bigint(&q));
+            }
+            divided.push(out);
+        }
+        break divided;
+    };
+    let den = g_den / &content;
+    (rows, den)
+}
+
 impl<R: Ring> PreparedLeastSquares for ExactLeastSquares<R> {
     type Scalar = Rational;
 
@@ -298,36 +370,25 @@ impl<R: Ring> PreparedLeastSquares for ExactLeastSquares<R> {
                 s
             })
             .collect();
-        // λ = G⁻¹ ρ over g_den · common; μ = Âᵀ λ.
-        let mut mu = vec![R::zero(); self.n];
-        for (k, row) in self.g_inv.iter().enumerate() {
-            let lambda_k = row.iter().zip(&rho).fold(R::zero(), |acc, (gi, p)| {
-                if gi.is_zero() || p.is_zero() {
-                    acc
-                } else {
-                    acc.add(&gi.mul(p))
+        // x = h − H ρ over h_den · common.
+        let rho: Vec<Limbs> = rho.iter().map(Limbs::from_ring).collect();
+        let h_scale = Limbs::from_bigint(&(&self.h_den * fh.to_bigint()));
+        let den = &self.h_den * common.to_bigint();
+        let mut acc = Accumulator::default();
+        let x = self
+            .h_rows
+            .iter()
+            .zip(&h.num)
+            .map(|(row, hs)| {
+                acc.clear();
+                acc.add_product(&Limbs::from_ring(hs), &h_scale);
+                for (hk, rk) in row.iter().zip(&rho) {
+                    acc.sub_product(hk, rk);
                 }
-            });
-            if lambda_k.is_zero() {
-                continue;
-            }
-            for (s, aks) in &self.a_hat[k] {
-                mu[*s] = mu[*s].add(&aks.mul(&lambda_k));
-            }
-        }
-        let den = self.g_den.mul(&common);
-        let scale_h = self.g_den.mul(&fh);
-        let x: Vec<R> = (0..self.n)
-            .map(|s| {
-                let base = h.num[s].mul(&scale_h);
-                if mu[s].is_zero() {
-                    base
-                } else {
-                    base.sub(&self.v[s].mul(&mu[s]))
-                }
+                crate::gcd::reduced_ratio(acc.to_bigint(), den.clone())
             })
             .collect();
-        Ok(QVec { num: x, den }.to_rationals())
+        Ok(x)
     }
 }
 
@@ -337,9 +398,9 @@ impl<R: Ring> ExactLeastSquares<R> {
         self.checks.len()
     }
 
-    /// Bit size of the common denominator of `G⁻¹` (a measure of the update cost).
-    pub fn inverse_denominator_bits(&self) -> u64 {
-        self.g_den.bits()
+    /// Bit size of the common denominator of `H = V Âᵀ G⁻¹` (a measure of the update cost).
+    pub fn projection_denominator_bits(&self) -> u64 {
+        self.h_den.bits()
     }
 }
 

@@ -24,6 +24,8 @@ pub trait Ring: Clone + fmt::Debug + PartialEq + Eq + Send + Sync + 'static {
     fn from_bigint(v: &BigInt) -> Self;
     /// To an arbitrary-precision integer.
     fn to_bigint(&self) -> BigInt;
+    /// The value as an `i64`, when it fits.
+    fn to_i64(&self) -> Option<i64>;
     /// `self == 0`.
     fn is_zero(&self) -> bool;
     /// `self == 1`.
@@ -49,6 +51,10 @@ pub trait Ring: Clone + fmt::Debug + PartialEq + Eq + Send + Sync + 'static {
     /// `a·b − c·d`, the cross-multiplication of the fraction-free elimination.
     fn mul_sub(a: &Self, b: &Self, c: &Self, d: &Self) -> Self {
         a.mul(b).sub(&c.mul(d))
+    }
+    /// `self += a · b` (in place where the representation allows).
+    fn add_mul(&mut self, a: &Self, b: &Self) {
+        *self = self.add(&a.mul(b));
     }
     /// `self / other` where the division is known to be exact.
     fn div_exact(&self, other: &Self) -> Self;
@@ -78,6 +84,9 @@ impl Ring for BigInt {
     fn to_bigint(&self) -> BigInt {
         self.clone()
     }
+    fn to_i64(&self) -> Option<i64> {
+        ToPrimitive::to_i64(self)
+    }
     fn is_zero(&self) -> bool {
         Zero::is_zero(self)
     }
@@ -98,6 +107,9 @@ impl Ring for BigInt {
     }
     fn neg(&self) -> Self {
         -self
+    }
+    fn add_mul(&mut self, a: &Self, b: &Self) {
+        *self += a * b;
     }
     fn div_exact(&self, other: &Self) -> Self {
         debug_assert!(Zero::is_zero(&(self % other)), "inexact division");
@@ -153,7 +165,7 @@ impl Int {
     }
 
     fn from_big(v: BigInt) -> Int {
-        match v.to_i64() {
+        match ToPrimitive::to_i64(&v) {
             Some(s) => Int::Small(s),
             None => Int::Big(Box::new(v)),
         }
@@ -172,7 +184,8 @@ impl Int {
     }
 }
 
-fn binary_gcd(mut a: u64, mut b: u64) -> u64 {
+/// Binary (Stein) GCD of two machine words.
+pub(crate) fn binary_gcd(mut a: u64, mut b: u64) -> u64 {
     if a == 0 {
         return b;
     }
@@ -208,6 +221,12 @@ impl Ring for Int {
     }
     fn to_bigint(&self) -> BigInt {
         self.big()
+    }
+    fn to_i64(&self) -> Option<i64> {
+        match self {
+            Int::Small(v) => Some(*v),
+            Int::Big(_) => None,
+        }
     }
     fn is_zero(&self) -> bool {
         matches!(self, Int::Small(0))
@@ -247,6 +266,29 @@ impl Ring for Int {
             Int::Big(b) => Int::from_big(-&**b),
         }
     }
+    fn add_mul(&mut self, a: &Self, b: &Self) {
+        match (&mut *self, a, b) {
+            (_, Int::Small(0), _) | (_, _, Int::Small(0)) => {}
+            (Int::Small(s), Int::Small(x), Int::Small(y)) => {
+                // |x·y| ≤ 2^126 and |s| < 2^63: the sum fits an i128.
+                *self = Int::from_i128(*s as i128 + *x as i128 * *y as i128);
+            }
+            (Int::Big(acc), Int::Big(x), Int::Small(y))
+            | (Int::Big(acc), Int::Small(y), Int::Big(x)) => {
+                **acc += &**x * *y;
+                if let Some(v) = ToPrimitive::to_i64(&**acc) {
+                    *self = Int::Small(v);
+                }
+            }
+            (Int::Big(acc), Int::Big(x), Int::Big(y)) => {
+                **acc += &**x * &**y;
+                if let Some(v) = ToPrimitive::to_i64(&**acc) {
+                    *self = Int::Small(v);
+                }
+            }
+            _ => *self = self.add(&a.mul(b)),
+        }
+    }
     fn mul_sub(a: &Self, b: &Self, c: &Self, d: &Self) -> Self {
         if let (Int::Small(a), Int::Small(b), Int::Small(c), Int::Small(d)) = (a, b, c, d) {
             // |a·b|, |c·d| ≤ 2^126, so the difference fits an i128.
@@ -275,7 +317,7 @@ impl Ring for Int {
             }
             (Int::Small(a), Int::Big(b)) | (Int::Big(b), Int::Small(a)) if *a != 0 => {
                 // gcd(big, small) = gcd(small, big mod small): one bignum division.
-                let rem = (&**b % BigInt::from(*a)).to_i64().unwrap_or(0);
+                let rem = ToPrimitive::to_i64(&(&**b % BigInt::from(*a))).unwrap_or(0);
                 Int::from_i128(binary_gcd(a.unsigned_abs(), rem.unsigned_abs()) as i128)
             }
             _ => Int::from_big(crate::gcd::gcd_bigint(&self.big(), &other.big())),
@@ -349,7 +391,7 @@ mod tests {
 
     fn check_normal(v: &Int) {
         if let Int::Big(b) = v {
-            assert!(b.to_i64().is_none(), "unnormalised big {b}");
+            assert!(ToPrimitive::to_i64(&**b).is_none(), "unnormalised big {b}");
         }
     }
 
@@ -371,6 +413,9 @@ mod tests {
                 (ia.gcd(&ib), Ring::gcd(&ba, &bb)),
                 (ia.gcd(&ic), Ring::gcd(&ba, &bc)),
                 (ia.abs(), Ring::abs(&ba)),
+                ({ let mut acc = ic.clone(); acc.add_mul(&ia, &ib); acc }, { let mut acc = bc.clone(); acc.add_mul(&ba, &bb); acc }),
+                ({ let mut acc = ia.clone(); acc.add_mul(&ic, &id); acc }, { let mut acc = ba.clone(); acc.add_mul(&bc, &bd); acc }),
+                ({ let mut acc = ia.clone(); acc.add_mul(&ic, &ia); acc }, { let mut acc = ba.clone(); acc.add_mul(&bc, &ba); acc }),
             ] {
                 check_normal(&x);
                 prop_assert_eq!(x.to_bigint(), y);
