@@ -22,40 +22,41 @@ struct Case {
 }
 
 fn case() -> impl Strategy<Value = Case> {
-    (1usize..=2, 4usize..=10, 1usize..=7).prop_flat_map(|(dim, n, m)| {
-        let rows = prop::collection::vec(
-            prop::collection::vec((0..n, prop_oneof![-3i64..=-1, 1i64..=3]), 2..=4),
-            m,
-        );
-        let values = prop::collection::vec(prop::collection::vec(-9i64..=9, dim), n);
-        let perm = Just((0..n).collect::<Vec<usize>>()).prop_shuffle();
-        (Just(dim), values, rows, perm, 1usize..=2, 0usize..=6).prop_flat_map(
-            move |(dim, values, rows, perm, a, d)| {
-                let d = d.min(n - a);
-                let anchors = perm[..a].to_vec();
-                let derived = perm[a..a + d].to_vec();
-                let rat = || (-20i64..=20, 1i64..=5);
-                (
-                    Just(dim),
-                    Just(values),
-                    Just(rows),
-                    Just(anchors),
-                    Just(derived),
-                    prop::collection::vec(prop::collection::vec(rat(), dim), a),
-                    prop::collection::vec(prop::collection::vec(rat(), dim), d),
-                )
-            },
-        )
-    })
-    .prop_map(|(dim, values, rows, anchors, derived, moves, hints)| Case {
-        dim,
-        values,
-        rows,
-        anchors,
-        derived,
-        moves,
-        hints,
-    })
+    (1usize..=2, 4usize..=10, 1usize..=7)
+        .prop_flat_map(|(dim, n, m)| {
+            let rows = prop::collection::vec(
+                prop::collection::vec((0..n, prop_oneof![-3i64..=-1, 1i64..=3]), 2..=4),
+                m,
+            );
+            let values = prop::collection::vec(prop::collection::vec(-9i64..=9, dim), n);
+            let perm = Just((0..n).collect::<Vec<usize>>()).prop_shuffle();
+            (Just(dim), values, rows, perm, 1usize..=2, 0usize..=6).prop_flat_map(
+                move |(dim, values, rows, perm, a, d)| {
+                    let d = d.min(n - a);
+                    let anchors = perm[..a].to_vec();
+                    let derived = perm[a..a + d].to_vec();
+                    let rat = || (-20i64..=20, 1i64..=5);
+                    (
+                        Just(dim),
+                        Just(values),
+                        Just(rows),
+                        Just(anchors),
+                        Just(derived),
+                        prop::collection::vec(prop::collection::vec(rat(), dim), a),
+                        prop::collection::vec(prop::collection::vec(rat(), dim), d),
+                    )
+                },
+            )
+        })
+        .prop_map(|(dim, values, rows, anchors, derived, moves, hints)| Case {
+            dim,
+            values,
+            rows,
+            anchors,
+            derived,
+            moves,
+            hints,
+        })
 }
 
 fn build(c: &Case) -> (ConstraintSystem, Vec<ParamId>, Values) {
@@ -65,13 +66,21 @@ fn build(c: &Case) -> (ConstraintSystem, Vec<ParamId>, Values) {
         .collect();
     for (i, row) in c.rows.iter().enumerate() {
         let rhs: Vec<api::Integer> = (0..c.dim)
-            .map(|k| row.iter().map(|(j, coeff)| coeff * c.values[*j][k]).sum::<i64>().into())
+            .map(|k| {
+                row.iter()
+                    .map(|(j, coeff)| coeff * c.values[*j][k])
+                    .sum::<i64>()
+                    .into()
+            })
             .collect();
         s.add_row(ConstraintRow {
             label: format!("row{i}"),
             origin: Origin::default(),
             body: RowBody::Vector {
-                terms: row.iter().map(|(j, coeff)| (p[*j], (*coeff).into())).collect(),
+                terms: row
+                    .iter()
+                    .map(|(j, coeff)| (p[*j], (*coeff).into()))
+                    .collect(),
                 rhs,
             },
         })
@@ -81,7 +90,11 @@ fn build(c: &Case) -> (ConstraintSystem, Vec<ParamId>, Values) {
         &s,
         c.values
             .iter()
-            .map(|v| v.iter().map(|&x| Rational::from_integer(x.into())).collect())
+            .map(|v| {
+                v.iter()
+                    .map(|&x| Rational::from_integer(x.into()))
+                    .collect()
+            })
             .collect(),
     )
     .expect("values");
@@ -90,7 +103,11 @@ fn build(c: &Case) -> (ConstraintSystem, Vec<ParamId>, Values) {
 
 fn rationals(v: &[Vec<(i64, i64)>]) -> Vec<Vec<Rational>> {
     v.iter()
-        .map(|x| x.iter().map(|&(n, d)| Rational::new(n.into(), d.into())).collect())
+        .map(|x| {
+            x.iter()
+                .map(|&(n, d)| Rational::new(n.into(), d.into()))
+                .collect()
+        })
         .collect()
 }
 
@@ -158,11 +175,15 @@ fn both_backends_reject_an_impossible_move() {
         Edit::initialize(&FloatQr::default(), &s, &values, &spec).expect("init");
     for labels in [
         match exact.update(&one, &zero) {
-            Err(EditError::Conflict(c)) => c.labels().iter().map(|l| l.to_string()).collect::<Vec<_>>(),
+            Err(EditError::Conflict(c)) => {
+                c.labels().iter().map(|l| l.to_string()).collect::<Vec<_>>()
+            }
             other => panic!("exact accepted: {other:?}"),
         },
         match float.update(&one, &zero) {
-            Err(EditError::Conflict(c)) => c.labels().iter().map(|l| l.to_string()).collect::<Vec<_>>(),
+            Err(EditError::Conflict(c)) => {
+                c.labels().iter().map(|l| l.to_string()).collect::<Vec<_>>()
+            }
             other => panic!("float accepted: {other:?}"),
         },
     ] {

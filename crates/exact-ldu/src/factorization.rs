@@ -40,7 +40,7 @@ impl<R: Ring> ExactFactorization<R> {
                 d
             })
             .collect();
-        let ldu = Ldu::factor(dense, matrix.cols(), method);
+        let ldu = Ldu::factor(dense, matrix.cols(), method).expect("an IntMatrix is rectangular");
         ExactFactorization { a, ldu }
     }
 

@@ -28,6 +28,7 @@
 
 use crate::qvec::QVec;
 use crate::ring::{gcd_all, Ring};
+use api::BackendError;
 use api::Rational as BigRational;
 use num_bigint::BigInt;
 use num_traits::Zero;
@@ -72,6 +73,17 @@ pub struct Ldu<R: Ring> {
     method: Simplification,
 }
 
+fn check_rectangular<R>(rows: &[Vec<R>], cols: usize) -> Result<(), BackendError> {
+    match rows.iter().find(|r| r.len() != cols) {
+        Some(row) => Err(BackendError::DimensionMismatch {
+            what: "matrix row",
+            expected: cols,
+            found: row.len(),
+        }),
+        None => Ok(()),
+    }
+}
+
 fn swap_columns<R: Ring>(u: &mut [Vec<R>], col_perm: &mut [usize], a: usize, b: usize) {
     for row in u.iter_mut() {
         row.swap(a, b);
@@ -80,12 +92,20 @@ fn swap_columns<R: Ring>(u: &mut [Vec<R>], col_perm: &mut [usize], a: usize, b: 
 }
 
 impl<R: Ring> Ldu<R> {
-    /// Factors the dense `m × n` matrix given by rows (each of length `cols`).
-    ///
-    /// # Panics
-    /// Panics if a row does not have `cols` entries (callers build the rows themselves).
-    pub fn factor(rows: Vec<Vec<R>>, cols: usize, method: Simplification) -> Self {
-        Self::factor_impl(rows, cols, method, Pivoting::SmallestMagnitude, None)
+    /// Factors the dense `m × n` matrix given by rows; every row must have `cols` entries.
+    pub fn factor(
+        rows: Vec<Vec<R>>,
+        cols: usize,
+        method: Simplification,
+    ) -> Result<Self, BackendError> {
+        check_rectangular(&rows, cols)?;
+        Ok(Self::factor_impl(
+            rows,
+            cols,
+            method,
+            Pivoting::SmallestMagnitude,
+            None,
+        ))
     }
 
     /// Factors like [`Ldu::factor`] with a chosen pivoting rule, and also returns the working
@@ -96,10 +116,11 @@ impl<R: Ring> Ldu<R> {
         cols: usize,
         method: Simplification,
         pivoting: Pivoting,
-    ) -> (Self, Vec<Vec<Vec<BigInt>>>) {
+    ) -> Result<(Self, Vec<Vec<Vec<BigInt>>>), BackendError> {
+        check_rectangular(&rows, cols)?;
         let mut stages = Vec::new();
         let ldu = Self::factor_impl(rows, cols, method, pivoting, Some(&mut stages));
-        (ldu, stages)
+        Ok((ldu, stages))
     }
 
     fn factor_impl(
@@ -109,7 +130,6 @@ impl<R: Ring> Ldu<R> {
         pivoting: Pivoting,
         mut trace: Option<&mut Vec<Vec<Vec<BigInt>>>>,
     ) -> Self {
-        assert!(rows.iter().all(|r| r.len() == cols), "ragged matrix");
         let m = rows.len();
         let n = cols;
         let mut u = rows;

@@ -226,7 +226,7 @@ fn inverse_of_normal_matrix<R: Ring>(
             }
         }
     }
-    let ldu = Ldu::factor(g, r, Simplification::Gcd);
+    let ldu = Ldu::factor(g, r, Simplification::Gcd).expect("G is square by construction");
     debug_assert_eq!(ldu.rank(), r, "Â V Âᵀ is positive definite");
     let columns: Vec<QVec<R>> = (0..r)
         .map(|k| {

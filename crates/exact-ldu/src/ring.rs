@@ -8,7 +8,7 @@
 //! identical results.
 
 use num_bigint::{BigInt, Sign};
-use num_traits::{One, ToPrimitive, Zero};
+use num_traits::{One, Signed, ToPrimitive, Zero};
 use std::cmp::Ordering;
 use std::fmt;
 
@@ -184,6 +184,15 @@ impl Int {
     }
 }
 
+/// `a · b` as a plain big integer (no intermediate boxing).
+fn product(a: &Int, b: &Int) -> BigInt {
+    match (a, b) {
+        (Int::Small(x), Int::Small(y)) => BigInt::from(*x as i128 * *y as i128),
+        (Int::Small(x), Int::Big(y)) | (Int::Big(y), Int::Small(x)) => &**y * *x,
+        (Int::Big(x), Int::Big(y)) => &**x * &**y,
+    }
+}
+
 /// Binary (Stein) GCD of two machine words.
 pub(crate) fn binary_gcd(mut a: u64, mut b: u64) -> u64 {
     if a == 0 {
@@ -243,13 +252,16 @@ impl Ring for Int {
     fn add(&self, other: &Self) -> Self {
         match (self, other) {
             (Int::Small(a), Int::Small(b)) => Int::from_i128(*a as i128 + *b as i128),
-            _ => Int::from_big(self.big() + other.big()),
+            (Int::Small(a), Int::Big(b)) | (Int::Big(b), Int::Small(a)) => Int::from_big(&**b + *a),
+            (Int::Big(a), Int::Big(b)) => Int::from_big(&**a + &**b),
         }
     }
     fn sub(&self, other: &Self) -> Self {
         match (self, other) {
             (Int::Small(a), Int::Small(b)) => Int::from_i128(*a as i128 - *b as i128),
-            _ => Int::from_big(self.big() - other.big()),
+            (Int::Small(a), Int::Big(b)) => Int::from_big(*a - &**b),
+            (Int::Big(a), Int::Small(b)) => Int::from_big(&**a - *b),
+            (Int::Big(a), Int::Big(b)) => Int::from_big(&**a - &**b),
         }
     }
     fn mul(&self, other: &Self) -> Self {
@@ -294,7 +306,7 @@ impl Ring for Int {
             // |a·b|, |c·d| ≤ 2^126, so the difference fits an i128.
             return Int::from_i128(*a as i128 * *b as i128 - *c as i128 * *d as i128);
         }
-        a.mul(b).sub(&c.mul(d))
+        Int::from_big(product(a, b) - product(c, d))
     }
     fn div_exact(&self, other: &Self) -> Self {
         match (self, other) {
@@ -302,10 +314,18 @@ impl Ring for Int {
                 debug_assert!(*b != 0 && a % b == 0, "inexact division");
                 Int::from_i128(*a as i128 / *b as i128)
             }
-            _ => {
-                let (a, b) = (self.big(), other.big());
-                debug_assert!(Zero::is_zero(&(&a % &b)), "inexact division");
-                Int::from_big(a / b)
+            (Int::Big(a), Int::Small(b)) => {
+                debug_assert!(Zero::is_zero(&(&**a % *b)), "inexact division");
+                Int::from_big(&**a / *b)
+            }
+            (Int::Big(a), Int::Big(b)) => {
+                debug_assert!(Zero::is_zero(&(&**a % &**b)), "inexact division");
+                Int::from_big(&**a / &**b)
+            }
+            // |a| < |b|: an exact quotient can only be 0.
+            (Int::Small(a), Int::Big(_)) => {
+                debug_assert!(*a == 0, "inexact division");
+                Int::Small(0)
             }
         }
     }
@@ -320,7 +340,10 @@ impl Ring for Int {
                 let rem = ToPrimitive::to_i64(&(&**b % BigInt::from(*a))).unwrap_or(0);
                 Int::from_i128(binary_gcd(a.unsigned_abs(), rem.unsigned_abs()) as i128)
             }
-            _ => Int::from_big(crate::gcd::gcd_bigint(&self.big(), &other.big())),
+            (Int::Big(a), Int::Big(b)) => Int::from_big(crate::gcd::gcd_bigint(a, b)),
+            (Int::Small(_), Int::Big(b)) | (Int::Big(b), Int::Small(_)) => {
+                Int::from_big(Signed::abs(&**b))
+            }
         }
     }
     fn abs_cmp(&self, other: &Self) -> Ordering {
@@ -334,7 +357,21 @@ impl Ring for Int {
     fn cmp_value(&self, other: &Self) -> Ordering {
         match (self, other) {
             (Int::Small(a), Int::Small(b)) => a.cmp(b),
-            _ => self.big().cmp(&other.big()),
+            (Int::Small(_), Int::Big(b)) => {
+                if b.sign() == Sign::Minus {
+                    Ordering::Greater
+                } else {
+                    Ordering::Less
+                }
+            }
+            (Int::Big(a), Int::Small(_)) => {
+                if a.sign() == Sign::Minus {
+                    Ordering::Less
+                } else {
+                    Ordering::Greater
+                }
+            }
+            (Int::Big(a), Int::Big(b)) => a.cmp(b),
         }
     }
     fn bits(&self) -> u64 {

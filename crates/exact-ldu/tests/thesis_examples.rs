@@ -178,7 +178,8 @@ fn turner_example_stage_by_stage() {
         4,
         Simplification::None,
         Pivoting::FirstNonzero,
-    );
+    )
+    .expect("square");
     assert_eq!(
         none,
         vec![
@@ -214,7 +215,8 @@ fn turner_example_stage_by_stage() {
         4,
         Simplification::Turner,
         Pivoting::FirstNonzero,
-    );
+    )
+    .expect("square");
     assert_eq!(
         turner,
         vec![
@@ -255,7 +257,8 @@ fn turner_example_stage_by_stage() {
         4,
         Simplification::Gcd,
         Pivoting::FirstNonzero,
-    );
+    )
+    .expect("square");
     assert_eq!(
         gcd,
         vec![
@@ -309,4 +312,17 @@ fn inconsistent_rhs_gets_a_certificate() {
     assert_eq!(yb, c.discrepancy);
     assert_ne!(yb, q(0, 1));
     assert!(c.certificate.iter().all(|y| y.is_integer()));
+}
+
+/// A ragged matrix is a typed error, not a panic.
+#[test]
+fn ragged_rows_are_rejected() {
+    let rows = vec![
+        vec![Int::from_i64(1), Int::from_i64(2)],
+        vec![Int::from_i64(3)],
+    ];
+    assert!(matches!(
+        Ldu::factor(rows, 2, Simplification::Gcd),
+        Err(api::BackendError::DimensionMismatch { .. })
+    ));
 }
