@@ -57,6 +57,9 @@ pub enum Pivoting {
     FirstNonzero,
 }
 
+/// The working matrix `U` after one elimination stage: all `m` rows, in working order.
+pub type StageSnapshot = Vec<Vec<BigInt>>;
+
 /// A fraction-free LDU factoring of an integer matrix.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Ldu<R: Ring> {
@@ -116,7 +119,7 @@ impl<R: Ring> Ldu<R> {
         cols: usize,
         method: Simplification,
         pivoting: Pivoting,
-    ) -> Result<(Self, Vec<Vec<Vec<BigInt>>>), BackendError> {
+    ) -> Result<(Self, Vec<StageSnapshot>), BackendError> {
         check_rectangular(&rows, cols)?;
         let mut stages = Vec::new();
         let ldu = Self::factor_impl(rows, cols, method, pivoting, Some(&mut stages));
@@ -128,7 +131,7 @@ impl<R: Ring> Ldu<R> {
         cols: usize,
         method: Simplification,
         pivoting: Pivoting,
-        mut trace: Option<&mut Vec<Vec<Vec<BigInt>>>>,
+        mut trace: Option<&mut Vec<StageSnapshot>>,
     ) -> Self {
         let m = rows.len();
         let n = cols;

@@ -31,7 +31,7 @@ mod ring;
 
 pub use factorization::ExactFactorization;
 pub use gcd::{gcd_bigint, reduced_ratio};
-pub use ldu::{Ldu, Pivoting, Simplification};
+pub use ldu::{Ldu, Pivoting, Simplification, StageSnapshot};
 pub use lsq::ExactLeastSquares;
 pub use qvec::QVec;
 pub use ring::{gcd_all, Int, Ring};
