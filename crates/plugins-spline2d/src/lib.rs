@@ -1,0 +1,12 @@
+//! The `spline2d` constraint source: smooth deformations of the plane given by degree-`d`
+//! triangular Bézier splines on a reference mesh (thesis part II, chapters 10–14).
+//!
+//! * [`mesh`] / [`mesh_io`]: the reference mesh with exact coordinates, read from OBJ or an
+//!   inline form and validated.
+//! * [`spline`]: control points (shared per nominal position) and the `C^r` conditions.
+//! * [`net`]: the global Bézier control net and distances on it.
+
+pub mod mesh;
+pub mod mesh_io;
+pub mod net;
+pub mod spline;

@@ -1,0 +1,184 @@
+//! The reference mesh `T`: exact vertex coordinates and counter-clockwise triangles, with the
+//! edge topology the spline needs.
+//!
+//! A [`Mesh`] is always valid: readers ([`crate::mesh_io`]) check every triangle (indices in
+//! range, nonzero area, consistent orientation, no duplicates, at most two triangles per edge)
+//! before building one.
+
+use api::Rational;
+use num_traits::Zero;
+use std::collections::HashMap;
+
+/// A point of the plane with exact coordinates.
+pub type Point = [Rational; 2];
+
+/// Twice the signed area of the triangle `a b c` (positive when counter-clockwise).
+pub fn twice_area(a: &Point, b: &Point, c: &Point) -> Rational {
+    (&b[0] - &a[0]) * (&c[1] - &a[1]) - (&b[1] - &a[1]) * (&c[0] - &a[0])
+}
+
+/// A validated triangle mesh of the plane.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Mesh {
+    vertices: Vec<Point>,
+    triangles: Vec<[usize; 3]>,
+}
+
+/// An edge of the mesh, `a < b`, with the triangles on it.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Edge {
+    /// Smaller vertex index.
+    pub a: usize,
+    /// Larger vertex index.
+    pub b: usize,
+    /// `(triangle, k)` for each triangle containing the edge, where the edge is opposite the
+    /// triangle's `k`-th vertex. One entry on the border, two inside.
+    pub faces: Vec<(usize, usize)>,
+}
+
+impl Edge {
+    /// True when two triangles share this edge.
+    pub fn is_interior(&self) -> bool {
+        self.faces.len() == 2
+    }
+}
+
+/// Edges and vertex classification of a mesh.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Topology {
+    /// All edges, sorted by `(a, b)`.
+    pub edges: Vec<Edge>,
+    /// For each triangle, the index of the edge opposite each of its vertices.
+    pub triangle_edges: Vec<[usize; 3]>,
+    /// For each vertex, whether it is interior (on no border edge and in some triangle).
+    pub interior_vertex: Vec<bool>,
+}
+
+impl Topology {
+    /// Number of edges shared by two triangles.
+    pub fn interior_edges(&self) -> usize {
+        self.edges.iter().filter(|e| e.is_interior()).count()
+    }
+
+    /// Number of interior vertices.
+    pub fn interior_vertices(&self) -> usize {
+        self.interior_vertex.iter().filter(|v| **v).count()
+    }
+}
+
+impl Mesh {
+    /// A mesh from data the caller has validated: every triangle counter-clockwise with
+    /// nonzero area, indices in range, no duplicate triangle, no edge in more than two
+    /// triangles, and consistent orientation across shared edges.
+    pub(crate) fn from_validated(vertices: Vec<Point>, triangles: Vec<[usize; 3]>) -> Self {
+        debug_assert!(triangles.iter().all(|t| {
+            t.iter().all(|&v| v < vertices.len())
+                && twice_area(&vertices[t[0]], &vertices[t[1]], &vertices[t[2]]) > Rational::zero()
+        }));
+        Mesh {
+            vertices,
+            triangles,
+        }
+    }
+
+    /// The vertices.
+    pub fn vertices(&self) -> &[Point] {
+        &self.vertices
+    }
+
+    /// The triangles, counter-clockwise.
+    pub fn triangles(&self) -> &[[usize; 3]] {
+        &self.triangles
+    }
+
+    /// Edges, their triangles, and which vertices are interior.
+    pub fn topology(&self) -> Topology {
+        let mut index: HashMap<(usize, usize), usize> = HashMap::new();
+        let mut edges: Vec<Edge> = Vec::new();
+        let mut triangle_edges = Vec::with_capacity(self.triangles.len());
+        for (t, tri) in self.triangles.iter().enumerate() {
+            let mut own = [0usize; 3];
+            for (k, slot) in own.iter_mut().enumerate() {
+                let (p, q) = (tri[(k + 1) % 3], tri[(k + 2) % 3]);
+                let key = (p.min(q), p.max(q));
+                let e = *index.entry(key).or_insert_with(|| {
+                    edges.push(Edge {
+                        a: key.0,
+                        b: key.1,
+                        faces: Vec::new(),
+                    });
+                    edges.len() - 1
+                });
+                edges[e].faces.push((t, k));
+                *slot = e;
+            }
+            triangle_edges.push(own);
+        }
+        // Sort edges by (a, b) for deterministic numbering; remap triangle references.
+        let mut order: Vec<usize> = (0..edges.len()).collect();
+        order.sort_by_key(|&e| (edges[e].a, edges[e].b));
+        let mut new_index = vec![0; edges.len()];
+        for (new, &old) in order.iter().enumerate() {
+            new_index[old] = new;
+        }
+        let edges: Vec<Edge> = order.iter().map(|&old| edges[old].clone()).collect();
+        for own in triangle_edges.iter_mut() {
+            for e in own.iter_mut() {
+                *e = new_index[*e];
+            }
+        }
+        let mut used = vec![false; self.vertices.len()];
+        for tri in &self.triangles {
+            for &v in tri {
+                used[v] = true;
+            }
+        }
+        let mut interior_vertex = used;
+        for e in &edges {
+            if !e.is_interior() {
+                interior_vertex[e.a] = false;
+                interior_vertex[e.b] = false;
+            }
+        }
+        Topology {
+            edges,
+            triangle_edges,
+            interior_vertex,
+        }
+    }
+}
+
+#[cfg(test)]
+pub(crate) mod tests {
+    use super::*;
+
+    pub(crate) fn q(n: i64) -> Rational {
+        Rational::from_integer(n.into())
+    }
+
+    /// Two triangles sharing the diagonal of the unit square.
+    pub(crate) fn square() -> Mesh {
+        Mesh::from_validated(
+            vec![[q(0), q(0)], [q(1), q(0)], [q(1), q(1)], [q(0), q(1)]],
+            vec![[0, 1, 2], [0, 2, 3]],
+        )
+    }
+
+    #[test]
+    fn topology_of_a_square() {
+        let t = square().topology();
+        assert_eq!(t.edges.len(), 5);
+        assert_eq!(t.interior_edges(), 1);
+        let diagonal = t
+            .edges
+            .iter()
+            .find(|e| (e.a, e.b) == (0, 2))
+            .expect("diagonal");
+        assert_eq!(diagonal.faces, vec![(0, 1), (1, 2)]);
+        assert_eq!(t.interior_vertices(), 0);
+        assert_eq!(
+            twice_area(&[q(0), q(0)], &[q(1), q(0)], &[q(0), q(1)]),
+            q(1)
+        );
+    }
+}

@@ -1,0 +1,650 @@
+//! Control points and smoothness conditions of a degree-`d` triangular Bézier spline on a
+//! reference mesh (thesis chapter 12 and 13).
+//!
+//! * One control point per nominal position (`C⁰` by sharing, thesis 12.2.1 and 17.5): a mesh
+//!   with `V` vertices, `E` edges and `F` triangles has `V + (d−1)E + (d−1)(d−2)/2·F` points.
+//! * For each interior edge shared by triangles `u` and `v` and each order `ρ = 1..=r` the
+//!   `C^ρ` conditions (the quadrilateral conditions (12.7) for `ρ = 1`):
+//!   `c^v_{ρ,j,k} = Σ_{ν+μ+κ=ρ} c^u_{ν, j+μ, k+κ} B^ρ_{ν,μ,κ}(β)` for `j + k = d − ρ`, where `β`
+//!   are the barycentric coordinates of `v`'s opposite vertex relative to `u`. The coefficients
+//!   are rational; each row is scaled to coprime integers.
+
+use crate::mesh::{twice_area, Mesh, Point, Topology};
+use api::{Integer, Rational};
+use num_integer::Integer as _;
+use num_traits::{One, Zero};
+use std::collections::HashMap;
+
+/// Where a control point lies, as classified in thesis figure 14.5 (by its multi-index
+/// `(i, j, k)` in any triangle containing it).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum PointType {
+    /// At a mesh vertex (`i = d` or `j = d` or `k = d`).
+    Corner,
+    /// On an edge, next to a corner (one index 0, another 1).
+    EdgeCorner,
+    /// On an edge, elsewhere.
+    Edge,
+    /// Inside a triangle, two indices equal to 1.
+    InnerCorner,
+    /// Inside a triangle, one index equal to 1.
+    InnerEdge,
+    /// All indices at least 2: in no `C¹` condition.
+    Interior,
+}
+
+impl PointType {
+    /// The type of multi-index `(i, j, k)` of degree `d`.
+    pub fn of(idx: [usize; 3], d: usize) -> PointType {
+        let [i, j, k] = idx;
+        if i == d || j == d || k == d {
+            PointType::Corner
+        } else if (i == 0 && (j == 1 || k == 1))
+            || (j == 0 && (i == 1 || k == 1))
+            || (k == 0 && (i == 1 || j == 1))
+        {
+            PointType::EdgeCorner
+        } else if i == 0 || j == 0 || k == 0 {
+            PointType::Edge
+        } else if idx.iter().filter(|&&x| x == 1).count() >= 2 {
+            PointType::InnerCorner
+        } else if i == 1 || j == 1 || k == 1 {
+            PointType::InnerEdge
+        } else {
+            PointType::Interior
+        }
+    }
+
+    /// A short lowercase name for reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            PointType::Corner => "corner",
+            PointType::EdgeCorner => "edge corner",
+            PointType::Edge => "edge",
+            PointType::InnerCorner => "inner corner",
+            PointType::InnerEdge => "inner edge",
+            PointType::Interior => "interior",
+        }
+    }
+}
+
+/// A Bézier control point shared by every triangle whose net contains its nominal position.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ControlPoint {
+    /// Stable name: `v{a}` at vertex `a`, `e{a}-{b}:{i}` on edge `a < b` with weight `i` on
+    /// `a`, `t{t}:{i},{j},{k}` inside triangle `t`.
+    pub name: String,
+    /// Nominal position in the reference mesh (the control point of the identity deformation).
+    pub nominal: Point,
+    /// Classification (figure 14.5).
+    pub kind: PointType,
+}
+
+/// One smoothness condition `Σ c_s q_s = 0` with coprime integer coefficients.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Condition {
+    /// The interior edge (index into [`Topology::edges`]).
+    pub edge: usize,
+    /// Smoothness order `ρ` (1 for the quadrilateral conditions).
+    pub order: usize,
+    /// Index `j` of the condition along the edge (`0 ..= d − ρ`).
+    pub index: usize,
+    /// `(control point, coefficient)`, nonzero coefficients.
+    pub terms: Vec<(usize, Integer)>,
+    /// Label naming edge, order and index.
+    pub label: String,
+}
+
+/// Why a spline could not be built.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum SplineError {
+    /// Degree 0 has no deformation to speak of.
+    #[error("degree must be at least 1, got {0}")]
+    Degree(usize),
+    /// Smoothness of order `r ≥ d` cannot hold with local control (and is meaningless).
+    #[error("smoothness C^{smoothness} needs degree above {smoothness}, got degree {degree}")]
+    SmoothnessTooHigh {
+        /// Requested order.
+        smoothness: usize,
+        /// Degree.
+        degree: usize,
+    },
+}
+
+/// The control points and conditions of a `C^r` spline of degree `d` on a mesh.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Spline {
+    mesh: Mesh,
+    topology: Topology,
+    degree: usize,
+    smoothness: usize,
+    points: Vec<ControlPoint>,
+    /// Per triangle, the control point of each multi-index (see [`Spline::local_index`]).
+    triangle_points: Vec<Vec<usize>>,
+    conditions: Vec<Condition>,
+}
+
+/// All multi-indices `(i, j, k)` with `i + j + k = d`, in lexicographic order of `(i, j, k)`
+/// descending: `(d,0,0), (d−1,1,0), (d−1,0,1), …, (0,0,d)`.
+pub fn multi_indices(d: usize) -> Vec<[usize; 3]> {
+    let mut out = Vec::with_capacity((d + 1) * (d + 2) / 2);
+    for i in (0..=d).rev() {
+        for j in (0..=d - i).rev() {
+            out.push([i, j, d - i - j]);
+        }
+    }
+    out
+}
+
+fn factorial(n: usize) -> Integer {
+    (1..=n).fold(Integer::one(), |acc, k| acc * Integer::from(k))
+}
+
+/// Canonical key of a nominal position: `(vertex, weight)` pairs with positive weight, sorted.
+type PositionKey = Vec<(usize, usize)>;
+
+fn position_key(vertices: [usize; 3], idx: [usize; 3]) -> PositionKey {
+    let mut key: PositionKey = vertices
+        .iter()
+        .zip(idx)
+        .filter(|(_, w)| *w > 0)
+        .map(|(v, w)| (*v, w))
+        .collect();
+    key.sort_unstable();
+    key
+}
+
+impl Spline {
+    /// Builds the control points and the `C^1 … C^r` conditions of a degree-`d` spline.
+    pub fn new(mesh: Mesh, degree: usize, smoothness: usize) -> Result<Self, SplineError> {
+        if degree == 0 {
+            return Err(SplineError::Degree(degree));
+        }
+        if smoothness >= degree && smoothness > 0 {
+            return Err(SplineError::SmoothnessTooHigh { smoothness, degree });
+        }
+        let topology = mesh.topology();
+        let d = degree;
+        let indices = multi_indices(d);
+        let mut by_key: HashMap<PositionKey, usize> = HashMap::new();
+        let mut points: Vec<ControlPoint> = Vec::new();
+        let mut triangle_points = Vec::with_capacity(mesh.triangles().len());
+        let dq = Rational::from_integer(d.into());
+        for (t, tri) in mesh.triangles().iter().enumerate() {
+            let mut own = Vec::with_capacity(indices.len());
+            for idx in &indices {
+                let key = position_key(*tri, *idx);
+                let id = *by_key.entry(key.clone()).or_insert_with(|| {
+                    let name = match key.as_slice() {
+                        [(a, _)] => format!("v{a}"),
+                        [(a, i), (b, _)] => format!("e{a}-{b}:{i}"),
+                        _ => format!("t{t}:{},{},{}", idx[0], idx[1], idx[2]),
+                    };
+                    let mut nominal = [Rational::zero(), Rational::zero()];
+                    for (v, w) in tri.iter().zip(idx) {
+                        let p = &mesh.vertices()[*v];
+                        let w = Rational::from_integer((*w).into());
+                        nominal[0] += &p[0] * &w;
+                        nominal[1] += &p[1] * &w;
+                    }
+                    nominal[0] /= &dq;
+                    nominal[1] /= &dq;
+                    points.push(ControlPoint {
+                        name,
+                        nominal,
+                        kind: PointType::of(*idx, d),
+                    });
+                    points.len() - 1
+                });
+                own.push(id);
+            }
+            triangle_points.push(own);
+        }
+        let mut spline = Spline {
+            mesh,
+            topology,
+            degree,
+            smoothness,
+            points,
+            triangle_points,
+            conditions: Vec::new(),
+        };
+        spline.conditions = spline.build_conditions(&by_key);
+        Ok(spline)
+    }
+
+    fn build_conditions(&self, by_key: &HashMap<PositionKey, usize>) -> Vec<Condition> {
+        let d = self.degree;
+        let mut out = Vec::new();
+        let verts = self.mesh.vertices();
+        for (e, edge) in self.topology.edges.iter().enumerate() {
+            let [(tu, ku), (tv, kv)] = match edge.faces.as_slice() {
+                [a, b] => [*a, *b],
+                _ => continue,
+            };
+            let u = self.mesh.triangles()[tu];
+            let v = self.mesh.triangles()[tv];
+            let (u0, u1, u2) = (u[ku], u[(ku + 1) % 3], u[(ku + 2) % 3]);
+            let v0 = v[kv];
+            let area = twice_area(&verts[u0], &verts[u1], &verts[u2]);
+            let beta = [
+                twice_area(&verts[v0], &verts[u1], &verts[u2]) / &area,
+                twice_area(&verts[u0], &verts[v0], &verts[u2]) / &area,
+                twice_area(&verts[u0], &verts[u1], &verts[v0]) / &area,
+            ];
+            let point =
+                |vs: [usize; 3], idx: [usize; 3]| -> usize { by_key[&position_key(vs, idx)] };
+            for rho in 1..=self.smoothness {
+                // Bernstein coefficients B^ρ_{ν,μ,κ}(β) for all ν + μ + κ = ρ.
+                let bernstein: Vec<([usize; 3], Rational)> = multi_indices(rho)
+                    .into_iter()
+                    .map(|[nu, mu, ka]| {
+                        let multinomial =
+                            factorial(rho) / (factorial(nu) * factorial(mu) * factorial(ka));
+                        let value = Rational::from_integer(multinomial)
+                            * num_traits::pow(beta[0].clone(), nu)
+                            * num_traits::pow(beta[1].clone(), mu)
+                            * num_traits::pow(beta[2].clone(), ka);
+                        ([nu, mu, ka], value)
+                    })
+                    .collect();
+                for j in 0..=d - rho {
+                    let k = d - rho - j;
+                    let mut terms: Vec<(usize, Rational)> =
+                        vec![(point([v0, u1, u2], [rho, j, k]), Rational::one())];
+                    for ([nu, mu, ka], b) in &bernstein {
+                        if b.is_zero() {
+                            continue;
+                        }
+                        terms.push((point([u0, u1, u2], [*nu, j + mu, k + ka]), -b));
+                    }
+                    let terms = integer_row(terms);
+                    if terms.is_empty() {
+                        continue;
+                    }
+                    out.push(Condition {
+                        edge: e,
+                        order: rho,
+                        index: j,
+                        terms,
+                        label: format!("C{rho} edge {}-{} #{j}", edge.a, edge.b),
+                    });
+                }
+            }
+        }
+        out
+    }
+
+    /// The reference mesh.
+    pub fn mesh(&self) -> &Mesh {
+        &self.mesh
+    }
+
+    /// Edges and interior vertices of the mesh.
+    pub fn topology(&self) -> &Topology {
+        &self.topology
+    }
+
+    /// The degree `d`.
+    pub fn degree(&self) -> usize {
+        self.degree
+    }
+
+    /// The smoothness order `r`.
+    pub fn smoothness(&self) -> usize {
+        self.smoothness
+    }
+
+    /// All control points.
+    pub fn points(&self) -> &[ControlPoint] {
+        &self.points
+    }
+
+    /// The control points of triangle `t`, in the order of [`multi_indices`].
+    pub fn triangle_points(&self, t: usize) -> &[usize] {
+        &self.triangle_points[t]
+    }
+
+    /// Position of multi-index `(i, j, k)` in [`multi_indices`] order.
+    pub fn local_index(&self, idx: [usize; 3]) -> usize {
+        let d = self.degree;
+        let i = idx[0];
+        // Rows with first index above i hold Σ_{i' > i} (d − i' + 1) entries.
+        let before: usize = (i + 1..=d).map(|ip| d - ip + 1).sum();
+        before + (d - i - idx[1])
+    }
+
+    /// All smoothness conditions.
+    pub fn conditions(&self) -> &[Condition] {
+        &self.conditions
+    }
+
+    /// The expected number of control points `V + (d−1)E + (d−1)(d−2)/2·F` over the vertices
+    /// used by triangles.
+    pub fn expected_point_count(&self) -> usize {
+        let d = self.degree;
+        let used = self
+            .mesh
+            .triangles()
+            .iter()
+            .flatten()
+            .collect::<std::collections::BTreeSet<_>>()
+            .len();
+        used + (d - 1) * self.topology.edges.len()
+            + (d - 1) * (d.saturating_sub(2)) / 2 * self.mesh.triangles().len()
+    }
+
+    /// Schumaker's dimension of `S^r_d` on this triangulation:
+    /// `C(d+2,2) + C(d−r+1,2)·E_I − [C(d+2,2) − C(r+2,2)]·V_I + σ` with
+    /// `σ = Σ_v Σ_{j=1}^{d−r} (r + j + 1 − j·e_v)₊`, `e_v` the number of distinct edge slopes
+    /// at interior vertex `v`. Exact for `d ≥ 3r + 2` (Hong 1991) on a triangulated polygon
+    /// (connected, simply connected).
+    pub fn spline_space_dimension(&self) -> usize {
+        let (d, r) = (self.degree as i64, self.smoothness as i64);
+        let c2 = |n: i64| if n < 2 { 0 } else { n * (n - 1) / 2 };
+        let e_i = self.topology.interior_edges() as i64;
+        let v_i = self.topology.interior_vertices() as i64;
+        let mut sigma = 0i64;
+        for (v, interior) in self.topology.interior_vertex.iter().enumerate() {
+            if !*interior {
+                continue;
+            }
+            let e_v = self.distinct_slopes(v) as i64;
+            for j in 1..=(d - r) {
+                sigma += (r + j + 1 - j * e_v).max(0);
+            }
+        }
+        (c2(d + 2) + c2(d - r + 1) * e_i - (c2(d + 2) - c2(r + 2)) * v_i + sigma) as usize
+    }
+
+    /// Number of distinct lines through vertex `v` among its edges.
+    pub fn distinct_slopes(&self, v: usize) -> usize {
+        let p = &self.mesh.vertices()[v];
+        let mut directions: Vec<(Rational, Rational)> = Vec::new();
+        for e in &self.topology.edges {
+            let other = if e.a == v {
+                e.b
+            } else if e.b == v {
+                e.a
+            } else {
+                continue;
+            };
+            let q = &self.mesh.vertices()[other];
+            let (dx, dy) = (&q[0] - &p[0], &q[1] - &p[1]);
+            // Normalise the direction up to sign: a line, not a ray.
+            let dir = if dx.is_zero() {
+                (Rational::zero(), Rational::one())
+            } else {
+                (Rational::one(), dy / dx)
+            };
+            if !directions.contains(&dir) {
+                directions.push(dir);
+            }
+        }
+        directions.len()
+    }
+}
+
+/// Scales rational coefficients to coprime integers, merging repeated control points and dropping zeros.
+fn integer_row(terms: Vec<(usize, Rational)>) -> Vec<(usize, Integer)> {
+    let mut merged: Vec<(usize, Rational)> = Vec::with_capacity(terms.len());
+    for (p, c) in terms {
+        match merged.iter_mut().find(|(q, _)| *q == p) {
+            Some((_, acc)) => *acc += c,
+            None => merged.push((p, c)),
+        }
+    }
+    merged.retain(|(_, c)| !c.is_zero());
+    let lcm = merged
+        .iter()
+        .fold(Integer::one(), |acc, (_, c)| acc.lcm(c.denom()));
+    let ints: Vec<(usize, Integer)> = merged
+        .into_iter()
+        .map(|(p, c)| (p, c.numer() * (&lcm / c.denom())))
+        .collect();
+    let g = ints.iter().fold(Integer::zero(), |acc, (_, c)| acc.gcd(c));
+    let mut out: Vec<(usize, Integer)> = if g.is_zero() || g.is_one() {
+        ints
+    } else {
+        ints.into_iter().map(|(p, c)| (p, c / &g)).collect()
+    };
+    out.sort_by_key(|(p, _)| *p);
+    out
+}
+
+#[cfg(test)]
+pub(crate) mod tests {
+    use super::*;
+    use api::{Factorization, IntMatrix, LinearBackend};
+    use exact_ldu::ExactLdu;
+
+    pub(crate) fn q(n: i64) -> Rational {
+        Rational::from_integer(n.into())
+    }
+
+    /// Builds a mesh after orienting every triangle counter-clockwise.
+    pub(crate) fn mesh(points: &[(i64, i64)], triangles: &[[usize; 3]]) -> Mesh {
+        let vertices: Vec<Point> = points.iter().map(|&(x, y)| [q(x), q(y)]).collect();
+        let triangles = triangles
+            .iter()
+            .map(|t| {
+                if twice_area(&vertices[t[0]], &vertices[t[1]], &vertices[t[2]]) > Rational::zero()
+                {
+                    *t
+                } else {
+                    [t[0], t[2], t[1]]
+                }
+            })
+            .collect();
+        Mesh::from_validated(vertices, triangles)
+    }
+
+    /// A zigzag strip of `n` triangles `(i, i+1, i+2)` over alternating bottom and top
+    /// vertices: `n + 2` vertices, `n − 1` interior edges.
+    pub(crate) fn strip(n: usize) -> Mesh {
+        let points: Vec<(i64, i64)> = (0..n as i64 + 2)
+            .map(|i| if i % 2 == 0 { (3 * i, 0) } else { (3 * i, 5) })
+            .collect();
+        let tris: Vec<[usize; 3]> = (0..n).map(|i| [i, i + 1, i + 2]).collect();
+        mesh(&points, &tris)
+    }
+
+    /// A wheel of `n` triangles around a centre, rim radii alternating long and short (a star).
+    pub(crate) fn star(n: usize) -> Mesh {
+        let mut points = vec![(0, 0)];
+        for k in 0..n {
+            let angle = 2.0 * std::f64::consts::PI * k as f64 / n as f64;
+            let radius = if k % 2 == 0 { 100.0 } else { 40.0 };
+            points.push((
+                (radius * angle.cos()).round() as i64,
+                (radius * angle.sin()).round() as i64,
+            ));
+        }
+        let tris: Vec<[usize; 3]> = (0..n).map(|k| [0, 1 + k, 1 + (k + 1) % n]).collect();
+        mesh(&points, &tris)
+    }
+
+    /// A grid of `(n+1) × (n+1)` vertices, each square split by its rising diagonal; interior
+    /// vertices optionally displaced to break collinearity.
+    pub(crate) fn grid(n: usize, perturb: bool) -> Mesh {
+        let mut points = Vec::new();
+        for y in 0..=n as i64 {
+            for x in 0..=n as i64 {
+                let inner = x > 0 && y > 0 && x < n as i64 && y < n as i64;
+                let (dx, dy) = if perturb && inner {
+                    ((x * 7 + y * 3) % 5 - 2, (x * 2 + y * 5) % 5 - 2)
+                } else {
+                    (0, 0)
+                };
+                points.push((10 * x + dx, 10 * y + dy));
+            }
+        }
+        let at = |x: usize, y: usize| y * (n + 1) + x;
+        let mut tris = Vec::new();
+        for y in 0..n {
+            for x in 0..n {
+                tris.push([at(x, y), at(x + 1, y), at(x + 1, y + 1)]);
+                tris.push([at(x, y), at(x + 1, y + 1), at(x, y + 1)]);
+            }
+        }
+        mesh(&points, &tris)
+    }
+
+    /// The square split by both diagonals: the centre's four edges lie on two lines.
+    fn cross() -> Mesh {
+        mesh(
+            &[(0, 0), (2, 0), (2, 2), (0, 2), (1, 1)],
+            &[[0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]],
+        )
+    }
+
+    /// A hexagon around a centre with six distinct edge slopes.
+    fn hexagon() -> Mesh {
+        mesh(
+            &[
+                (0, 0),
+                (10, 1),
+                (6, 9),
+                (-4, 8),
+                (-11, -1),
+                (-5, -9),
+                (4, -8),
+            ],
+            &(0..6)
+                .map(|k| [0, 1 + k, 1 + (k + 1) % 6])
+                .collect::<Vec<_>>(),
+        )
+    }
+
+    fn rank(spline: &Spline) -> usize {
+        let rows = spline
+            .conditions()
+            .iter()
+            .map(|c| c.terms.clone())
+            .collect::<Vec<_>>();
+        let matrix = IntMatrix::from_sparse(spline.points().len(), rows).expect("in range");
+        ExactLdu::default().factor(&matrix).expect("factor").rank()
+    }
+
+    fn check_dimension(mesh: Mesh, d: usize, r: usize) -> (usize, usize, usize) {
+        let spline = Spline::new(mesh, d, r).expect("spline");
+        assert_eq!(spline.points().len(), spline.expected_point_count());
+        let dim = spline.spline_space_dimension();
+        let rank = rank(&spline);
+        assert_eq!(
+            rank + dim,
+            spline.points().len(),
+            "d={d} r={r}: rank {rank} + dim {dim} != {} points",
+            spline.points().len()
+        );
+        (spline.points().len(), spline.conditions().len(), rank)
+    }
+
+    #[test]
+    fn thesis_table_19_counts() {
+        // Table 19.1: strips of 6, 7, 8 triangles and a 10-triangle wheel; Table 19.2: a grid
+        // of 9 vertices and 8 triangles (with its two rows swapped back).
+        assert_eq!(check_dimension(strip(6), 5, 1).0, 96);
+        assert_eq!(
+            Spline::new(strip(6), 5, 1)
+                .expect("spline")
+                .conditions()
+                .len(),
+            25
+        );
+        let (cp, cond, _) = check_dimension(strip(7), 5, 1);
+        assert_eq!((cp, cond), (111, 30));
+        let (cp, cond, _) = check_dimension(strip(8), 5, 1);
+        assert_eq!((cp, cond), (126, 35));
+        let (cp, cond, _) = check_dimension(star(10), 5, 1);
+        assert_eq!((cp, cond), (151, 50));
+        let (cp, cond, rank) = check_dimension(grid(2, false), 5, 1);
+        assert_eq!((cp, cond), (121, 40));
+        // The centre has edges on three lines: two of its 40 conditions are redundant.
+        assert_eq!(rank, 38);
+    }
+
+    #[test]
+    fn rank_matches_the_dimension_formula() {
+        for d in [5, 6] {
+            check_dimension(cross(), d, 1);
+            check_dimension(hexagon(), d, 1);
+            check_dimension(grid(3, false), d, 1);
+            check_dimension(grid(3, true), d, 1);
+            check_dimension(star(7), d, 1);
+        }
+        // C0 (no conditions) and C2 with d = 9 ≥ 3r + 2.
+        check_dimension(grid(2, true), 5, 0);
+        check_dimension(cross(), 9, 2);
+        check_dimension(hexagon(), 9, 2);
+        check_dimension(grid(2, false), 9, 2);
+    }
+
+    #[test]
+    fn vertices_on_two_lines_carry_one_more_degree_of_freedom() {
+        let s = Spline::new(cross(), 5, 1).expect("spline");
+        assert_eq!(s.distinct_slopes(4), 2);
+        // 4 interior edges × 5 conditions, one dependency at the two-line vertex beyond the
+        // generic count.
+        let generic = 21 + 10 * 4 - 18;
+        assert_eq!(s.spline_space_dimension(), generic + 1);
+    }
+
+    #[test]
+    fn quadrilateral_conditions_are_affine_combinations() {
+        let s = Spline::new(grid(2, true), 5, 1).expect("spline");
+        for c in s.conditions() {
+            assert_eq!(c.terms.len(), 4, "{}", c.label);
+            // Coefficients sum to zero: the identity deformation (nominal positions) satisfies
+            // every condition, and so does any constant.
+            let sum: Integer = c.terms.iter().map(|(_, v)| v.clone()).sum();
+            assert!(sum.is_zero(), "{}", c.label);
+            for coord in 0..2 {
+                let value: Rational = c
+                    .terms
+                    .iter()
+                    .map(|(p, v)| {
+                        Rational::from_integer(v.clone()) * &s.points()[*p].nominal[coord]
+                    })
+                    .sum();
+                assert!(value.is_zero(), "{}", c.label);
+            }
+        }
+    }
+
+    #[test]
+    fn point_types_follow_figure_14_5() {
+        let d = 6;
+        let count = |t: PointType| {
+            multi_indices(d)
+                .iter()
+                .filter(|i| PointType::of(**i, d) == t)
+                .count()
+        };
+        assert_eq!(count(PointType::Corner), 3);
+        assert_eq!(count(PointType::EdgeCorner), 6);
+        assert_eq!(count(PointType::Edge), 3 * (d - 3));
+        assert_eq!(count(PointType::InnerCorner), 3);
+        assert_eq!(count(PointType::Interior), multi_indices(d - 6).len());
+        let s = Spline::new(grid(1, false), 5, 1).expect("spline");
+        for (t, _) in s.mesh().triangles().iter().enumerate() {
+            for idx in multi_indices(5) {
+                assert_eq!(multi_indices(5)[s.local_index(idx)], idx);
+                let p = s.triangle_points(t)[s.local_index(idx)];
+                assert_eq!(s.points()[p].kind, PointType::of(idx, 5));
+            }
+        }
+    }
+
+    #[test]
+    fn bad_degrees_are_rejected() {
+        assert!(matches!(
+            Spline::new(grid(1, false), 0, 0),
+            Err(SplineError::Degree(0))
+        ));
+        assert!(matches!(
+            Spline::new(grid(1, false), 2, 2),
+            Err(SplineError::SmoothnessTooHigh { .. })
+        ));
+    }
+}
