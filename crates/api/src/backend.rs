@@ -210,6 +210,8 @@ pub trait Factorization {
     /// Weak consistency: `Ok` when `A x = b` has a solution.
     fn check_consistent(&self, rhs: &[Rational]) -> Result<(), SolveError<Self::Scalar>>;
     /// Strong consistency: `Ok` when `A x = b(α)` has a solution for every `α` and every column.
+    /// The columns of `K` are checked before the constant parts, so a [`StrongFailure::Constant`]
+    /// means the constant itself is out of range, whatever `α`.
     fn check_strongly_consistent(
         &self,
         family: &RhsFamily,

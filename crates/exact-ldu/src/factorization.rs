@@ -233,18 +233,8 @@ impl<R: Ring> Factorization for ExactFactorization<R> {
         family: &RhsFamily,
     ) -> Result<Result<(), StrongFailure<Rational>>, BackendError> {
         validate_family(family, self.ldu.rows())?;
-        for (column, c) in family.constant.iter().enumerate() {
-            match self.forward_checked(c) {
-                Ok(_) => {}
-                Err(SolveError::Inconsistent(inconsistency)) => {
-                    return Ok(Err(StrongFailure::Constant {
-                        column,
-                        inconsistency,
-                    }))
-                }
-                Err(SolveError::Input(e)) => return Err(e),
-            }
-        }
+        // Directions first: when every column of K is in the range, a constant part outside it
+        // means the current values themselves are inconsistent, which is then reported as such.
         for parameter in 0..family.coefficients.cols() {
             let k = Self::column_of(&family.coefficients, parameter);
             match self.forward_checked(&k) {
@@ -252,6 +242,18 @@ impl<R: Ring> Factorization for ExactFactorization<R> {
                 Err(SolveError::Inconsistent(inconsistency)) => {
                     return Ok(Err(StrongFailure::Direction {
                         parameter,
+                        inconsistency,
+                    }))
+                }
+                Err(SolveError::Input(e)) => return Err(e),
+            }
+        }
+        for (column, c) in family.constant.iter().enumerate() {
+            match self.forward_checked(c) {
+                Ok(_) => {}
+                Err(SolveError::Inconsistent(inconsistency)) => {
+                    return Ok(Err(StrongFailure::Constant {
+                        column,
                         inconsistency,
                     }))
                 }

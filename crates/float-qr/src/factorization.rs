@@ -429,17 +429,8 @@ impl Factorization for FloatFactorization {
         family: &RhsFamily,
     ) -> Result<Result<(), StrongFailure<f64>>, BackendError> {
         validate_family(family, self.core.rows())?;
-        for (column, c) in family.constant.iter().enumerate() {
-            let rhs = FloatRhs::plain(rationals(c, "family constant column")?);
-            if let Err(failure) =
-                self.strong_part(rhs, |inconsistency| StrongFailure::Constant {
-                    column,
-                    inconsistency,
-                })?
-            {
-                return Ok(Err(failure));
-            }
-        }
+        // Directions first: when every column of K is in the range, a constant part outside it
+        // means the current values themselves are inconsistent, which is then reported as such.
         let k = matrix_rows(&family.coefficients, "family coefficient matrix")?;
         for parameter in 0..family.coefficients.cols() {
             let mut column = vec![0.0; self.core.rows()];
@@ -452,6 +443,17 @@ impl Factorization for FloatFactorization {
             if let Err(failure) =
                 self.strong_part(rhs, |inconsistency| StrongFailure::Direction {
                     parameter,
+                    inconsistency,
+                })?
+            {
+                return Ok(Err(failure));
+            }
+        }
+        for (column, c) in family.constant.iter().enumerate() {
+            let rhs = FloatRhs::plain(rationals(c, "family constant column")?);
+            if let Err(failure) =
+                self.strong_part(rhs, |inconsistency| StrongFailure::Constant {
+                    column,
                     inconsistency,
                 })?
             {

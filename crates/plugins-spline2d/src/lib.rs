@@ -5,8 +5,13 @@
 //!   inline form and validated.
 //! * [`spline`]: control points (shared per nominal position) and the `C^r` conditions.
 //! * [`net`]: the global Bézier control net and distances on it.
+//! * [`source`]: declaring control points and conditions in a shared constraint system.
+//! * [`edit`]: the 2DSD operations: selection, ExpandDerived, relative magnitudes, soft
+//!   translation / rotation / scaling turned into ECLES edits.
 
+pub mod edit;
 pub mod mesh;
 pub mod mesh_io;
 pub mod net;
+pub mod source;
 pub mod spline;

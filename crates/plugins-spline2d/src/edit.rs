@@ -1,0 +1,599 @@
+//! The 2DSD editing operations (thesis chapter 14, 18.4–18.6): selecting anchors and a
+//! neighbourhood, expanding it to a derived set that makes the edit strongly solvable,
+//! relative magnitudes `θ`, and the soft translation, rotation, scaling and vertical (`z`)
+//! moves turned into ECLES anchor values and hints.
+//!
+//! # ExpandDerived
+//! Figure 14.6 of the thesis (the per-type rules for which extra points become derived) is a
+//! picture missing from the text, so the expansion uses a rule that needs no picture and works
+//! for any constraint source: starting from `D = S`, run the exact strong-solvability check of
+//! ECLES (`range R_EA ⊆ range R_ED`); when it fails, its certificate names the conditions that
+//! block some anchor direction, and the fixed control points in those conditions nearest to the
+//! anchors (on the control net) join `D`. Repeat until the check passes. Every added point is
+//! needed by a blocking condition, so `D` stays local (for `d ≥ 5` the thesis' bound of the
+//! anchors' triangles plus a few neighbours), and the result is verified, not assumed.
+
+use crate::net::ControlNet;
+use crate::source::SplineParams;
+use crate::spline::{PointType, Spline};
+use api::{ConstraintSystem, ParamId, Rational, Values};
+use ecles::{Edit, EditError, EditSpec};
+use exact_ldu::{ExactFactorization, ExactLdu};
+use num_traits::{One, ToPrimitive, Zero};
+use std::collections::BTreeSet;
+
+/// Which control points become derived before expansion.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Neighborhood {
+    /// Points within this many steps of an anchor on the control net (`δ_max`).
+    Radius(u32),
+    /// Every control point (`δ_max = ∞`): global moves.
+    All,
+}
+
+/// The outcome of 2DSD.Select.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Selection {
+    /// Anchor control points `A`.
+    pub anchors: Vec<usize>,
+    /// The initial derived points `S` from the neighbourhood.
+    pub initial: Vec<usize>,
+    /// The final derived points `D ⊇ S` (sorted).
+    pub derived: Vec<usize>,
+    /// `D \ S`: points ExpandDerived added, in the order added.
+    pub added: Vec<usize>,
+    /// Relative magnitude `θ` of every control point: 1 for anchors, 0 for fixed points,
+    /// `δ''/(δ' + δ'')` for derived ones.
+    pub theta: Vec<Rational>,
+    /// Strong-solvability checks run by ExpandDerived (1 when `S` was already enough).
+    pub checks: usize,
+}
+
+impl Selection {
+    /// Number of anchors of each point type (figure 14.5), for reports.
+    pub fn anchor_types(&self, spline: &Spline) -> Vec<(PointType, usize)> {
+        let mut out: Vec<(PointType, usize)> = Vec::new();
+        for &a in &self.anchors {
+            let kind = spline.points()[a].kind;
+            match out.iter_mut().find(|(k, _)| *k == kind) {
+                Some((_, n)) => *n += 1,
+                None => out.push((kind, 1)),
+            }
+        }
+        out.sort();
+        out
+    }
+}
+
+/// A 2DSD operation on the anchors.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Operation {
+    /// Soft translation by a vector (`dim` coordinates): anchors move by `v`, derived points are
+    /// pulled by `θ v`.
+    Translate {
+        /// The displacement.
+        by: Vec<Rational>,
+    },
+    /// Soft rotation about `center` by `degrees` (planar splines only): anchors rotate by the
+    /// angle, derived points are pulled by `θ` times it. Irrational results are rounded to the
+    /// grid `1/precision`.
+    Rotate {
+        /// Centre of rotation.
+        center: [Rational; 2],
+        /// Angle in degrees, counter-clockwise.
+        degrees: Rational,
+        /// Denominator of the rounding grid.
+        precision: u64,
+    },
+    /// Soft scaling about `center` by `factor > 0` (planar splines only): anchors scale
+    /// exactly, derived points are pulled by `factor^θ` (rounded to `1/precision`).
+    Scale {
+        /// Centre of scaling.
+        center: [Rational; 2],
+        /// Scale factor, positive.
+        factor: Rational,
+        /// Denominator of the rounding grid.
+        precision: u64,
+    },
+}
+
+/// Anchor values and hints of one step of an operation.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Step {
+    /// New values of the anchors, in [`Plan::spec`] anchor order.
+    pub anchors: Vec<Vec<Rational>>,
+    /// Hints of the derived points, in [`Plan::spec`] derived order.
+    pub hints: Vec<Vec<Rational>>,
+}
+
+/// An ECLES edit ready to run: which parameters, and the anchor values and hints per step.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Plan {
+    /// Anchors and derived parameters (strong solvability verified by the selection).
+    pub spec: EditSpec,
+    /// Steps from the start of the drag; each is relative to the state at initialisation, so
+    /// the last step alone gives the final result.
+    pub steps: Vec<Step>,
+}
+
+/// Why a selection or an operation was refused.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SelectError {
+    /// No anchors.
+    #[error("select at least one anchor control point")]
+    NoAnchors,
+    /// An anchor id is not a control point.
+    #[error("control point {0} does not exist")]
+    UnknownPoint(usize),
+    /// No choice of derived points can absorb some anchor move: the anchors are tied by
+    /// conditions among themselves (or to points outside this spline).
+    #[error("the anchors are over-constrained: moving {anchor} conflicts with {conditions:?}; select fewer anchors")]
+    OverConstrained {
+        /// The anchor that cannot move.
+        anchor: String,
+        /// Labels of the blocking conditions.
+        conditions: Vec<String>,
+    },
+    /// The current values already violate conditions near the anchors.
+    #[error("the current control points violate {0:?}")]
+    CurrentStateInconsistent(Vec<String>),
+    /// The operation does not fit the spline (rotation of a scalar spline, wrong vector size,
+    /// non-positive scale, zero steps or precision).
+    #[error("invalid operation: {0}")]
+    InvalidOperation(String),
+    /// ECLES refused the edit for another reason.
+    #[error("edit refused: {0}")]
+    Edit(String),
+}
+
+/// 2DSD on one spline declared in a system.
+#[derive(Debug, Clone, Copy)]
+pub struct SplineEditor<'a> {
+    /// The spline.
+    pub spline: &'a Spline,
+    /// Its control net.
+    pub net: &'a ControlNet,
+    /// Its parameters in the system.
+    pub params: &'a SplineParams,
+}
+
+impl SplineEditor<'_> {
+    /// 2DSD.Select: the neighbourhood `S`, ExpandDerived to `D` (verified strongly solvable
+    /// against every row of `system`, including rows other sources put on these points), and
+    /// ComputeRelMagnitude.
+    pub fn select(
+        &self,
+        system: &ConstraintSystem,
+        values: &Values,
+        anchors: &[usize],
+        neighborhood: Neighborhood,
+    ) -> Result<Selection, SelectError> {
+        if anchors.is_empty() {
+            return Err(SelectError::NoAnchors);
+        }
+        let n = self.spline.points().len();
+        if let Some(&bad) = anchors.iter().find(|&&a| a >= n) {
+            return Err(SelectError::UnknownPoint(bad));
+        }
+        let anchor_set: BTreeSet<usize> = anchors.iter().copied().collect();
+        let anchors: Vec<usize> = anchor_set.iter().copied().collect();
+        let to_anchor = self.net.distances_from(&anchors);
+        let initial: Vec<usize> = (0..n)
+            .filter(|p| !anchor_set.contains(p))
+            .filter(|&p| match neighborhood {
+                Neighborhood::All => true,
+                Neighborhood::Radius(r) => to_anchor[p].is_some_and(|d| d <= r),
+            })
+            .collect();
+        let mut derived: BTreeSet<usize> = initial.iter().copied().collect();
+        let mut added = Vec::new();
+        let mut checks = 0;
+        loop {
+            checks += 1;
+            let spec = EditSpec::new(self.ids(&anchors), self.ids(derived.iter())).strong();
+            match Edit::<ExactFactorization>::initialize(&ExactLdu::default(), system, values, &spec)
+            {
+                Ok(_) => break,
+                Err(EditError::NotStronglySolvable {
+                    anchor, conflict, ..
+                }) => {
+                    let mut candidates: Vec<usize> = Vec::new();
+                    for row in conflict.row_ids() {
+                        for p in system.rows()[row.index()].body.params() {
+                            if let Some(cp) = self.params.point_of(p) {
+                                if !anchor_set.contains(&cp) && !derived.contains(&cp) {
+                                    candidates.push(cp);
+                                }
+                            }
+                        }
+                    }
+                    let nearest = candidates
+                        .iter()
+                        .map(|&c| to_anchor[c].unwrap_or(u32::MAX))
+                        .min();
+                    let Some(nearest) = nearest else {
+                        return Err(SelectError::OverConstrained {
+                            anchor,
+                            conditions: conflict.labels().iter().map(|s| s.to_string()).collect(),
+                        });
+                    };
+                    candidates.sort_unstable();
+                    candidates.dedup();
+                    for c in candidates {
+                        if to_anchor[c].unwrap_or(u32::MAX) == nearest {
+                            derived.insert(c);
+                            added.push(c);
+                        }
+                    }
+                }
+                Err(EditError::CurrentStateInconsistent(conflict)) => {
+                    return Err(SelectError::CurrentStateInconsistent(
+                        conflict.labels().iter().map(|s| s.to_string()).collect(),
+                    ))
+                }
+                Err(other) => return Err(SelectError::Edit(other.to_string())),
+            }
+        }
+        let derived: Vec<usize> = derived.into_iter().collect();
+        let theta = self.relative_magnitudes(&anchor_set, &derived, &to_anchor);
+        Ok(Selection {
+            anchors,
+            initial,
+            derived,
+            added,
+            theta,
+            checks,
+        })
+    }
+
+    fn ids<'b>(&self, points: impl IntoIterator<Item = &'b usize>) -> Vec<ParamId> {
+        points.into_iter().map(|&p| self.params.ids[p]).collect()
+    }
+
+    /// 2DSD.ComputeRelMagnitude: `θ_s = δ''/(δ' + δ'')` with `δ'` the net distance to the
+    /// nearest anchor and `δ''` to the nearest fixed point.
+    fn relative_magnitudes(
+        &self,
+        anchors: &BTreeSet<usize>,
+        derived: &[usize],
+        to_anchor: &[Option<u32>],
+    ) -> Vec<Rational> {
+        let n = self.spline.points().len();
+        let derived_set: BTreeSet<usize> = derived.iter().copied().collect();
+        let fixed: Vec<usize> = (0..n)
+            .filter(|p| !anchors.contains(p) && !derived_set.contains(p))
+            .collect();
+        let to_fixed = self.net.distances_from(&fixed);
+        (0..n)
+            .map(|p| {
+                if anchors.contains(&p) {
+                    Rational::one()
+                } else if !derived_set.contains(&p) {
+                    Rational::zero()
+                } else {
+                    match (to_anchor[p], to_fixed[p]) {
+                        (Some(a), Some(f)) => {
+                            Rational::new(f.into(), (a + f).into())
+                        }
+                        (Some(_), None) => Rational::one(),
+                        (None, _) => Rational::zero(),
+                    }
+                }
+            })
+            .collect()
+    }
+
+    /// Turns an operation into anchor values and hints for `steps` equal steps (the drag), from
+    /// the current `values`.
+    pub fn plan(
+        &self,
+        selection: &Selection,
+        values: &Values,
+        operation: &Operation,
+        steps: usize,
+    ) -> Result<Plan, SelectError> {
+        if steps == 0 {
+            return Err(SelectError::InvalidOperation("steps must be at least 1".into()));
+        }
+        let dim = self.params.dim;
+        match operation {
+            Operation::Translate { by } if by.len() != dim => {
+                return Err(SelectError::InvalidOperation(format!(
+                    "translation has {} coordinates, the spline has {dim}",
+                    by.len()
+                )))
+            }
+            Operation::Rotate { precision, .. } | Operation::Scale { precision, .. }
+                if dim != 2 || *precision == 0 =>
+            {
+                return Err(SelectError::InvalidOperation(
+                    "rotation and scaling need a planar spline and a positive precision".into(),
+                ))
+            }
+            Operation::Scale { factor, .. } if *factor <= Rational::zero() => {
+                return Err(SelectError::InvalidOperation(
+                    "the scale factor must be positive".into(),
+                ))
+            }
+            _ => {}
+        }
+        let position = |p: usize| values.get(self.params.ids[p]).to_vec();
+        let steps_out = (1..=steps)
+            .map(|k| {
+                let fraction = Rational::new(k.into(), steps.into());
+                let moved = |p: usize, theta: &Rational| {
+                    move_point(operation, &position(p), &(theta * &fraction))
+                };
+                Step {
+                    anchors: selection
+                        .anchors
+                        .iter()
+                        .map(|&a| moved(a, &Rational::one()))
+                        .collect(),
+                    hints: selection
+                        .derived
+                        .iter()
+                        .map(|&s| moved(s, &selection.theta[s]))
+                        .collect(),
+                }
+            })
+            .collect();
+        Ok(Plan {
+            spec: EditSpec::new(
+                self.ids(&selection.anchors),
+                self.ids(&selection.derived),
+            ),
+            steps: steps_out,
+        })
+    }
+}
+
+/// Rounds `x` to the nearest multiple of `1/precision`.
+fn round_to(x: f64, precision: u64) -> Rational {
+    let scaled = (x * precision as f64).round();
+    let numer = num_bigint::BigInt::from(scaled as i128);
+    Rational::new(numer, precision.into())
+}
+
+/// The point `p` moved by the fraction `t` of an operation (`t = θ · step fraction`).
+fn move_point(operation: &Operation, p: &[Rational], t: &Rational) -> Vec<Rational> {
+    match operation {
+        Operation::Translate { by } => p.iter().zip(by).map(|(x, v)| x + v * t).collect(),
+        Operation::Rotate {
+            center,
+            degrees,
+            precision,
+        } => {
+            if t.is_zero() {
+                return p.to_vec();
+            }
+            let angle = (degrees * t).to_f64().unwrap_or(0.0).to_radians();
+            let (s, c) = angle.sin_cos();
+            let dx = (&p[0] - &center[0]).to_f64().unwrap_or(0.0);
+            let dy = (&p[1] - &center[1]).to_f64().unwrap_or(0.0);
+            vec![
+                &center[0] + round_to(c * dx - s * dy, *precision),
+                &center[1] + round_to(s * dx + c * dy, *precision),
+            ]
+        }
+        Operation::Scale {
+            center,
+            factor,
+            precision,
+        } => {
+            if t.is_one() {
+                // The full factor is exact.
+                return p
+                    .iter()
+                    .zip(center)
+                    .map(|(x, c)| c + factor * (x - c))
+                    .collect();
+            }
+            let f = factor.to_f64().unwrap_or(1.0).powf(t.to_f64().unwrap_or(0.0));
+            p.iter()
+                .zip(center)
+                .map(|(x, c)| c + round_to(f * (x - c).to_f64().unwrap_or(0.0), *precision))
+                .collect()
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::spline::tests::grid;
+
+    struct Fixture {
+        spline: Spline,
+        net: ControlNet,
+        system: ConstraintSystem,
+        params: SplineParams,
+        values: Values,
+    }
+
+    fn fixture(n: usize) -> Fixture {
+        let spline = Spline::new(grid(n, true), 5, 1).expect("spline");
+        let net = ControlNet::new(&spline);
+        let mut system = ConstraintSystem::new();
+        let params = spline.declare(&mut system, "phi", 2).expect("declare");
+        let values = Values::from_vecs(&system, spline.identity_positions()).expect("values");
+        Fixture {
+            spline,
+            net,
+            system,
+            params,
+            values,
+        }
+    }
+
+    fn point(f: &Fixture, name: &str) -> usize {
+        f.spline
+            .points()
+            .iter()
+            .position(|p| p.name == name)
+            .expect("point exists")
+    }
+
+    fn run(f: &mut Fixture, selection: &Selection, op: &Operation) {
+        let editor = SplineEditor {
+            spline: &f.spline,
+            net: &f.net,
+            params: &f.params,
+        };
+        let plan = editor.plan(selection, &f.values, op, 3).expect("plan");
+        let edit: Edit<ExactFactorization> =
+            Edit::initialize(&ExactLdu::default(), &f.system, &f.values, &plan.spec)
+                .expect("init");
+        let last = plan.steps.last().expect("steps");
+        edit.apply(&f.system, &mut f.values, &last.anchors, &last.hints)
+            .expect("strongly solvable edits never fail");
+        assert!(f.system.violations(&f.values).is_empty());
+    }
+
+    #[test]
+    fn translating_an_edge_point_keeps_the_spline_smooth() {
+        let mut f = fixture(4);
+        let editor = SplineEditor {
+            spline: &f.spline,
+            net: &f.net,
+            params: &f.params,
+        };
+        let anchor = point(&f, "e6-12:2");
+        let sel = editor
+            .select(&f.system, &f.values, &[anchor], Neighborhood::Radius(3))
+            .expect("select");
+        assert!(sel.derived.len() >= sel.initial.len());
+        assert_eq!(sel.theta[anchor], Rational::one());
+        for &s in &sel.derived {
+            assert!(sel.theta[s] > Rational::zero() && sel.theta[s] < Rational::one());
+        }
+        let op = Operation::Translate {
+            by: vec![Rational::new(7.into(), 2.into()), Rational::new((-5).into(), 3.into())],
+        };
+        run(&mut f, &sel, &op);
+        let moved = f.values.get(f.params.ids[anchor]).to_vec();
+        let nominal = &f.spline.points()[anchor].nominal;
+        assert_eq!(moved[0], &nominal[0] + Rational::new(7.into(), 2.into()));
+        // Points far away did not move.
+        let far = point(&f, "v24");
+        assert_eq!(f.values.get(f.params.ids[far]), f.spline.points()[far].nominal.as_slice());
+    }
+
+    #[test]
+    fn an_interior_vertex_needs_expansion_and_gets_it() {
+        let mut f = fixture(4);
+        let editor = SplineEditor {
+            spline: &f.spline,
+            net: &f.net,
+            params: &f.params,
+        };
+        // Radius 0: S is empty, so every derived point is added by ExpandDerived.
+        let anchor = point(&f, "v12");
+        let sel = editor
+            .select(&f.system, &f.values, &[anchor], Neighborhood::Radius(0))
+            .expect("select");
+        assert!(sel.initial.is_empty());
+        assert!(!sel.added.is_empty());
+        assert!(sel.checks > 1);
+        run(
+            &mut f,
+            &sel,
+            &Operation::Translate {
+                by: vec![Rational::from_integer(2.into()), Rational::from_integer(1.into())],
+            },
+        );
+    }
+
+    #[test]
+    fn rotation_and_scaling_round_and_still_solve_exactly() {
+        for op in [
+            Operation::Rotate {
+                center: [Rational::zero(), Rational::zero()],
+                degrees: Rational::from_integer(30.into()),
+                precision: 1000,
+            },
+            Operation::Scale {
+                center: [Rational::from_integer(20.into()), Rational::from_integer(20.into())],
+                factor: Rational::new(3.into(), 2.into()),
+                precision: 1000,
+            },
+        ] {
+            let mut f = fixture(4);
+            let editor = SplineEditor {
+                spline: &f.spline,
+                net: &f.net,
+                params: &f.params,
+            };
+            let anchors = [point(&f, "v12"), point(&f, "e12-13:4")];
+            let sel = editor
+                .select(&f.system, &f.values, &anchors, Neighborhood::Radius(2))
+                .expect("select");
+            run(&mut f, &sel, &op);
+        }
+    }
+
+    #[test]
+    fn global_moves_use_every_point() {
+        let mut f = fixture(2);
+        let editor = SplineEditor {
+            spline: &f.spline,
+            net: &f.net,
+            params: &f.params,
+        };
+        let anchor = point(&f, "v4");
+        let sel = editor
+            .select(&f.system, &f.values, &[anchor], Neighborhood::All)
+            .expect("select");
+        assert_eq!(sel.derived.len(), f.spline.points().len() - 1);
+        // With no fixed point left, every hint moves fully with the anchor.
+        assert!(sel.derived.iter().all(|&s| sel.theta[s] == Rational::one()));
+        run(
+            &mut f,
+            &sel,
+            &Operation::Translate {
+                by: vec![Rational::from_integer(1.into()), Rational::from_integer(1.into())],
+            },
+        );
+        // A pure translation of everything is an affine map: every point moved by (1, 1).
+        for (p, id) in f.params.ids.iter().enumerate() {
+            let nominal = &f.spline.points()[p].nominal;
+            assert_eq!(f.values.get(*id)[0], &nominal[0] + Rational::one());
+        }
+    }
+
+    #[test]
+    fn bad_requests_are_errors() {
+        let f = fixture(1);
+        let editor = SplineEditor {
+            spline: &f.spline,
+            net: &f.net,
+            params: &f.params,
+        };
+        assert!(matches!(
+            editor.select(&f.system, &f.values, &[], Neighborhood::All),
+            Err(SelectError::NoAnchors)
+        ));
+        assert!(matches!(
+            editor.select(&f.system, &f.values, &[9999], Neighborhood::All),
+            Err(SelectError::UnknownPoint(9999))
+        ));
+        let sel = editor
+            .select(&f.system, &f.values, &[0], Neighborhood::Radius(2))
+            .expect("select");
+        assert!(editor
+            .plan(&sel, &f.values, &Operation::Translate { by: vec![Rational::one()] }, 1)
+            .is_err());
+        assert!(editor
+            .plan(
+                &sel,
+                &f.values,
+                &Operation::Scale {
+                    center: [Rational::zero(), Rational::zero()],
+                    factor: Rational::zero(),
+                    precision: 10
+                },
+                1
+            )
+            .is_err());
+    }
+}
