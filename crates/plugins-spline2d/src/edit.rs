@@ -191,8 +191,12 @@ impl SplineEditor<'_> {
         loop {
             checks += 1;
             let spec = EditSpec::new(self.ids(&anchors), self.ids(derived.iter())).strong();
-            match Edit::<ExactFactorization>::initialize(&ExactLdu::default(), system, values, &spec)
-            {
+            match Edit::<ExactFactorization>::initialize(
+                &ExactLdu::default(),
+                system,
+                values,
+                &spec,
+            ) {
                 Ok(_) => break,
                 Err(EditError::NotStronglySolvable {
                     anchor, conflict, ..
@@ -272,9 +276,7 @@ impl SplineEditor<'_> {
                     Rational::zero()
                 } else {
                     match (to_anchor[p], to_fixed[p]) {
-                        (Some(a), Some(f)) => {
-                            Rational::new(f.into(), (a + f).into())
-                        }
+                        (Some(a), Some(f)) => Rational::new(f.into(), (a + f).into()),
                         (Some(_), None) => Rational::one(),
                         (None, _) => Rational::zero(),
                     }
@@ -293,7 +295,9 @@ impl SplineEditor<'_> {
         steps: usize,
     ) -> Result<Plan, SelectError> {
         if steps == 0 {
-            return Err(SelectError::InvalidOperation("steps must be at least 1".into()));
+            return Err(SelectError::InvalidOperation(
+                "steps must be at least 1".into(),
+            ));
         }
         let dim = self.params.dim;
         match operation {
@@ -339,10 +343,7 @@ impl SplineEditor<'_> {
             })
             .collect();
         Ok(Plan {
-            spec: EditSpec::new(
-                self.ids(&selection.anchors),
-                self.ids(&selection.derived),
-            ),
+            spec: EditSpec::new(self.ids(&selection.anchors), self.ids(&selection.derived)),
             steps: steps_out,
         })
     }
@@ -389,7 +390,10 @@ fn move_point(operation: &Operation, p: &[Rational], t: &Rational) -> Vec<Ration
                     .map(|(x, c)| c + factor * (x - c))
                     .collect();
             }
-            let f = factor.to_f64().unwrap_or(1.0).powf(t.to_f64().unwrap_or(0.0));
+            let f = factor
+                .to_f64()
+                .unwrap_or(1.0)
+                .powf(t.to_f64().unwrap_or(0.0));
             p.iter()
                 .zip(center)
                 .map(|(x, c)| c + round_to(f * (x - c).to_f64().unwrap_or(0.0), *precision))
@@ -442,8 +446,7 @@ mod tests {
         };
         let plan = editor.plan(selection, &f.values, op, 3).expect("plan");
         let edit: Edit<ExactFactorization> =
-            Edit::initialize(&ExactLdu::default(), &f.system, &f.values, &plan.spec)
-                .expect("init");
+            Edit::initialize(&ExactLdu::default(), &f.system, &f.values, &plan.spec).expect("init");
         let last = plan.steps.last().expect("steps");
         edit.apply(&f.system, &mut f.values, &last.anchors, &last.hints)
             .expect("strongly solvable edits never fail");
@@ -468,7 +471,10 @@ mod tests {
             assert!(sel.theta[s] > Rational::zero() && sel.theta[s] < Rational::one());
         }
         let op = Operation::Translate {
-            by: vec![Rational::new(7.into(), 2.into()), Rational::new((-5).into(), 3.into())],
+            by: vec![
+                Rational::new(7.into(), 2.into()),
+                Rational::new((-5).into(), 3.into()),
+            ],
         };
         run(&mut f, &sel, &op);
         let moved = f.values.get(f.params.ids[anchor]).to_vec();
@@ -476,7 +482,10 @@ mod tests {
         assert_eq!(moved[0], &nominal[0] + Rational::new(7.into(), 2.into()));
         // Points far away did not move.
         let far = point(&f, "v24");
-        assert_eq!(f.values.get(f.params.ids[far]), f.spline.points()[far].nominal.as_slice());
+        assert_eq!(
+            f.values.get(f.params.ids[far]),
+            f.spline.points()[far].nominal.as_slice()
+        );
     }
 
     #[test]
@@ -499,7 +508,10 @@ mod tests {
             &mut f,
             &sel,
             &Operation::Translate {
-                by: vec![Rational::from_integer(2.into()), Rational::from_integer(1.into())],
+                by: vec![
+                    Rational::from_integer(2.into()),
+                    Rational::from_integer(1.into()),
+                ],
             },
         );
     }
@@ -513,7 +525,10 @@ mod tests {
                 precision: 1000,
             },
             Operation::Scale {
-                center: [Rational::from_integer(20.into()), Rational::from_integer(20.into())],
+                center: [
+                    Rational::from_integer(20.into()),
+                    Rational::from_integer(20.into()),
+                ],
                 factor: Rational::new(3.into(), 2.into()),
                 precision: 1000,
             },
@@ -551,7 +566,10 @@ mod tests {
             &mut f,
             &sel,
             &Operation::Translate {
-                by: vec![Rational::from_integer(1.into()), Rational::from_integer(1.into())],
+                by: vec![
+                    Rational::from_integer(1.into()),
+                    Rational::from_integer(1.into()),
+                ],
             },
         );
         // A pure translation of everything is an affine map: every point moved by (1, 1).
@@ -581,7 +599,14 @@ mod tests {
             .select(&f.system, &f.values, &[0], Neighborhood::Radius(2))
             .expect("select");
         assert!(editor
-            .plan(&sel, &f.values, &Operation::Translate { by: vec![Rational::one()] }, 1)
+            .plan(
+                &sel,
+                &f.values,
+                &Operation::Translate {
+                    by: vec![Rational::one()]
+                },
+                1
+            )
             .is_err());
         assert!(editor
             .plan(

@@ -99,8 +99,7 @@ mod tests {
         let params = spline.declare(&mut system, "phi", 2).expect("declare");
         assert_eq!(params.ids.len(), 121);
         assert_eq!(params.rows.len(), 40);
-        let values =
-            Values::from_vecs(&system, spline.identity_positions()).expect("values");
+        let values = Values::from_vecs(&system, spline.identity_positions()).expect("values");
         assert!(system.violations(&values).is_empty());
         assert_eq!(params.point_of(params.ids[7]), Some(7));
         assert_eq!(system.params()[params.ids[0].index()].name, "phi.v0");
