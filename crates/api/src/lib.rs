@@ -6,6 +6,7 @@
 //! * [`system`]: parameters (scalar or vector), sparse integer constraint rows `Σ c_j p_j = q`
 //!   with a label and an origin, and the merged [`ConstraintSystem`];
 //! * [`matrix`]: the sparse integer matrix handed to a backend;
+//! * [`source`]: the [`ConstraintSource`] trait constraint plugins implement;
 //! * [`backend`]: the traits a linear-algebra backend implements (factor, rank, independent and
 //!   redundant rows, solve, weak and strong consistency, null space, weighted least squares).
 //!
@@ -14,6 +15,7 @@
 pub mod backend;
 pub mod exact;
 pub mod matrix;
+pub mod source;
 pub mod system;
 
 pub use backend::{
@@ -22,6 +24,10 @@ pub use backend::{
 };
 pub use exact::{format_rational, parse_rational, Integer, ParseRationalError, Rational};
 pub use matrix::{IntMatrix, MatrixError};
+pub use source::{
+    BuildRequest, ConstraintSource, Contribution, Highlight, NewParameter, OperationPlan,
+    OutputFile, PlanRequest, PlannedStep, RenderRequest, SourceError, SourceInfo, SummaryItem,
+};
 pub use system::{
     ConstraintRow, ConstraintSystem, Coord, Origin, ParamId, Parameter, RowBody, RowId,
     SystemError, Values,

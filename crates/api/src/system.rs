@@ -199,7 +199,10 @@ pub enum SystemError {
 }
 
 /// Parameters and constraint rows from all sources: one parameter space, global ids.
-#[derive(Debug, Clone, Default, PartialEq, Eq)]
+///
+/// Serialises as its parameters and rows; deserialising re-validates every row.
+#[derive(Debug, Clone, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(try_from = "SystemData", into = "SystemData")]
 pub struct ConstraintSystem {
     params: Vec<Parameter>,
     by_name: HashMap<String, ParamId>,
@@ -409,6 +412,36 @@ impl ConstraintSystem {
     }
 }
 
+/// The serialised form of a [`ConstraintSystem`].
+#[derive(Serialize, Deserialize)]
+struct SystemData {
+    params: Vec<Parameter>,
+    rows: Vec<ConstraintRow>,
+}
+
+impl From<ConstraintSystem> for SystemData {
+    fn from(s: ConstraintSystem) -> Self {
+        SystemData {
+            params: s.params,
+            rows: s.rows,
+        }
+    }
+}
+
+impl TryFrom<SystemData> for ConstraintSystem {
+    type Error = SystemError;
+    fn try_from(data: SystemData) -> Result<Self, SystemError> {
+        let mut system = ConstraintSystem::new();
+        for p in data.params {
+            system.add_parameter(p.name, p.dim)?;
+        }
+        for row in data.rows {
+            system.add_row(row)?;
+        }
+        Ok(system)
+    }
+}
+
 fn merge_terms<K: Ord + Copy>(mut terms: Vec<(K, Integer)>) -> Vec<(K, Integer)> {
     terms.sort_by_key(|(k, _)| *k);
     let mut merged: Vec<(K, Integer)> = Vec::with_capacity(terms.len());
@@ -423,7 +456,8 @@ fn merge_terms<K: Ord + Copy>(mut terms: Vec<(K, Integer)>) -> Vec<(K, Integer)>
 }
 
 /// Current exact values of all parameters of a system: the state being edited.
-#[derive(Debug, Clone, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(transparent)]
 pub struct Values {
     data: Vec<Vec<Rational>>,
 }
@@ -494,6 +528,32 @@ impl Values {
     /// True when there are no parameters.
     pub fn is_empty(&self) -> bool {
         self.data.is_empty()
+    }
+
+    /// Appends the value of a parameter just added to `system` (its id must be the next one).
+    pub fn push(
+        &mut self,
+        system: &ConstraintSystem,
+        id: ParamId,
+        value: Vec<Rational>,
+    ) -> Result<(), SystemError> {
+        let param = system
+            .param(id)
+            .filter(|_| id.index() == self.data.len())
+            .ok_or(SystemError::UnknownParameter {
+                label: "value".into(),
+                param: id,
+                count: self.data.len(),
+            })?;
+        if value.len() != param.dim {
+            return Err(SystemError::WrongValueDimension {
+                name: param.name.clone(),
+                found: value.len(),
+                expected: param.dim,
+            });
+        }
+        self.data.push(value);
+        Ok(())
     }
 
     /// Replaces several parameters at once; used to commit an edit atomically after it has been

@@ -1,0 +1,271 @@
+//! Constraint sources: the plugins that contribute parameters and integer rows.
+//!
+//! A source is built once from its configuration (RON text, its own schema) and contributes
+//! new parameters with initial values and rows, possibly on parameters of earlier sources
+//! (looked up by name in [`BuildRequest::system`]). It may then plan source-specific edits
+//! (a spline's soft translation, say) as ECLES edits, and render outputs (pictures, deformed
+//! models) as bytes for the host to write. Sources do no file I/O beyond reading the inputs their
+//! configuration names, and never print.
+//!
+//! Every request and answer is plain serialisable data, so the same trait works in process and
+//! across the C ABI of dynamic plugins (which exchange these types as JSON).
+
+use crate::exact::Rational;
+use crate::system::{ConstraintRow, ConstraintSystem, ParamId, Values};
+use serde::{Deserialize, Serialize};
+use std::path::PathBuf;
+
+/// An earlier source of the same run, for sources that build on another one.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct SourceInfo {
+    /// Instance name (unique in the run).
+    pub name: String,
+    /// Plugin kind (`"spline2d"`, `"linear"`, ...).
+    pub kind: String,
+    /// Its configuration text.
+    pub config: String,
+}
+
+/// What a source is built from.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct BuildRequest {
+    /// Instance name: the prefix of the source's parameter names and row labels.
+    pub name: String,
+    /// Configuration as RON text.
+    pub config: String,
+    /// Directory relative paths in the configuration are resolved against (the run file's).
+    pub base_dir: PathBuf,
+    /// The system as built by the earlier sources.
+    pub system: ConstraintSystem,
+    /// Current values of the earlier sources' parameters.
+    pub values: Values,
+    /// The earlier sources.
+    pub sources: Vec<SourceInfo>,
+}
+
+/// A new parameter with its initial value (its dimension is the value's length).
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct NewParameter {
+    /// Unique name.
+    pub name: String,
+    /// Initial exact value.
+    pub value: Vec<Rational>,
+}
+
+/// A count or fact for the run report (`"control_points"`, 121).
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct SummaryItem {
+    /// Stable field name.
+    pub key: String,
+    /// Value.
+    pub value: u64,
+}
+
+/// What a source adds to the system.
+///
+/// Rows refer to existing parameters by their ids and to new ones by
+/// `ParamId(existing + k)` for the `k`-th entry of `parameters`, where `existing` is the number
+/// of parameters in [`BuildRequest::system`].
+#[derive(Debug, Clone, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub struct Contribution {
+    /// New parameters, in id order.
+    pub parameters: Vec<NewParameter>,
+    /// New rows.
+    pub rows: Vec<ConstraintRow>,
+    /// Counts for the report.
+    pub summary: Vec<SummaryItem>,
+    /// Non-fatal remarks (an unused mesh vertex, a flipped triangle), for the report.
+    pub warnings: Vec<String>,
+}
+
+impl Contribution {
+    /// Adds the parameters and rows to `system` and `values`, all or nothing: on any error
+    /// both are left unchanged.
+    pub fn apply_to(
+        &self,
+        system: &mut ConstraintSystem,
+        values: &mut Values,
+    ) -> Result<(), crate::system::SystemError> {
+        let mut new_system = system.clone();
+        let mut new_values = values.clone();
+        for p in &self.parameters {
+            let id = new_system.add_parameter(p.name.clone(), p.value.len())?;
+            new_values.push(&new_system, id, p.value.clone())?;
+        }
+        for row in &self.rows {
+            new_system.add_row(row.clone())?;
+        }
+        *system = new_system;
+        *values = new_values;
+        Ok(())
+    }
+}
+
+/// A source-specific edit to plan (the operation as RON text in the source's own schema).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct PlanRequest {
+    /// The operation.
+    pub operation: String,
+    /// The whole system.
+    pub system: ConstraintSystem,
+    /// Current values.
+    pub values: Values,
+}
+
+/// Anchor values and hints of one step of a planned edit.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct PlannedStep {
+    /// New values of the anchors, in [`OperationPlan::anchors`] order.
+    pub anchors: Vec<Vec<Rational>>,
+    /// Hints of the derived parameters, in [`OperationPlan::derived`] order.
+    pub hints: Vec<Vec<Rational>>,
+}
+
+/// An ECLES edit planned by a source.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct OperationPlan {
+    /// Anchor parameters.
+    pub anchors: Vec<ParamId>,
+    /// Derived parameters.
+    pub derived: Vec<ParamId>,
+    /// One positive weight per derived parameter.
+    pub weights: Vec<Rational>,
+    /// Whether the host should run the strong-solvability check.
+    pub strong: bool,
+    /// Steps of the drag, each from the state at initialisation.
+    pub steps: Vec<PlannedStep>,
+    /// Facts about the planning (points added to the derived set, ...), for the report.
+    pub summary: Vec<SummaryItem>,
+}
+
+/// Outputs to render for the current state.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct RenderRequest {
+    /// What to render, as RON text in the source's own schema.
+    pub output: String,
+    /// Directory relative paths in the request are resolved against.
+    pub base_dir: PathBuf,
+    /// The whole system.
+    pub system: ConstraintSystem,
+    /// Values before the edits of the run.
+    pub initial: Values,
+    /// Current values.
+    pub values: Values,
+    /// Parameters and rows of the last edit, to highlight.
+    pub highlight: Option<Highlight>,
+}
+
+/// What the last edit touched.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+pub struct Highlight {
+    /// Anchors.
+    pub anchors: Vec<ParamId>,
+    /// Derived parameters.
+    pub derived: Vec<ParamId>,
+    /// Relevant rows kept as independent.
+    pub independent_rows: Vec<crate::system::RowId>,
+}
+
+/// A file produced by a source; the host decides where and whether it is written.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct OutputFile {
+    /// File name (no directories).
+    pub name: String,
+    /// Contents.
+    pub bytes: Vec<u8>,
+}
+
+/// Why a source refused a request.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize, thiserror::Error)]
+#[error("{message}")]
+pub struct SourceError {
+    /// What went wrong, naming the file (and line/column) or the item.
+    pub message: String,
+}
+
+impl SourceError {
+    /// An error with a message.
+    pub fn new(message: impl Into<String>) -> Self {
+        SourceError {
+            message: message.into(),
+        }
+    }
+}
+
+/// A plugin that contributes parameters and constraints.
+pub trait ConstraintSource {
+    /// Plugin kind, as named in run files (`"spline2d"`).
+    fn kind(&self) -> &str;
+    /// Plugin version.
+    fn version(&self) -> &str;
+    /// Reads the configuration and contributes parameters and rows. Called once.
+    fn build(&mut self, request: &BuildRequest) -> Result<Contribution, SourceError>;
+    /// Plans a source-specific edit. Sources without operations refuse every request.
+    fn plan(&self, request: &PlanRequest) -> Result<OperationPlan, SourceError>;
+    /// Renders outputs for the current state. Sources without outputs refuse every request.
+    fn render(&self, request: &RenderRequest) -> Result<Vec<OutputFile>, SourceError>;
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::system::{Origin, RowBody};
+
+    fn r(n: i64) -> Rational {
+        Rational::from_integer(n.into())
+    }
+
+    #[test]
+    fn contributions_apply_atomically_and_round_trip() {
+        let mut system = ConstraintSystem::new();
+        let mut values = Values::default();
+        let first = Contribution {
+            parameters: vec![
+                NewParameter {
+                    name: "a".into(),
+                    value: vec![r(1)],
+                },
+                NewParameter {
+                    name: "b".into(),
+                    value: vec![r(1)],
+                },
+            ],
+            rows: vec![ConstraintRow {
+                label: "a=b".into(),
+                origin: Origin::default(),
+                body: RowBody::Vector {
+                    terms: vec![(ParamId(0), 1.into()), (ParamId(1), (-1).into())],
+                    rhs: vec![0.into()],
+                },
+            }],
+            ..Contribution::default()
+        };
+        first.apply_to(&mut system, &mut values).expect("valid");
+        assert_eq!(system.params().len(), 2);
+        assert!(system.violations(&values).is_empty());
+        // A bad row leaves everything as it was, including the parameters before it.
+        let bad = Contribution {
+            parameters: vec![NewParameter {
+                name: "c".into(),
+                value: vec![r(2)],
+            }],
+            rows: vec![ConstraintRow {
+                label: "broken".into(),
+                origin: Origin::default(),
+                body: RowBody::Vector {
+                    terms: vec![(ParamId(9), 1.into())],
+                    rhs: vec![0.into()],
+                },
+            }],
+            ..Contribution::default()
+        };
+        let before = (system.clone(), values.clone());
+        assert!(bad.apply_to(&mut system, &mut values).is_err());
+        assert_eq!((system.clone(), values.clone()), before);
+        // Systems survive serialisation (rows re-validated on the way back).
+        let json = serde_json::to_string(&system).expect("serialise");
+        let back: ConstraintSystem = serde_json::from_str(&json).expect("deserialise");
+        assert_eq!(back, system);
+        assert_eq!(back.rows_of(ParamId(1)), &[crate::system::RowId(0)]);
+    }
+}
