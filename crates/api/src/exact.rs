@@ -6,6 +6,8 @@
 use num_bigint::BigInt;
 use num_rational::BigRational;
 use num_traits::{One, Zero};
+use serde::de::{self, Deserializer, Visitor};
+use serde::Deserialize;
 use std::fmt;
 
 /// Arbitrary-precision integer: constraint coefficients and right-hand sides.
@@ -200,6 +202,39 @@ pub fn rational_to_f64(value: &Rational) -> f64 {
 /// The exact rational equal to a finite `f64` (used to feed float results back into exact checks).
 pub fn rational_from_f64(value: f64) -> Option<Rational> {
     Rational::from_float(value)
+}
+
+/// A rational written in a configuration file as text (`"7/3"`, `"0.1"`, read exactly) or as
+/// an integer. Floating-point literals are refused with a message asking to quote them: a
+/// binary float is not the number the user typed.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Exact(pub Rational);
+
+impl<'de> Deserialize<'de> for Exact {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct ExactVisitor;
+        impl Visitor<'_> for ExactVisitor {
+            type Value = Exact;
+            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                f.write_str("an exact number as a string (\"7/3\", \"0.1\") or an integer")
+            }
+            fn visit_str<E: de::Error>(self, v: &str) -> Result<Exact, E> {
+                parse_rational(v).map(Exact).map_err(E::custom)
+            }
+            fn visit_i64<E: de::Error>(self, v: i64) -> Result<Exact, E> {
+                Ok(Exact(Rational::from_integer(v.into())))
+            }
+            fn visit_u64<E: de::Error>(self, v: u64) -> Result<Exact, E> {
+                Ok(Exact(Rational::from_integer(v.into())))
+            }
+            fn visit_f64<E: de::Error>(self, v: f64) -> Result<Exact, E> {
+                Err(E::custom(format!(
+                    "{v} is a floating-point literal; write exact numbers as strings, e.g. \"{v}\""
+                )))
+            }
+        }
+        deserializer.deserialize_any(ExactVisitor)
+    }
 }
 
 #[cfg(test)]
