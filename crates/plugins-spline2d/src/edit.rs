@@ -419,8 +419,10 @@ mod tests {
         let spline = Spline::new(grid(n, true), 5, 1).expect("spline");
         let net = ControlNet::new(&spline);
         let mut system = ConstraintSystem::new();
-        let params = spline.declare(&mut system, "phi", 2).expect("declare");
-        let values = Values::from_vecs(&system, spline.identity_positions()).expect("values");
+        let mut values = Values::default();
+        let params = spline
+            .declare(&mut system, &mut values, "phi", spline.identity_positions())
+            .expect("declare");
         Fixture {
             spline,
             net,

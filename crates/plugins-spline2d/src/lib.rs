@@ -5,13 +5,24 @@
 //!   inline form and validated.
 //! * [`spline`]: control points (shared per nominal position) and the `C^r` conditions.
 //! * [`net`]: the global Bézier control net and distances on it.
+//! * [`eval`]: evaluating the spline at points, exactly and fast in `f64` (point location grid,
+//!   allocation-free evaluation).
+//! * [`model`]: loading OBJ models and point clouds, deforming them, writing them back.
+//! * [`svg`]: deterministic SVG pictures (meshes, control net, anchors, conditions, models,
+//!   before/after).
 //! * [`source`]: declaring control points and conditions in a shared constraint system.
 //! * [`edit`]: the 2DSD operations: selection, ExpandDerived, relative magnitudes, soft
 //!   translation / rotation / scaling turned into ECLES edits.
+//! * [`plugin`]: the [`api::ConstraintSource`] implementation (configuration, build, plan,
+//!   render).
 
 pub mod edit;
+pub mod eval;
 pub mod mesh;
 pub mod mesh_io;
+pub mod model;
 pub mod net;
+pub mod plugin;
 pub mod source;
 pub mod spline;
+pub mod svg;

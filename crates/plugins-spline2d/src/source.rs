@@ -2,8 +2,8 @@
 
 use crate::spline::Spline;
 use api::{
-    ConstraintRow, ConstraintSystem, Integer, Origin, ParamId, Rational, RowBody, RowId,
-    SystemError, Values,
+    ConstraintRow, ConstraintSystem, Contribution, Integer, NewParameter, Origin, ParamId,
+    Rational, RowBody, SystemError, Values,
 };
 use std::collections::HashMap;
 
@@ -16,8 +16,6 @@ pub struct SplineParams {
     pub dim: usize,
     /// The parameter of each control point.
     pub ids: Vec<ParamId>,
-    /// The row of each condition, in [`Spline::conditions`] order.
-    pub rows: Vec<RowId>,
     /// Control point of each parameter id.
     point_of: HashMap<ParamId, usize>,
 }
@@ -35,45 +33,82 @@ impl SplineParams {
 }
 
 impl Spline {
-    /// Declares one parameter of dimension `dim` per control point (named
-    /// `{prefix}.{point name}`) and one vector row per condition (labelled
-    /// `{prefix}: {condition label}`, origin `spline2d` / the edge and order).
-    pub fn declare(
+    /// The parameters and rows of this spline as a [`Contribution`] to a system that already
+    /// has `existing` parameters: one parameter of dimension `dim` per control point (named
+    /// `{prefix}.{point name}`, initial value from `initial`) and one vector row per condition
+    /// (labelled `{prefix}: {condition label}`, origin `spline2d` / the condition).
+    ///
+    /// # Panics
+    /// Panics if `initial` does not have one value of length `dim` per control point.
+    pub fn contribution(
         &self,
-        system: &mut ConstraintSystem,
         prefix: &str,
         dim: usize,
-    ) -> Result<SplineParams, SystemError> {
-        let ids: Vec<ParamId> = self
+        existing: usize,
+        initial: Vec<Vec<Rational>>,
+    ) -> (Contribution, SplineParams) {
+        assert_eq!(initial.len(), self.points().len(), "one value per control point");
+        let ids: Vec<ParamId> = (0..self.points().len())
+            .map(|k| ParamId((existing + k) as u32))
+            .collect();
+        let parameters = self
             .points()
             .iter()
-            .map(|p| system.add_parameter(format!("{prefix}.{}", p.name), dim))
-            .collect::<Result<_, _>>()?;
+            .zip(initial)
+            .map(|(p, value)| {
+                assert_eq!(value.len(), dim, "values have the spline's dimension");
+                NewParameter {
+                    name: format!("{prefix}.{}", p.name),
+                    value,
+                }
+            })
+            .collect();
         let rows = self
             .conditions()
             .iter()
-            .map(|c| {
-                system.add_row(ConstraintRow {
-                    label: format!("{prefix}: {}", c.label),
-                    origin: Origin {
-                        source: "spline2d".into(),
-                        item: c.label.clone(),
-                    },
-                    body: RowBody::Vector {
-                        terms: c.terms.iter().map(|(p, v)| (ids[*p], v.clone())).collect(),
-                        rhs: vec![Integer::from(0); dim],
-                    },
-                })
+            .map(|c| ConstraintRow {
+                label: format!("{prefix}: {}", c.label),
+                origin: Origin {
+                    source: prefix.to_string(),
+                    item: c.label.clone(),
+                },
+                body: RowBody::Vector {
+                    terms: c.terms.iter().map(|(p, v)| (ids[*p], v.clone())).collect(),
+                    rhs: vec![Integer::from(0); dim],
+                },
             })
-            .collect::<Result<_, _>>()?;
+            .collect();
         let point_of = ids.iter().enumerate().map(|(i, id)| (*id, i)).collect();
-        Ok(SplineParams {
+        let params = SplineParams {
             prefix: prefix.to_string(),
             dim,
             ids,
-            rows,
             point_of,
-        })
+        };
+        (
+            Contribution {
+                parameters,
+                rows,
+                ..Contribution::default()
+            },
+            params,
+        )
+    }
+
+    /// Declares the spline in `system` with `values` (see [`Spline::contribution`]), all or
+    /// nothing.
+    pub fn declare(
+        &self,
+        system: &mut ConstraintSystem,
+        values: &mut Values,
+        prefix: &str,
+        initial: Vec<Vec<Rational>>,
+    ) -> Result<SplineParams, SystemError> {
+        let dim = initial.first().map_or(1, Vec::len);
+        let (contribution, params) =
+            self.contribution(prefix, dim, system.params().len(), initial);
+        contribution.apply_to(system, values)?;
+        Ok(params)
     }
 
     /// The identity deformation: every control point at its nominal position.
@@ -96,15 +131,21 @@ mod tests {
     fn declared_identity_satisfies_every_condition() {
         let spline = Spline::new(grid(2, true), 5, 1).expect("spline");
         let mut system = ConstraintSystem::new();
-        let params = spline.declare(&mut system, "phi", 2).expect("declare");
+        let mut values = Values::default();
+        let params = spline
+            .declare(&mut system, &mut values, "phi", spline.identity_positions())
+            .expect("declare");
         assert_eq!(params.ids.len(), 121);
-        assert_eq!(params.rows.len(), 40);
-        let values = Values::from_vecs(&system, spline.identity_positions()).expect("values");
+        assert_eq!(system.rows().len(), 40);
         assert!(system.violations(&values).is_empty());
         assert_eq!(params.point_of(params.ids[7]), Some(7));
         assert_eq!(system.params()[params.ids[0].index()].name, "phi.v0");
         assert!(system.rows()[0].label.starts_with("phi: C1 edge"));
-        // Declaring the same prefix twice is refused by the system.
-        assert!(spline.declare(&mut system, "phi", 2).is_err());
+        // Declaring the same prefix twice is refused, and changes nothing.
+        let before = system.clone();
+        assert!(spline
+            .declare(&mut system, &mut values, "phi", spline.identity_positions())
+            .is_err());
+        assert_eq!(system, before);
     }
 }

@@ -1,0 +1,267 @@
+//! Whole-system analysis: exact rank, redundant rows with their combinations, consistency with a
+//! certificate, and the float backend's view of the same matrix.
+
+use crate::report::{CrossCheckReport, Margin, RedundantRow, Term};
+use api::{
+    format_rational, ConstraintSystem, Factorization, Integer, IntMatrix, LinearBackend,
+    Rational, RowBody, RowId, SolveError, Values,
+};
+use exact_ldu::ExactLdu;
+use float_qr::FloatQr;
+use std::collections::BTreeSet;
+
+/// Largest matrix (rows × columns) factored as one dense block. Larger systems are reported as
+/// skipped with this reason until block-wise factoring exists.
+pub const DENSE_LIMIT: usize = 4_000_000;
+
+/// The exact facts about a system.
+#[derive(Debug, Clone, Default)]
+pub struct Analysis {
+    /// Scalar parameters.
+    pub parameters: usize,
+    /// Scalar rows.
+    pub constraints: usize,
+    /// Exact rank (scalar).
+    pub rank: Option<usize>,
+    /// Whether `R p = q` is solvable.
+    pub consistent: Option<bool>,
+    /// Redundant rows.
+    pub redundant: Vec<RedundantRow>,
+    /// Labels of a minimal conflicting set.
+    pub conflict: Option<Vec<String>>,
+    /// Why the analysis was skipped.
+    pub skipped: Option<String>,
+    /// Labels of rows violated by the current values.
+    pub violated: Vec<String>,
+    /// Float view.
+    pub cross_check: CrossCheckReport,
+}
+
+/// The matrix analysed: vector rows of one dimension share one matrix over parameters;
+/// anything else is split into scalar rows over coordinates.
+struct Shape {
+    matrix: IntMatrix,
+    /// Right-hand sides, one column per coordinate.
+    rhs: Vec<Vec<Rational>>,
+    /// Label of each row.
+    labels: Vec<String>,
+    /// Coordinates per matrix row (the scalar count is rows × this).
+    copies: usize,
+}
+
+fn shape(system: &ConstraintSystem) -> Shape {
+    let dims: BTreeSet<usize> = system.params().iter().map(|p| p.dim).collect();
+    let vector_dim = match (dims.len(), dims.iter().next()) {
+        (1, Some(&d)) => system
+            .rows()
+            .iter()
+            .all(|r| matches!(&r.body, RowBody::Vector { rhs, .. } if rhs.len() == d))
+            .then_some(d),
+        (0, _) => Some(1),
+        _ => None,
+    };
+    match vector_dim {
+        Some(d) => {
+            let rows = system
+                .rows()
+                .iter()
+                .map(|r| match &r.body {
+                    RowBody::Vector { terms, .. } => {
+                        terms.iter().map(|(p, c)| (p.index(), c.clone())).collect()
+                    }
+                    RowBody::Scalar { .. } => Vec::new(),
+                })
+                .collect();
+            let matrix = IntMatrix::from_sparse(system.params().len(), rows)
+                .expect("parameter ids were validated");
+            let rhs = (0..d)
+                .map(|k| {
+                    system
+                        .rows()
+                        .iter()
+                        .map(|r| match &r.body {
+                            RowBody::Vector { rhs, .. } => Rational::from_integer(rhs[k].clone()),
+                            RowBody::Scalar { rhs, .. } => Rational::from_integer(rhs.clone()),
+                        })
+                        .collect()
+                })
+                .collect();
+            Shape {
+                matrix,
+                rhs,
+                labels: system.rows().iter().map(|r| r.label.clone()).collect(),
+                copies: d,
+            }
+        }
+        None => {
+            let (matrix, rhs, origin) = system.scalar_matrix();
+            let labels = origin
+                .iter()
+                .map(|(row, k)| label(system, *row, Some(*k)))
+                .collect();
+            Shape {
+                matrix,
+                rhs: vec![rhs.into_iter().map(Rational::from_integer).collect()],
+                labels,
+                copies: 1,
+            }
+        }
+    }
+}
+
+/// A row's label, with the coordinate for split vector rows.
+pub fn label(system: &ConstraintSystem, row: RowId, component: Option<usize>) -> String {
+    let r = &system.rows()[row.index()];
+    match (&r.body, component) {
+        (RowBody::Vector { rhs, .. }, Some(k)) if rhs.len() > 1 => format!("{}[{k}]", r.label),
+        _ => r.label.clone(),
+    }
+}
+
+/// Analyses `system` with the exact backend and, when `tolerance` is given, the float one.
+pub fn analyse(
+    system: &ConstraintSystem,
+    values: &Values,
+    exact: &ExactLdu,
+    tolerance: Option<f64>,
+) -> Analysis {
+    let scalar_params = system.coordinate_count();
+    let scalar_rows: usize = system.rows().iter().map(|r| r.body.scalar_rows()).sum();
+    let violated: Vec<String> = {
+        let mut seen = BTreeSet::new();
+        system
+            .violations(values)
+            .into_iter()
+            .filter(|(row, _, _)| seen.insert(*row))
+            .map(|(row, _, _)| system.rows()[row.index()].label.clone())
+            .collect()
+    };
+    let mut analysis = Analysis {
+        parameters: scalar_params,
+        constraints: scalar_rows,
+        violated,
+        ..Analysis::default()
+    };
+    let shape = shape(system);
+    if shape.matrix.rows().saturating_mul(shape.matrix.cols()) > DENSE_LIMIT {
+        let reason = format!(
+            "the constraint matrix ({} × {}) is too large for one dense factoring (limit {} entries)",
+            shape.matrix.rows(),
+            shape.matrix.cols(),
+            DENSE_LIMIT
+        );
+        analysis.skipped = Some(reason.clone());
+        analysis.cross_check = CrossCheckReport {
+            enabled: tolerance.is_some(),
+            tolerance,
+            skipped: Some(reason),
+            ..CrossCheckReport::default()
+        };
+        return analysis;
+    }
+    let f = match exact.factor(&shape.matrix) {
+        Ok(f) => f,
+        Err(e) => {
+            analysis.skipped = Some(format!("exact factoring failed: {e}"));
+            return analysis;
+        }
+    };
+    analysis.rank = Some(f.rank() * shape.copies);
+    analysis.redundant = f
+        .redundancies()
+        .into_iter()
+        .map(|red| RedundantRow {
+            row: shape.labels[red.row].clone(),
+            combination: red
+                .combination
+                .iter()
+                .map(|(i, c)| Term {
+                    row: shape.labels[*i].clone(),
+                    coefficient: format_rational(c),
+                })
+                .collect(),
+        })
+        .collect();
+    let mut consistent = true;
+    for column in &shape.rhs {
+        if let Err(SolveError::Inconsistent(cert)) = f.check_consistent(column) {
+            consistent = false;
+            analysis.conflict = Some(cert.rows.iter().map(|&i| shape.labels[i].clone()).collect());
+            break;
+        }
+    }
+    analysis.consistent = Some(consistent);
+    if let Some(tol) = tolerance {
+        analysis.cross_check = cross_check(&shape, &f, tol);
+    }
+    analysis
+}
+
+fn cross_check(
+    shape: &Shape,
+    exact: &exact_ldu::ExactFactorization,
+    tolerance: f64,
+) -> CrossCheckReport {
+    let mut report = CrossCheckReport {
+        enabled: true,
+        tolerance: Some(tolerance),
+        ..CrossCheckReport::default()
+    };
+    let backend = match FloatQr::new(tolerance) {
+        Ok(b) => b,
+        Err(e) => {
+            report.skipped = Some(e.to_string());
+            return report;
+        }
+    };
+    let f = match backend.factor(&shape.matrix) {
+        Ok(f) => f,
+        Err(e) => {
+            report.skipped = Some(format!("float factoring failed: {e}"));
+            return report;
+        }
+    };
+    report.float_rank = Some(f.rank() * shape.copies);
+    report.margin = f.rank_margin().map(|m| Margin {
+        smallest_kept: m.smallest_kept,
+        largest_dropped: m.largest_dropped,
+    });
+    if f.rank() != exact.rank() {
+        report.disagreements.push(format!(
+            "rank: exact {}, float {}",
+            exact.rank() * shape.copies,
+            f.rank() * shape.copies
+        ));
+    } else {
+        // Same rank: the float independent rows must be independent exactly.
+        let rows: Vec<usize> = f.independent_rows();
+        let sub = select_rows(&shape.matrix, &rows);
+        if let Ok(g) = ExactLdu::default().factor(&sub) {
+            if g.rank() != rows.len() {
+                report.disagreements.push(format!(
+                    "the float backend kept {} rows as independent, but only {} of them are",
+                    rows.len(),
+                    g.rank()
+                ));
+            }
+        }
+    }
+    report.agree = Some(report.disagreements.is_empty());
+    report
+}
+
+fn select_rows(matrix: &IntMatrix, rows: &[usize]) -> IntMatrix {
+    let cols: Vec<usize> = (0..matrix.cols()).collect();
+    matrix.select(rows, &cols)
+}
+
+/// Largest absolute residual over all rows, as exact text (`"0"` when every row holds).
+pub fn max_residual(system: &ConstraintSystem, values: &Values) -> String {
+    system
+        .violations(values)
+        .into_iter()
+        .map(|(_, _, r)| if r < Rational::from_integer(Integer::from(0)) { -r } else { r })
+        .max()
+        .map(|r| format_rational(&r))
+        .unwrap_or_else(|| "0".to_string())
+}

@@ -1,0 +1,108 @@
+//! Built-in constraint sources and the dynamic loader.
+
+use api::ConstraintSource;
+use plugin_abi::{load, LoadError};
+use plugins_linear::LinearSource;
+use plugins_spline2d::plugin::Spline2dSource;
+use std::path::Path;
+
+/// A built-in source kind with its constructor.
+pub struct Builtin {
+    /// Kind, as named in run files.
+    pub kind: &'static str,
+    /// Constructor.
+    pub make: fn() -> Box<dyn ConstraintSource>,
+}
+
+/// The sources compiled into the host.
+pub fn builtins() -> Vec<Builtin> {
+    vec![
+        Builtin {
+            kind: "linear",
+            make: || Box::new(LinearSource::new()),
+        },
+        Builtin {
+            kind: "spline2d",
+            make: || Box::new(Spline2dSource::default()),
+        },
+    ]
+}
+
+/// Where an instantiated source came from.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Origin {
+    /// Compiled in.
+    Builtin,
+    /// Loaded from this library.
+    Library(String),
+}
+
+/// True when a run file's `plugin` names a library rather than a built-in kind.
+pub fn is_library(plugin: &str) -> bool {
+    plugin.contains('/')
+        || plugin.contains('\\')
+        || [".so", ".dylib", ".dll"]
+            .iter()
+            .any(|ext| plugin.ends_with(ext))
+}
+
+/// Why a plugin could not be instantiated.
+#[derive(Debug, thiserror::Error)]
+pub enum RegistryError {
+    /// Neither a built-in kind nor a library path.
+    #[error("unknown plugin {plugin:?}: built-in plugins are {known}; a dynamic plugin is given by the path of its library")]
+    Unknown {
+        /// The name given.
+        plugin: String,
+        /// The built-in kinds.
+        known: String,
+    },
+    /// The library could not be loaded.
+    #[error(transparent)]
+    Load(#[from] LoadError),
+}
+
+/// Instantiates the source named by a run file's `plugin` field (library paths are relative
+/// to `base_dir`).
+pub fn instantiate(
+    plugin: &str,
+    base_dir: &Path,
+) -> Result<(Box<dyn ConstraintSource>, Origin), RegistryError> {
+    if is_library(plugin) {
+        let path = base_dir.join(plugin);
+        let loaded = load(&path)?;
+        return Ok((
+            Box::new(loaded.instantiate()),
+            Origin::Library(path.display().to_string()),
+        ));
+    }
+    builtins()
+        .into_iter()
+        .find(|b| b.kind == plugin)
+        .map(|b| ((b.make)(), Origin::Builtin))
+        .ok_or_else(|| RegistryError::Unknown {
+            plugin: plugin.to_string(),
+            known: builtins()
+                .iter()
+                .map(|b| format!("{:?}", b.kind))
+                .collect::<Vec<_>>()
+                .join(", "),
+        })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tells_libraries_from_kinds() {
+        assert!(is_library("plugins/libc2.so"));
+        assert!(is_library("c2.dll"));
+        assert!(!is_library("spline2d"));
+        let err = instantiate("nope", Path::new(".")).err().expect("unknown");
+        assert!(err.to_string().contains("\"linear\""), "{err}");
+        let (source, origin) = instantiate("linear", Path::new(".")).expect("builtin");
+        assert_eq!(source.kind(), "linear");
+        assert_eq!(origin, Origin::Builtin);
+    }
+}

@@ -1,0 +1,176 @@
+//! The machine-readable report (`report.json`, `ecles analyze --json`).
+//!
+//! Field names are a stable contract (documented in the README). Exact values are strings
+//! `"p"` or `"p/q"`; floats are plain JSON numbers. Everything is ordered deterministically, so
+//! the same run file gives a byte-identical report.
+
+use serde::Serialize;
+
+/// The whole report.
+#[derive(Debug, Clone, Serialize)]
+pub struct Report {
+    /// Run file name as given on the command line.
+    pub run: String,
+    /// Number of scalar parameters (coordinates).
+    pub parameters: usize,
+    /// Number of scalar constraint rows.
+    pub constraints: usize,
+    /// Exact rank of the constraint matrix (`null` when skipped, see `analysis_skipped`).
+    pub rank: Option<usize>,
+    /// Degrees of freedom `parameters − rank`.
+    pub dof: Option<usize>,
+    /// Whether `R p = q` has a solution.
+    pub consistent: Option<bool>,
+    /// Whether the current (initial) values satisfy every row exactly.
+    pub satisfied: bool,
+    /// Rows found dependent, each with its exact combination of independent rows.
+    pub redundant: Vec<RedundantRow>,
+    /// Labels in the inconsistency certificate, when inconsistent.
+    pub conflict: Option<Vec<String>>,
+    /// Why the whole-system analysis was skipped, if it was.
+    pub analysis_skipped: Option<String>,
+    /// Labels of rows the initial values violate.
+    pub violated: Vec<String>,
+    /// Per source: plugin and counts.
+    pub sources: Vec<SourceReport>,
+    /// The float backend's view of the whole system.
+    pub cross_check: CrossCheckReport,
+    /// Edits, in run order (empty for `analyze`).
+    pub edits: Vec<EditReport>,
+    /// Files written by outputs.
+    pub outputs: Vec<String>,
+    /// Totals.
+    pub summary: Summary,
+}
+
+/// A row that depends on the independent rows.
+#[derive(Debug, Clone, Serialize)]
+pub struct RedundantRow {
+    /// Its label (with `[k]` for coordinate `k` of a vector row split per coordinate).
+    pub row: String,
+    /// `row = Σ coefficient · independent row`.
+    pub combination: Vec<Term>,
+}
+
+/// One term of a combination.
+#[derive(Debug, Clone, Serialize)]
+pub struct Term {
+    /// Row label.
+    pub row: String,
+    /// Exact coefficient.
+    pub coefficient: String,
+}
+
+/// A source of the run.
+#[derive(Debug, Clone, Serialize)]
+pub struct SourceReport {
+    /// Instance name.
+    pub name: String,
+    /// Plugin kind.
+    pub plugin: String,
+    /// Plugin version.
+    pub version: String,
+    /// `"builtin"` or the library path.
+    pub loaded_from: String,
+    /// Parameters the source declared.
+    pub parameters: usize,
+    /// Rows the source declared.
+    pub rows: usize,
+    /// The source's own counts (a spline reports vertices, edges, control points, ...).
+    pub counts: std::collections::BTreeMap<String, u64>,
+    /// Non-fatal remarks.
+    pub warnings: Vec<String>,
+}
+
+/// Float backend vs exact on the whole system.
+#[derive(Debug, Clone, Serialize, Default)]
+pub struct CrossCheckReport {
+    /// Whether the cross-check ran.
+    pub enabled: bool,
+    /// Relative tolerance used.
+    pub tolerance: Option<f64>,
+    /// The float backend's rank.
+    pub float_rank: Option<usize>,
+    /// Rank and redundant rows agree.
+    pub agree: Option<bool>,
+    /// Margin of the float rank decision.
+    pub margin: Option<Margin>,
+    /// What differs, in words.
+    pub disagreements: Vec<String>,
+    /// Why it was skipped, if it was.
+    pub skipped: Option<String>,
+}
+
+/// Margin of a float rank decision (diagonal magnitudes relative to the largest).
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct Margin {
+    /// Smallest kept.
+    pub smallest_kept: f64,
+    /// Largest dropped.
+    pub largest_dropped: f64,
+}
+
+/// One edit.
+#[derive(Debug, Clone, Serialize, Default)]
+pub struct EditReport {
+    /// Position in the run file.
+    pub index: usize,
+    /// `"ecles"` or `"source"`.
+    pub kind: String,
+    /// The source for source operations.
+    pub source: Option<String>,
+    /// Anchor names.
+    pub anchors: Vec<String>,
+    /// Derived names.
+    pub derived: Vec<String>,
+    /// Number of relevant constraints.
+    pub relevant: usize,
+    /// Names of the fixed relevant parameters.
+    pub fixed_relevant: Vec<String>,
+    /// Rank of `R_ED`.
+    pub rank: usize,
+    /// Redundant relevant rows.
+    pub redundant: usize,
+    /// Whether every step was solvable.
+    pub solvable: bool,
+    /// Steps run.
+    pub steps: usize,
+    /// Error message when not solvable.
+    pub error: Option<String>,
+    /// Conflicting constraints when a step was not solvable.
+    pub conflict: Option<Vec<String>>,
+    /// Final values of anchors and derived parameters (unchanged when not solvable).
+    pub values: Vec<ValueReport>,
+    /// Largest exact residual over all rows after the edit (`"0"`).
+    pub max_residual: String,
+    /// Largest difference between float and exact values, relative to `1 + |exact|`.
+    pub float_deviation: Option<f64>,
+    /// Whether the float backend agreed (verdicts, rank, values within tolerance).
+    pub float_agrees: Option<bool>,
+    /// What differs, in words.
+    pub disagreements: Vec<String>,
+    /// Facts from the source's planning.
+    pub plan: std::collections::BTreeMap<String, u64>,
+}
+
+/// A parameter value.
+#[derive(Debug, Clone, Serialize)]
+pub struct ValueReport {
+    /// Parameter name.
+    pub name: String,
+    /// Exact coordinates.
+    pub exact: Vec<String>,
+    /// Float approximations of the exact coordinates.
+    pub approx: Vec<f64>,
+}
+
+/// Totals.
+#[derive(Debug, Clone, Serialize, Default)]
+pub struct Summary {
+    /// Edits run.
+    pub edits: usize,
+    /// Edits that were not solvable.
+    pub failed: usize,
+    /// Places where the float backend disagreed with the exact one.
+    pub disagreements: usize,
+}

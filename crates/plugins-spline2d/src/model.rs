@@ -1,0 +1,399 @@
+//! Deforming a model (a triangle mesh or point cloud in `f64`) by a spline deformation `φ` of
+//! the plane: every vertex `(x, y, z)` becomes `(φ(x, y), z)`.
+//!
+//! Models are read from Wavefront OBJ ([`load_model`], [`parse_model`]) and written back with
+//! the same vertex numbering and topology ([`write_obj`]). The reader is a small one of its
+//! own rather than `tobj`: `tobj` rejects 2D vertices (`v x y`), drops vertices used by no
+//! face (so point clouds come back empty), renumbers vertices, and stores `f32` unless its
+//! `use_f64` feature is on; a model's vertex numbers must survive the round trip so that
+//! vertices reported outside the reference mesh can be found in the user's file.
+
+use crate::eval::{FloatSpline, Locator};
+use std::fmt::Write as _;
+use std::io::{self, Write};
+use std::path::{Path, PathBuf};
+
+/// A model: vertex positions and triangles (0-based, possibly none for a point cloud).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Model {
+    /// Vertex positions `(x, y, z)`; 2D files have `z = 0`.
+    pub positions: Vec<[f64; 3]>,
+    /// Triangles as vertex indices (polygons of the file fan-triangulated).
+    pub triangles: Vec<[usize; 3]>,
+}
+
+/// A deformed model and the vertices that could not be deformed.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Deformed {
+    /// The model with `(x, y)` of every vertex inside the reference mesh replaced by `φ(x, y)`;
+    /// same vertex numbering and triangles.
+    pub model: Model,
+    /// Vertices outside the reference mesh (ascending). They keep their position; callers
+    /// should report them rather than ship a silently half-deformed model.
+    pub outside: Vec<usize>,
+}
+
+/// Why a model could not be read or deformed. Errors about files name the file.
+#[derive(Debug, thiserror::Error)]
+pub enum ModelError {
+    /// The file could not be read.
+    #[error("{path}: cannot read model: {source}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The underlying error.
+        source: io::Error,
+    },
+    /// The OBJ text is malformed.
+    #[error("{file}:{line}: {message}")]
+    Parse {
+        /// The file (or the name given to [`parse_model`]).
+        file: String,
+        /// 1-based line number.
+        line: usize,
+        /// What is wrong.
+        message: String,
+    },
+    /// [`deform_model`] needs a deformation of the plane (values with 2 coordinates).
+    #[error("a model can only be deformed by a spline with 2 coordinates, this one has {dim}")]
+    NotAPlaneDeformation {
+        /// Coordinates of the spline's values.
+        dim: usize,
+    },
+    /// The locator and the spline were built from meshes with different triangle counts.
+    #[error(
+        "the locator has {locator} triangles but the spline has {spline}: build both from the same mesh"
+    )]
+    MeshMismatch {
+        /// Triangles of the locator.
+        locator: usize,
+        /// Triangles of the spline.
+        spline: usize,
+    },
+}
+
+/// Reads a model from an OBJ file (see [`parse_model`] for what is understood).
+pub fn load_model(path: &Path) -> Result<Model, ModelError> {
+    let bytes = std::fs::read(path).map_err(|source| ModelError::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    let text = String::from_utf8_lossy(&bytes);
+    parse_model(&text, &path.display().to_string())
+}
+
+/// Reads a model from OBJ text; `file` names the source in errors.
+///
+/// * `v x y [z [w]]`: a vertex; a missing `z` is 0 (2D files), `w` divides `x y z`. Seven or
+///   six numbers are read as `x y z` followed by a colour, which is ignored. Coordinates must
+///   be finite.
+/// * `f a b c ...`: a face; corners are `v`, `v/vt`, `v//vn` or `v/vt/vn` (only `v` is used),
+///   1-based, negative meaning relative to the vertices defined so far. Faces with more than
+///   three corners are fan-triangulated from their first corner. Indices may refer to vertices
+///   defined later in the file and are checked at the end.
+/// * Everything else (`vt`, `vn`, `o`, `g`, `s`, `usemtl`, `mtllib`, `l`, `p`, comments) is
+///   ignored, so a file with vertices only is a point cloud.
+pub fn parse_model(text: &str, file: &str) -> Result<Model, ModelError> {
+    let error = |line: usize, message: String| ModelError::Parse {
+        file: file.to_string(),
+        line,
+        message,
+    };
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    let mut positions: Vec<[f64; 3]> = Vec::new();
+    // (line, corner indices 0-based but not yet range-checked)
+    let mut faces: Vec<(usize, Vec<i64>)> = Vec::new();
+    for (number, raw) in text.lines().enumerate() {
+        let line = number + 1;
+        let content = raw.split('#').next().unwrap_or("");
+        let mut tokens = content.split_whitespace();
+        match tokens.next() {
+            Some("v") => {
+                let values: Vec<f64> = tokens
+                    .map(|tok| {
+                        tok.parse::<f64>()
+                            .ok()
+                            .filter(|x| x.is_finite())
+                            .ok_or_else(|| {
+                                error(line, format!("invalid vertex coordinate {tok:?}"))
+                            })
+                    })
+                    .collect::<Result<_, _>>()?;
+                let position = match values.as_slice() {
+                    [x, y] => [*x, *y, 0.0],
+                    [x, y, z] | [x, y, z, _, _, _] | [x, y, z, _, _, _, _] => [*x, *y, *z],
+                    [x, y, z, w] => {
+                        if *w == 0.0 {
+                            return Err(error(line, "vertex weight w is 0".into()));
+                        }
+                        [x / w, y / w, z / w]
+                    }
+                    other => {
+                        return Err(error(
+                            line,
+                            format!(
+                                "a vertex needs 2 to 4 coordinates (or x y z and a colour), got {}",
+                                other.len()
+                            ),
+                        ))
+                    }
+                };
+                positions.push(position);
+            }
+            Some("f") => {
+                let defined = positions.len() as i64;
+                let corners: Vec<i64> = tokens
+                    .map(|tok| {
+                        let index = tok.split('/').next().unwrap_or("");
+                        match index.parse::<i64>() {
+                            Ok(0) | Err(_) => Err(error(
+                                line,
+                                format!("invalid face corner {tok:?} (vertex indices start at 1)"),
+                            )),
+                            Ok(i) if i < 0 => Ok(defined + i),
+                            Ok(i) => Ok(i - 1),
+                        }
+                    })
+                    .collect::<Result<_, _>>()?;
+                if corners.len() < 3 {
+                    return Err(error(
+                        line,
+                        format!("a face needs at least 3 corners, got {}", corners.len()),
+                    ));
+                }
+                faces.push((line, corners));
+            }
+            _ => {}
+        }
+    }
+    let count = positions.len();
+    let mut triangles = Vec::new();
+    for (line, corners) in faces {
+        let mut vertices = Vec::with_capacity(corners.len());
+        for c in corners {
+            match usize::try_from(c) {
+                Ok(v) if v < count => vertices.push(v),
+                _ => {
+                    return Err(error(
+                        line,
+                        format!(
+                            "face refers to vertex {} but the file defines {count}",
+                            if c < 0 { c } else { c + 1 }
+                        ),
+                    ))
+                }
+            }
+        }
+        for k in 1..vertices.len() - 1 {
+            triangles.push([vertices[0], vertices[k], vertices[k + 1]]);
+        }
+    }
+    Ok(Model {
+        positions,
+        triangles,
+    })
+}
+
+/// Deforms a model by the plane deformation `spline` (values with 2 coordinates): `(x, y)`
+/// of each vertex goes through `φ`, `z` is unchanged. Vertices outside the reference mesh (as
+/// seen by `locator`, built from the spline's mesh) keep their position and are listed in
+/// [`Deformed::outside`]. Allocates only the output.
+pub fn deform_model(
+    model: &Model,
+    spline: &FloatSpline,
+    locator: &Locator,
+) -> Result<Deformed, ModelError> {
+    if spline.dim() != 2 {
+        return Err(ModelError::NotAPlaneDeformation { dim: spline.dim() });
+    }
+    if spline.triangle_count() != locator.triangle_count() {
+        return Err(ModelError::MeshMismatch {
+            locator: locator.triangle_count(),
+            spline: spline.triangle_count(),
+        });
+    }
+    let mut positions = Vec::with_capacity(model.positions.len());
+    let mut outside = Vec::new();
+    let mut xy = [0.0; 2];
+    for (v, p) in model.positions.iter().enumerate() {
+        if spline.evaluate_point_into(locator, [p[0], p[1]], &mut xy) {
+            positions.push([xy[0], xy[1], p[2]]);
+        } else {
+            positions.push(*p);
+            outside.push(v);
+        }
+    }
+    Ok(Deformed {
+        model: Model {
+            positions,
+            triangles: model.triangles.clone(),
+        },
+        outside,
+    })
+}
+
+/// Formats a coordinate for OBJ output: the shortest decimal that reads back to the same
+/// `f64` (Rust's `Display`), never in exponent form, with `-0` written as `0`. Deterministic.
+fn number(out: &mut String, x: f64) {
+    let x = if x == 0.0 { 0.0 } else { x };
+    // Writing to a String cannot fail.
+    let _ = write!(out, "{x}");
+}
+
+/// Writes a model as OBJ: a comment with the counts, `v x y z` per vertex (shortest decimals
+/// that read back exactly, so [`parse_model`] returns the same model) and `f a b c` per
+/// triangle, 1-based. Fails with [`io::ErrorKind::InvalidInput`] if a triangle refers to a
+/// missing vertex or a coordinate is not finite, before writing anything.
+pub fn write_obj(model: &Model, writer: &mut impl Write) -> io::Result<()> {
+    let count = model.positions.len();
+    if let Some((t, _)) = model
+        .triangles
+        .iter()
+        .enumerate()
+        .find(|(_, tri)| tri.iter().any(|&v| v >= count))
+    {
+        return Err(io::Error::new(
+            io::ErrorKind::InvalidInput,
+            format!("triangle {t} refers to a vertex beyond the {count} of the model"),
+        ));
+    }
+    if let Some(v) = model
+        .positions
+        .iter()
+        .position(|p| p.iter().any(|x| !x.is_finite()))
+    {
+        return Err(io::Error::new(
+            io::ErrorKind::InvalidInput,
+            format!("vertex {v} has a coordinate that is not finite"),
+        ));
+    }
+    let mut text = String::new();
+    let _ = writeln!(
+        text,
+        "# {count} vertices, {} triangles",
+        model.triangles.len()
+    );
+    let flush = |text: &mut String, writer: &mut dyn Write| -> io::Result<()> {
+        writer.write_all(text.as_bytes())?;
+        text.clear();
+        Ok(())
+    };
+    for p in &model.positions {
+        text.push('v');
+        for &x in p {
+            text.push(' ');
+            number(&mut text, x);
+        }
+        text.push('\n');
+        if text.len() > 1 << 16 {
+            flush(&mut text, writer)?;
+        }
+    }
+    for [a, b, c] in &model.triangles {
+        let _ = writeln!(text, "f {} {} {}", a + 1, b + 1, c + 1);
+        if text.len() > 1 << 16 {
+            flush(&mut text, writer)?;
+        }
+    }
+    flush(&mut text, writer)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::spline::tests::grid;
+    use crate::spline::Spline;
+    use api::Rational;
+
+    fn identity(spline: &Spline) -> Vec<Vec<Rational>> {
+        spline.points().iter().map(|p| p.nominal.to_vec()).collect()
+    }
+
+    #[test]
+    fn parses_2d_quads_negative_indices_and_colours() {
+        let text = "# a 2D quad\nv 0 0\nv 1 0\nv 1 1 0 1 0 0\nv 0 1 0 2\nf -4/1 -3/2 -2//3 -1\n";
+        let model = parse_model(text, "quad.obj").expect("model");
+        assert_eq!(
+            model.positions,
+            vec![
+                [0.0, 0.0, 0.0],
+                [1.0, 0.0, 0.0],
+                [1.0, 1.0, 0.0],
+                [0.0, 0.5, 0.0]
+            ]
+        );
+        assert_eq!(model.triangles, vec![[0, 1, 2], [0, 2, 3]]);
+    }
+
+    #[test]
+    fn malformed_files_name_file_and_line() {
+        for (text, needle) in [
+            ("v 0 0\nv 1 x\n", "bad.obj:2: invalid vertex coordinate"),
+            ("v 0 0\nv 1 nan\n", "bad.obj:2: invalid vertex coordinate"),
+            ("v 0\n", "bad.obj:1: a vertex needs"),
+            ("v 0 0\nf 1 2\n", "bad.obj:2: a face needs at least 3"),
+            (
+                "v 0 0\nf 1 2 3\nv 1 1\n",
+                "bad.obj:2: face refers to vertex 3",
+            ),
+            ("v 0 0\nf 0 1 1\n", "bad.obj:2: invalid face corner"),
+            ("v 0 0\nf -3 1 1\n", "bad.obj:2: face refers to vertex -2"),
+            ("v 0 0 0 0\n", "bad.obj:1: vertex weight"),
+        ] {
+            let e = parse_model(text, "bad.obj").expect_err(text);
+            assert!(e.to_string().starts_with(needle), "{e}");
+        }
+    }
+
+    #[test]
+    fn identity_and_outside_vertices() {
+        let spline = Spline::new(grid(2, true), 3, 1).expect("spline");
+        let float = FloatSpline::new(&spline, &identity(&spline)).expect("float");
+        let locator = Locator::new(spline.mesh());
+        let model = Model {
+            positions: vec![
+                [1.5, 2.25, 7.0],
+                [25.0, 5.0, 1.0],
+                [20.0, 20.0, -1.0],
+                [0.0, 0.0, 0.0],
+            ],
+            triangles: vec![[0, 1, 2]],
+        };
+        let deformed = deform_model(&model, &float, &locator).expect("deform");
+        assert_eq!(deformed.outside, vec![1]);
+        for (a, b) in deformed.model.positions.iter().zip(&model.positions) {
+            for c in 0..3 {
+                assert!((a[c] - b[c]).abs() <= 1e-12 * (1.0 + b[c].abs()));
+            }
+        }
+        assert_eq!(deformed.model.positions[1], model.positions[1]);
+        let scalar = FloatSpline::new(
+            &spline,
+            &vec![vec![Rational::from_integer(1.into())]; spline.points().len()],
+        )
+        .expect("float");
+        assert!(matches!(
+            deform_model(&model, &scalar, &locator),
+            Err(ModelError::NotAPlaneDeformation { dim: 1 })
+        ));
+    }
+
+    #[test]
+    fn writing_rejects_bad_models_and_round_trips() {
+        let mut out = Vec::new();
+        let bad = Model {
+            positions: vec![[0.0; 3]],
+            triangles: vec![[0, 0, 1]],
+        };
+        assert!(write_obj(&bad, &mut out).is_err());
+        assert!(out.is_empty());
+        let model = Model {
+            positions: vec![[0.1, -0.0, 1e-300], [1e300, 2.5, -3.0], [0.3, 0.7, 0.0]],
+            triangles: vec![[0, 1, 2]],
+        };
+        write_obj(&model, &mut out).expect("write");
+        let text = String::from_utf8(out).expect("utf8");
+        assert!(text.contains("v 0.1 0 0.000"), "{text}");
+        assert_eq!(parse_model(&text, "round").expect("read"), model);
+    }
+}

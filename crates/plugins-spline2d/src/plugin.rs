@@ -1,0 +1,448 @@
+//! The `spline2d` constraint source as a plugin: configuration, build, planned operations and
+//! rendered outputs.
+//!
+//! # Configuration (RON)
+//! ```ron
+//! (
+//!     mesh: "meshes/worm.obj",     // OBJ file relative to the run file, or inline:
+//!     // mesh: (vertices: [("0", "0"), ("10", "0"), ("0", "10")], triangles: [(0, 1, 2)]),
+//!     degree: 5,                   // default 5
+//!     smoothness: 1,               // C^r, default 1
+//!     snap: "1/1000",              // optional: round coordinates to this grid
+//!     orientation: "fix",          // "fix" (default) flips clockwise triangles, "reject" refuses
+//! )
+//! ```
+//! Numbers that must be exact are written as strings (`"0.1"` is exactly 1/10) or integers;
+//! floating-point literals are refused.
+//!
+//! # Operations (RON)
+//! ```ron
+//! (
+//!     anchors: ["v4", "e4-5:2"],   // control point names (see `ControlPoint::name`)
+//!     neighborhood: 3,             // δ_max on the control net, or "all"
+//!     translate: ("3/2", "-1"),    // or rotate: (center: ("0", "0"), degrees: "30", precision: 1000)
+//!                                  // or scale: (center: ("0", "0"), factor: "3/2", precision: 1000)
+//!     steps: 4,                    // default 1
+//! )
+//! ```
+//!
+//! # Outputs (RON)
+//! ```ron
+//! (
+//!     picture: "worm.svg",               // before/after picture with the last edit highlighted
+//!     model: "models/worm-model.obj",    // optional: deform this model, write <stem>-deformed.obj
+//! )
+//! ```
+
+use crate::edit::{Neighborhood, Operation, SelectError, SplineEditor};
+use crate::mesh_io::{self, MeshOptions, OrientationPolicy};
+use crate::net::ControlNet;
+use crate::source::SplineParams;
+use crate::spline::Spline;
+use api::{
+    BuildRequest, ConstraintSource, Contribution, OperationPlan, OutputFile,
+    PlanRequest, PlannedStep, Rational, RenderRequest, SourceError, SummaryItem,
+};
+use num_traits::One;
+use api::exact::Exact;
+use serde::{Deserialize, Deserializer};
+
+/// Vertices and triangles written in the configuration.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct InlineMesh {
+    vertices: Vec<(Exact, Exact)>,
+    triangles: Vec<[usize; 3]>,
+}
+
+/// Deserialises a present field as `Some` (RON values carry no `Some(..)` wrapper here).
+fn some<'de, D: Deserializer<'de>, T: Deserialize<'de>>(d: D) -> Result<Option<T>, D::Error> {
+    T::deserialize(d).map(Some)
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Config {
+    /// A path (string) or an inline mesh; told apart after parsing for precise errors.
+    mesh: ron::Value,
+    #[serde(default = "default_degree")]
+    degree: usize,
+    #[serde(default = "default_smoothness")]
+    smoothness: usize,
+    #[serde(default, deserialize_with = "some")]
+    snap: Option<Exact>,
+    #[serde(default, deserialize_with = "some")]
+    orientation: Option<String>,
+}
+
+fn default_degree() -> usize {
+    5
+}
+
+fn default_smoothness() -> usize {
+    1
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RotateConfig {
+    center: (Exact, Exact),
+    degrees: Exact,
+    #[serde(default = "default_precision")]
+    precision: u64,
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ScaleConfig {
+    center: (Exact, Exact),
+    factor: Exact,
+    #[serde(default = "default_precision")]
+    precision: u64,
+}
+
+fn default_precision() -> u64 {
+    1_000_000
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct OperationConfig {
+    anchors: Vec<String>,
+    /// `3` or `"all"`.
+    #[serde(default, deserialize_with = "some")]
+    neighborhood: Option<ron::Value>,
+    #[serde(default, deserialize_with = "some")]
+    translate: Option<Vec<Exact>>,
+    #[serde(default, deserialize_with = "some")]
+    rotate: Option<RotateConfig>,
+    #[serde(default, deserialize_with = "some")]
+    scale: Option<ScaleConfig>,
+    #[serde(default = "default_steps")]
+    steps: usize,
+}
+
+fn default_steps() -> usize {
+    1
+}
+
+/// Parses RON text into `T` through `ron::Value`, so both struct syntax `(a: 1)` and the map
+/// syntax the host forwards (`{"a": 1}`) are accepted.
+pub(crate) fn from_ron<T: serde::de::DeserializeOwned>(
+    text: &str,
+    what: &str,
+) -> Result<T, SourceError> {
+    let value: ron::Value = ron::from_str(text)
+        .map_err(|e| SourceError::new(format!("{what}: {e}")))?;
+    value
+        .into_rust()
+        .map_err(|e| SourceError::new(format!("{what}: {e}")))
+}
+
+/// What a built source keeps.
+#[derive(Debug, Clone)]
+struct Built {
+    name: String,
+    spline: Spline,
+    net: ControlNet,
+    params: SplineParams,
+}
+
+/// The `spline2d` source.
+#[derive(Debug, Clone, Default)]
+pub struct Spline2dSource {
+    built: Option<Built>,
+}
+
+impl Spline2dSource {
+    /// The spline, once built.
+    pub fn spline(&self) -> Option<&Spline> {
+        self.built.as_ref().map(|b| &b.spline)
+    }
+
+    fn built(&self) -> Result<&Built, SourceError> {
+        self.built
+            .as_ref()
+            .ok_or_else(|| SourceError::new("spline2d: the source has not been built"))
+    }
+}
+
+fn read_mesh(config: &Config, request: &BuildRequest) -> Result<mesh_io::MeshRead, SourceError> {
+    let orientation = match config.orientation.as_deref() {
+        None | Some("fix") => OrientationPolicy::Fix,
+        Some("reject") => OrientationPolicy::Reject,
+        Some(other) => {
+            return Err(SourceError::new(format!(
+                "{}: orientation must be \"fix\" or \"reject\", not {other:?}",
+                request.name
+            )))
+        }
+    };
+    let options = MeshOptions {
+        snap: config.snap.as_ref().map(|s| s.0.clone()),
+        orientation,
+    };
+    let read = match &config.mesh {
+        ron::Value::String(path) => mesh_io::read_obj(&request.base_dir.join(path), &options),
+        other => {
+            let inline: InlineMesh = other.clone().into_rust().map_err(|e| {
+                SourceError::new(format!(
+                    "{}: mesh must be an OBJ path or (vertices: [...], triangles: [...]): {e}",
+                    request.name
+                ))
+            })?;
+            mesh_io::from_points(
+                inline
+                    .vertices
+                    .iter()
+                    .map(|(x, y)| [x.0.clone(), y.0.clone()])
+                    .collect(),
+                inline.triangles,
+                &options,
+            )
+        }
+    };
+    read.map_err(|e| SourceError::new(format!("{}: {e}", request.name)))
+}
+
+impl ConstraintSource for Spline2dSource {
+    fn kind(&self) -> &str {
+        "spline2d"
+    }
+
+    fn version(&self) -> &str {
+        env!("CARGO_PKG_VERSION")
+    }
+
+    fn build(&mut self, request: &BuildRequest) -> Result<Contribution, SourceError> {
+        let config: Config = from_ron(&request.config, &format!("{} config", request.name))?;
+        let read = read_mesh(&config, request)?;
+        let spline = Spline::new(read.mesh, config.degree, config.smoothness)
+            .map_err(|e| SourceError::new(format!("{}: {e}", request.name)))?;
+        let (mut contribution, params) = spline.contribution(
+            &request.name,
+            2,
+            request.system.params().len(),
+            spline.identity_positions(),
+        );
+        let topology = spline.topology();
+        let mut summary = vec![
+            ("vertices", spline.mesh().vertices().len()),
+            ("edges", topology.edges.len()),
+            ("interior_edges", topology.interior_edges()),
+            ("interior_vertices", topology.interior_vertices()),
+            ("triangles", spline.mesh().triangles().len()),
+            ("degree", spline.degree()),
+            ("smoothness", spline.smoothness()),
+            ("control_points", spline.points().len()),
+            ("conditions", spline.conditions().len()),
+            ("spline_space_dimension", spline.spline_space_dimension()),
+        ];
+        summary.sort();
+        contribution.summary = summary
+            .into_iter()
+            .map(|(key, value)| SummaryItem {
+                key: key.to_string(),
+                value: value as u64,
+            })
+            .collect();
+        contribution.warnings = read.warnings.iter().map(|w| w.to_string()).collect();
+        let net = ControlNet::new(&spline);
+        self.built = Some(Built {
+            name: request.name.clone(),
+            spline,
+            net,
+            params,
+        });
+        Ok(contribution)
+    }
+
+    fn plan(&self, request: &PlanRequest) -> Result<OperationPlan, SourceError> {
+        let built = self.built()?;
+        let what = format!("{} operation", built.name);
+        let op: OperationConfig = from_ron(&request.operation, &what)?;
+        let anchors = op
+            .anchors
+            .iter()
+            .map(|name| {
+                built
+                    .spline
+                    .points()
+                    .iter()
+                    .position(|p| p.name == *name)
+                    .ok_or_else(|| {
+                        SourceError::new(format!(
+                            "{what}: no control point named {name:?} (names look like \"v3\", \"e3-7:2\", \"t5:2,2,1\")"
+                        ))
+                    })
+            })
+            .collect::<Result<Vec<usize>, _>>()?;
+        let neighborhood = match op.neighborhood {
+            None => Neighborhood::Radius(3),
+            Some(ron::Value::String(k)) if k == "all" => Neighborhood::All,
+            Some(value) => match value.clone().into_rust::<u32>() {
+                Ok(r) => Neighborhood::Radius(r),
+                Err(_) => {
+                    return Err(SourceError::new(format!(
+                        "{what}: neighborhood must be a number of steps or \"all\", not {value:?}"
+                    )))
+                }
+            },
+        };
+        let operation = match (&op.translate, &op.rotate, &op.scale) {
+            (Some(by), None, None) => Operation::Translate {
+                by: by.iter().map(|e| e.0.clone()).collect(),
+            },
+            (None, Some(r), None) => Operation::Rotate {
+                center: [r.center.0 .0.clone(), r.center.1 .0.clone()],
+                degrees: r.degrees.0.clone(),
+                precision: r.precision,
+            },
+            (None, None, Some(s)) => Operation::Scale {
+                center: [s.center.0 .0.clone(), s.center.1 .0.clone()],
+                factor: s.factor.0.clone(),
+                precision: s.precision,
+            },
+            _ => {
+                return Err(SourceError::new(format!(
+                    "{what}: give exactly one of translate, rotate or scale"
+                )))
+            }
+        };
+        let editor = SplineEditor {
+            spline: &built.spline,
+            net: &built.net,
+            params: &built.params,
+        };
+        let error = |e: SelectError| SourceError::new(format!("{what}: {e}"));
+        let selection = editor
+            .select(&request.system, &request.values, &anchors, neighborhood)
+            .map_err(error)?;
+        let plan = editor
+            .plan(&selection, &request.values, &operation, op.steps)
+            .map_err(error)?;
+        let summary = vec![
+            SummaryItem {
+                key: "initial_derived".into(),
+                value: selection.initial.len() as u64,
+            },
+            SummaryItem {
+                key: "added_by_expansion".into(),
+                value: selection.added.len() as u64,
+            },
+            SummaryItem {
+                key: "solvability_checks".into(),
+                value: selection.checks as u64,
+            },
+        ];
+        Ok(OperationPlan {
+            weights: vec![Rational::one(); plan.spec.derived.len()],
+            anchors: plan.spec.anchors,
+            derived: plan.spec.derived,
+            strong: false,
+            steps: plan
+                .steps
+                .into_iter()
+                .map(|s| PlannedStep {
+                    anchors: s.anchors,
+                    hints: s.hints,
+                })
+                .collect(),
+            summary,
+        })
+    }
+
+    fn render(&self, request: &RenderRequest) -> Result<Vec<OutputFile>, SourceError> {
+        let built = self.built()?;
+        Err(SourceError::new(format!(
+            "{}: rendering {:?} is not available",
+            built.name, request.output
+        )))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use api::{ConstraintSystem, Values};
+    use std::path::PathBuf;
+
+    fn request(config: &str) -> BuildRequest {
+        BuildRequest {
+            name: "phi".into(),
+            config: config.into(),
+            base_dir: PathBuf::from("."),
+            system: ConstraintSystem::new(),
+            values: Values::default(),
+            sources: vec![],
+        }
+    }
+
+    const SQUARE: &str = r#"(mesh: (vertices: [("0", "0"), ("10", "0"), ("10", "10"), ("0", "10"), ("5", "4")],
+        triangles: [(0, 1, 4), (1, 2, 4), (2, 3, 4), (3, 0, 4)]), degree: 5)"#;
+
+    #[test]
+    fn builds_and_plans_a_translation() {
+        let mut source = Spline2dSource::default();
+        let contribution = source.build(&request(SQUARE)).expect("build");
+        let mut system = ConstraintSystem::new();
+        let mut values = Values::default();
+        contribution.apply_to(&mut system, &mut values).expect("apply");
+        assert!(system.violations(&values).is_empty());
+        let count = |k: &str| {
+            contribution
+                .summary
+                .iter()
+                .find(|s| s.key == k)
+                .map(|s| s.value)
+        };
+        assert_eq!(count("triangles"), Some(4));
+        assert_eq!(count("interior_vertices"), Some(1));
+        let plan = source
+            .plan(&PlanRequest {
+                operation: r#"(anchors: ["v4"], neighborhood: 2, translate: ("1", "1/2"), steps: 2)"#
+                    .into(),
+                system: system.clone(),
+                values: values.clone(),
+            })
+            .expect("plan");
+        assert_eq!(plan.anchors.len(), 1);
+        assert_eq!(plan.steps.len(), 2);
+        assert_eq!(plan.weights.len(), plan.derived.len());
+    }
+
+    #[test]
+    fn configuration_errors_are_clear() {
+        let mut source = Spline2dSource::default();
+        let err = source
+            .build(&request(r#"(mesh: "missing.obj")"#))
+            .expect_err("missing file");
+        assert!(err.message.contains("missing.obj"), "{}", err.message);
+        let err = source
+            .build(&request(r#"(mesh: "x.obj", degre: 5)"#))
+            .expect_err("unknown field");
+        assert!(err.message.contains("degre"), "{}", err.message);
+        let err = source
+            .build(&request(
+                r#"(mesh: (vertices: [(0.5, "0"), ("1", "0"), ("0", "1")], triangles: [(0, 1, 2)]))"#,
+            ))
+            .expect_err("float");
+        assert!(err.message.contains("floating-point"), "{}", err.message);
+        source.build(&request(SQUARE)).expect("build");
+        let plan = |op: &str| {
+            source.plan(&PlanRequest {
+                operation: op.into(),
+                system: ConstraintSystem::new(),
+                values: Values::default(),
+            })
+        };
+        assert!(plan(r#"(anchors: ["v9"], translate: ("1", "0"))"#)
+            .expect_err("unknown point")
+            .message
+            .contains("v9"));
+        assert!(plan(r#"(anchors: ["v4"])"#)
+            .expect_err("no operation")
+            .message
+            .contains("exactly one"));
+    }
+}
