@@ -58,22 +58,59 @@ pub struct FloatFactorization {
     core: Arc<Core>,
 }
 
-/// The order of the columns after a nalgebra column pivoting.
+/// Householder QR with column-norm pivoting (Businger–Golub) of `a` (`n × m`): the diagonal of
+/// `R` and the column order.
 ///
-/// A `PermutationSequence` is a sequence of transpositions, not a permutation vector: applying
-/// it to the index vector `0, 1, …, m−1` gives, at position `k`, the original column that ended
-/// up at position `k`.
-fn pivot_order(p: &nalgebra::linalg::PermutationSequence<Dyn>, m: usize) -> Vec<usize> {
-    let mut order = DMatrix::<usize>::from_fn(1, m, |_, j| j);
-    p.permute_columns(&mut order);
-    order.iter().copied().collect()
+/// At each step the remaining column of largest norm becomes the pivot, so the diagonal
+/// magnitudes never increase: the rank decision is then a clean threshold and the margin
+/// (smallest kept against largest dropped) is meaningful. nalgebra's `col_piv_qr` pivots on the
+/// largest single entry instead, which can put a tiny diagonal before large ones and make a
+/// near-degenerate system look far more deficient than it is.
+fn pivoted_householder(mut a: DMatrix<f64>) -> (Vec<f64>, Vec<usize>) {
+    let (n, m) = a.shape();
+    let mut order: Vec<usize> = (0..m).collect();
+    let mut diagonal = Vec::with_capacity(n.min(m));
+    for k in 0..n.min(m) {
+        let remaining_norm = |a: &DMatrix<f64>, j: usize| -> f64 {
+            (k..n).map(|i| a[(i, j)] * a[(i, j)]).sum::<f64>()
+        };
+        let (p, best) = (k..m)
+            .map(|j| (j, remaining_norm(&a, j)))
+            .fold((k, -1.0), |acc, x| if x.1 > acc.1 { x } else { acc });
+        if best <= 0.0 {
+            diagonal.extend(std::iter::repeat_n(0.0, n.min(m) - k));
+            break;
+        }
+        if p != k {
+            a.swap_columns(k, p);
+            order.swap(k, p);
+        }
+        let norm = best.sqrt();
+        let alpha = if a[(k, k)] > 0.0 { -norm } else { norm };
+        // v = x − α e₁, normalised; H = I − 2 v vᵀ maps x to α e₁.
+        let mut v: Vec<f64> = (k..n).map(|i| a[(i, k)]).collect();
+        v[0] -= alpha;
+        let v_norm = v.iter().map(|x| x * x).sum::<f64>().sqrt();
+        if v_norm > 0.0 {
+            for x in v.iter_mut() {
+                *x /= v_norm;
+            }
+            for j in k..m {
+                let dot: f64 = v.iter().enumerate().map(|(t, vt)| vt * a[(k + t, j)]).sum();
+                for (t, vt) in v.iter().enumerate() {
+                    a[(k + t, j)] -= 2.0 * vt * dot;
+                }
+            }
+        }
+        diagonal.push(alpha);
+    }
+    (diagonal, order)
 }
 
 /// The rank decision from the diagonal magnitudes in pivot order.
 ///
-/// nalgebra pivots on the largest remaining *entry* rather than the largest column norm, so the
-/// diagonal is not guaranteed to decrease; the rank is the length of the leading run above the
-/// tolerance (a later diagonal is at most `√n` times the first dropped one).
+/// With column-norm pivoting the magnitudes do not increase, so the rank is the number of them
+/// above the tolerance (counted as the leading run, which is the same thing).
 fn rank_decision(diagonal: &[f64], tolerance: f64) -> (usize, Vec<f64>, RankMargin) {
     let largest = diagonal.iter().fold(0.0_f64, |acc, d| acc.max(d.abs()));
     let relative: Vec<f64> = if largest > 0.0 {
@@ -117,17 +154,19 @@ impl Core {
         let n = matrix.cols();
         let rows = matrix_rows(matrix, "matrix")?;
 
-        // Column-pivoted QR of Aᵀ: its columns are the rows of A.
+        // Column-pivoted QR of Aᵀ: its columns are the rows of A, each scaled to unit length.
+        // Scaling rows does not change which are independent, but integer constraint rows can
+        // differ in size by many orders of magnitude (coefficients from coordinates of 10^6
+        // next to coefficients of 1); without it a relative tolerance would call the small rows
+        // dependent on scale alone.
         let mut at = DMatrix::<f64>::zeros(n, m);
         for (i, row) in rows.iter().enumerate() {
+            let norm = row.iter().map(|(_, v)| v * v).sum::<f64>().sqrt();
             for (j, v) in row {
-                at[(*j, i)] = *v;
+                at[(*j, i)] = *v / norm;
             }
         }
-        let pivoted = at.col_piv_qr();
-        let r_factor = pivoted.r();
-        let diagonal: Vec<f64> = (0..n.min(m)).map(|k| r_factor[(k, k)]).collect();
-        let order = pivot_order(pivoted.p(), m);
+        let (diagonal, order) = pivoted_householder(at);
         let (rank, relative_diagonal, margin) = rank_decision(&diagonal, tolerance);
         let independent: Vec<usize> = order[..rank].to_vec();
 
@@ -506,23 +545,27 @@ mod tests {
     }
 
     #[test]
-    fn pivot_order_applies_the_swap_sequence() {
-        // Pivoting on the largest remaining entry performs the swaps (0,2), (1,2), (2,3). Read
-        // as a permutation vector those would name rows 2, 2, 3; applied to the index vector
-        // they give the real order 2, 0, 3, 1.
+    fn column_norm_pivoting_orders_rows_by_remaining_norm() {
+        // Rows of norms 5, 1, 9, 3 (orthogonal except rows 1 and 3). The factorization scales
+        // rows to unit length first, so the first of two parallel rows wins: row 3 = 3 · row 1.
         let a = [vec![5, 0, 0], vec![0, 1, 0], vec![0, 0, 9], vec![0, 3, 0]];
         let f = factor(3, &a);
         assert_eq!(f.rank(), 3);
-        assert_eq!(f.independent_rows(), vec![2, 0, 3]);
+        assert_eq!(f.independent_rows(), vec![0, 1, 2]);
         let reds = f.redundancies();
         assert_eq!(reds.len(), 1);
-        assert_eq!(reds[0].row, 1);
+        assert_eq!(reds[0].row, 3);
         assert_eq!(reds[0].combination.len(), 1);
-        assert_eq!(reds[0].combination[0].0, 3);
-        assert!((reds[0].combination[0].1 - 1.0 / 3.0).abs() < 1e-15);
+        assert_eq!(reds[0].combination[0].0, 1);
+        assert!((reds[0].combination[0].1 - 3.0).abs() < 1e-15);
+        // Unscaled, pivoting follows the remaining column norms.
         let at = DMatrix::<f64>::from_fn(3, 4, |j, i| a[i][j] as f64);
-        let pivoted = at.col_piv_qr();
-        assert_eq!(pivot_order(pivoted.p(), 4), vec![2, 0, 3, 1]);
+        let (diagonal, order) = pivoted_householder(at);
+        assert_eq!(order, vec![2, 0, 3, 1]);
+        // Column norms 9, 5, 3 (1 is dependent on 3): non-increasing magnitudes.
+        let mags: Vec<f64> = diagonal.iter().map(|d| d.abs()).collect();
+        assert!((mags[0] - 9.0).abs() < 1e-12 && (mags[1] - 5.0).abs() < 1e-12);
+        assert!((mags[2] - 3.0).abs() < 1e-12);
     }
 
     #[test]

@@ -3,8 +3,8 @@
 
 use crate::report::{CrossCheckReport, Margin, RedundantRow, Term};
 use api::{
-    format_rational, ConstraintSystem, Factorization, Integer, IntMatrix, LinearBackend,
-    Rational, RowBody, RowId, SolveError, Values,
+    format_rational, ConstraintSystem, Factorization, IntMatrix, Integer, LinearBackend, Rational,
+    RowBody, RowId, SolveError, Values,
 };
 use exact_ldu::ExactLdu;
 use float_qr::FloatQr;
@@ -260,7 +260,13 @@ pub fn max_residual(system: &ConstraintSystem, values: &Values) -> String {
     system
         .violations(values)
         .into_iter()
-        .map(|(_, _, r)| if r < Rational::from_integer(Integer::from(0)) { -r } else { r })
+        .map(|(_, _, r)| {
+            if r < Rational::from_integer(Integer::from(0)) {
+                -r
+            } else {
+                r
+            }
+        })
         .max()
         .map(|r| format_rational(&r))
         .unwrap_or_else(|| "0".to_string())

@@ -214,7 +214,8 @@ fn run_command(run: &Path, out: Option<PathBuf>, quiet: bool, strict: bool) -> R
     let report_path = out_dir.join("report.json");
     let partial = out_dir.join(".report.json.partial");
     let json = serde_json::to_string_pretty(&report)? + "\n";
-    std::fs::write(&partial, json).with_context(|| format!("cannot write {}", partial.display()))?;
+    std::fs::write(&partial, json)
+        .with_context(|| format!("cannot write {}", partial.display()))?;
     std::fs::rename(&partial, &report_path)
         .with_context(|| format!("cannot write {}", report_path.display()))?;
 
@@ -276,7 +277,10 @@ fn run_command(run: &Path, out: Option<PathBuf>, quiet: bool, strict: bool) -> R
 fn plugins_command(path: Option<&Path>) -> Result<ExitCode> {
     match path {
         None => {
-            println!("built-in sources (plugin ABI {}):", plugin_abi::abi::ABI_VERSION);
+            println!(
+                "built-in sources (plugin ABI {}):",
+                plugin_abi::abi::ABI_VERSION
+            );
             for b in registry::builtins() {
                 let source = (b.make)();
                 println!("  {} {}", b.kind, source.version());

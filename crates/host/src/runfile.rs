@@ -127,10 +127,14 @@ impl<'de> Deserialize<'de> for ValueText {
                     .map_err(E::custom)
             }
             fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<ValueText, E> {
-                Ok(ValueText::Scalar(Exact(api::Rational::from_integer(v.into()))))
+                Ok(ValueText::Scalar(Exact(api::Rational::from_integer(
+                    v.into(),
+                ))))
             }
             fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<ValueText, E> {
-                Ok(ValueText::Scalar(Exact(api::Rational::from_integer(v.into()))))
+                Ok(ValueText::Scalar(Exact(api::Rational::from_integer(
+                    v.into(),
+                ))))
             }
             fn visit_f64<E: serde::de::Error>(self, v: f64) -> Result<ValueText, E> {
                 Err(E::custom(format!(
@@ -342,8 +346,11 @@ mod tests {
         let text = err.to_string();
         assert!(text.starts_with("run.ron:3:"), "{text}");
         assert!(text.contains("edist"), "{text}");
-        let err = parse("(sources: [(name: \"a\", plugin: \"linear\"), (name: \"a\", plugin: \"linear\")])", "r.ron")
-            .expect_err("duplicate");
+        let err = parse(
+            "(sources: [(name: \"a\", plugin: \"linear\"), (name: \"a\", plugin: \"linear\")])",
+            "r.ron",
+        )
+        .expect_err("duplicate");
         assert!(err.to_string().contains("two sources"), "{err}");
         let err = parse(
             "(sources: [], edits: [Source(source: \"zz\", operation: ())])",
@@ -351,8 +358,11 @@ mod tests {
         )
         .expect_err("unknown source");
         assert!(err.to_string().contains("zz"), "{err}");
-        let err = parse("(sources: [], edits: [Ecles(anchors: {\"a\": 0.1})])", "r.ron")
-            .expect_err("float value");
+        let err = parse(
+            "(sources: [], edits: [Ecles(anchors: {\"a\": 0.1})])",
+            "r.ron",
+        )
+        .expect_err("float value");
         assert!(err.to_string().contains("r.ron:1:"), "{err}");
     }
 }

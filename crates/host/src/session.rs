@@ -231,7 +231,9 @@ impl Session {
                 report.kind = "source".into();
                 report.source = Some(source.clone());
                 let Some(loaded) = self.sources.iter().find(|s| &s.name == source) else {
-                    return Err(InputError(format!("edit {index}: unknown source {source:?}")));
+                    return Err(InputError(format!(
+                        "edit {index}: unknown source {source:?}"
+                    )));
                 };
                 let request = PlanRequest {
                     operation: runfile::to_ron_text(operation),
@@ -240,7 +242,11 @@ impl Session {
                 };
                 match loaded.source.plan(&request) {
                     Ok(plan) => {
-                        report.plan = plan.summary.iter().map(|s| (s.key.clone(), s.value)).collect();
+                        report.plan = plan
+                            .summary
+                            .iter()
+                            .map(|s| (s.key.clone(), s.value))
+                            .collect();
                         let spec = EditSpec {
                             anchors: plan.anchors,
                             derived: plan.derived,
@@ -343,7 +349,12 @@ impl Session {
             .collect();
         let weight_values: Vec<Rational> = derived
             .iter()
-            .map(|n| weights.get(n).map(|w| w.0.clone()).unwrap_or_else(Rational::one))
+            .map(|n| {
+                weights
+                    .get(n)
+                    .map(|w| w.0.clone())
+                    .unwrap_or_else(Rational::one)
+            })
             .collect();
         Ok((
             EditSpec {
@@ -370,7 +381,9 @@ impl Session {
         let backend = match FloatQr::new(tolerance) {
             Ok(b) => b,
             Err(e) => {
-                report.disagreements.push(format!("float backend unavailable: {e}"));
+                report
+                    .disagreements
+                    .push(format!("float backend unavailable: {e}"));
                 report.float_agrees = Some(false);
                 return;
             }
@@ -418,7 +431,10 @@ impl Session {
         let mut files: Vec<OutputFile> = Vec::new();
         for (i, out) in self.run.outputs.iter().enumerate() {
             let Some(loaded) = self.sources.iter().find(|s| s.name == out.source) else {
-                return Err(InputError(format!("output {i}: unknown source {:?}", out.source)));
+                return Err(InputError(format!(
+                    "output {i}: unknown source {:?}",
+                    out.source
+                )));
             };
             let request = RenderRequest {
                 output: runfile::to_ron_text(&out.output),
@@ -429,7 +445,10 @@ impl Session {
                 highlight: self.last_highlight.get(&out.source).cloned(),
             };
             let rendered = loaded.source.render(&request).map_err(|e| {
-                InputError(format!("output {i} (source {:?}): {}", out.source, e.message))
+                InputError(format!(
+                    "output {i} (source {:?}): {}",
+                    out.source, e.message
+                ))
             })?;
             for file in rendered {
                 if file.name.is_empty()

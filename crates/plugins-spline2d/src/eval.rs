@@ -184,7 +184,7 @@ const MAX_CELLS_PER_AXIS: usize = 2048;
 
 /// Fast point location in the reference mesh, in `f64`.
 ///
-/// Triangles are bucketed in a uniform grid over the mesh's bounding box (about one cell per
+/// Triangles are bucketed in a uniform grid over the mesh's bounding box (about two cells per
 /// triangle); each triangle is listed in every cell its slightly enlarged bounding box meets.
 /// Each triangle keeps its corners and the inverse of twice its area, so its barycentric
 /// coordinates cost a few multiplications.

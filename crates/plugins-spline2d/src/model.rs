@@ -109,17 +109,26 @@ pub fn parse_model(text: &str, file: &str) -> Result<Model, ModelError> {
         let mut tokens = content.split_whitespace();
         match tokens.next() {
             Some("v") => {
-                let values: Vec<f64> = tokens
-                    .map(|tok| {
-                        tok.parse::<f64>()
-                            .ok()
-                            .filter(|x| x.is_finite())
-                            .ok_or_else(|| {
-                                error(line, format!("invalid vertex coordinate {tok:?}"))
-                            })
-                    })
-                    .collect::<Result<_, _>>()?;
-                let position = match values.as_slice() {
+                // At most 7 numbers (x y z and a colour with alpha); no allocation per line.
+                let mut buffer = [0.0f64; 7];
+                let mut found = 0;
+                for tok in tokens {
+                    let value = tok
+                        .parse::<f64>()
+                        .ok()
+                        .filter(|x| x.is_finite())
+                        .ok_or_else(|| error(line, format!("invalid vertex coordinate {tok:?}")))?;
+                    if found < buffer.len() {
+                        buffer[found] = value;
+                    }
+                    found += 1;
+                }
+                let values: &[f64] = if found > buffer.len() {
+                    &[]
+                } else {
+                    &buffer[..found]
+                };
+                let position = match values {
                     [x, y] => [*x, *y, 0.0],
                     [x, y, z] | [x, y, z, _, _, _] | [x, y, z, _, _, _, _] => [*x, *y, *z],
                     [x, y, z, w] => {
@@ -128,12 +137,11 @@ pub fn parse_model(text: &str, file: &str) -> Result<Model, ModelError> {
                         }
                         [x / w, y / w, z / w]
                     }
-                    other => {
+                    _ => {
                         return Err(error(
                             line,
                             format!(
-                                "a vertex needs 2 to 4 coordinates (or x y z and a colour), got {}",
-                                other.len()
+                                "a vertex needs 2 to 4 coordinates (or x y z and a colour), got {found}"
                             ),
                         ))
                     }
@@ -331,6 +339,14 @@ mod tests {
             ("v 0 0\nv 1 x\n", "bad.obj:2: invalid vertex coordinate"),
             ("v 0 0\nv 1 nan\n", "bad.obj:2: invalid vertex coordinate"),
             ("v 0\n", "bad.obj:1: a vertex needs"),
+            (
+                "v 1 2 3 4 5\n",
+                "bad.obj:1: a vertex needs 2 to 4 coordinates (or x y z and a colour), got 5",
+            ),
+            (
+                "v 1 2 3 4 5 6 7 8\n",
+                "bad.obj:1: a vertex needs 2 to 4 coordinates (or x y z and a colour), got 8",
+            ),
             ("v 0 0\nf 1 2\n", "bad.obj:2: a face needs at least 3"),
             (
                 "v 0 0\nf 1 2 3\nv 1 1\n",

@@ -39,12 +39,12 @@ use crate::mesh_io::{self, MeshOptions, OrientationPolicy};
 use crate::net::ControlNet;
 use crate::source::SplineParams;
 use crate::spline::Spline;
+use api::exact::Exact;
 use api::{
-    BuildRequest, ConstraintSource, Contribution, OperationPlan, OutputFile,
-    PlanRequest, PlannedStep, Rational, RenderRequest, SourceError, SummaryItem,
+    BuildRequest, ConstraintSource, Contribution, OperationPlan, OutputFile, PlanRequest,
+    PlannedStep, Rational, RenderRequest, SourceError, SummaryItem,
 };
 use num_traits::One;
-use api::exact::Exact;
 use serde::{Deserialize, Deserializer};
 
 /// Vertices and triangles written in the configuration.
@@ -132,8 +132,8 @@ pub(crate) fn from_ron<T: serde::de::DeserializeOwned>(
     text: &str,
     what: &str,
 ) -> Result<T, SourceError> {
-    let value: ron::Value = ron::from_str(text)
-        .map_err(|e| SourceError::new(format!("{what}: {e}")))?;
+    let value: ron::Value =
+        ron::from_str(text).map_err(|e| SourceError::new(format!("{what}: {e}")))?;
     value
         .into_rust()
         .map_err(|e| SourceError::new(format!("{what}: {e}")))
@@ -387,7 +387,9 @@ mod tests {
         let contribution = source.build(&request(SQUARE)).expect("build");
         let mut system = ConstraintSystem::new();
         let mut values = Values::default();
-        contribution.apply_to(&mut system, &mut values).expect("apply");
+        contribution
+            .apply_to(&mut system, &mut values)
+            .expect("apply");
         assert!(system.violations(&values).is_empty());
         let count = |k: &str| {
             contribution
@@ -400,8 +402,9 @@ mod tests {
         assert_eq!(count("interior_vertices"), Some(1));
         let plan = source
             .plan(&PlanRequest {
-                operation: r#"(anchors: ["v4"], neighborhood: 2, translate: ("1", "1/2"), steps: 2)"#
-                    .into(),
+                operation:
+                    r#"(anchors: ["v4"], neighborhood: 2, translate: ("1", "1/2"), steps: 2)"#
+                        .into(),
                 system: system.clone(),
                 values: values.clone(),
             })

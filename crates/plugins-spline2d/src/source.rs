@@ -47,7 +47,11 @@ impl Spline {
         existing: usize,
         initial: Vec<Vec<Rational>>,
     ) -> (Contribution, SplineParams) {
-        assert_eq!(initial.len(), self.points().len(), "one value per control point");
+        assert_eq!(
+            initial.len(),
+            self.points().len(),
+            "one value per control point"
+        );
         let ids: Vec<ParamId> = (0..self.points().len())
             .map(|k| ParamId((existing + k) as u32))
             .collect();
@@ -105,8 +109,7 @@ impl Spline {
         initial: Vec<Vec<Rational>>,
     ) -> Result<SplineParams, SystemError> {
         let dim = initial.first().map_or(1, Vec::len);
-        let (contribution, params) =
-            self.contribution(prefix, dim, system.params().len(), initial);
+        let (contribution, params) = self.contribution(prefix, dim, system.params().len(), initial);
         contribution.apply_to(system, values)?;
         Ok(params)
     }

@@ -234,7 +234,7 @@ fn a_global_quadratic_map_is_reproduced_exactly() {
     }
     // Positions from one global polynomial satisfy every C^r condition exactly.
     for c in spline.conditions() {
-        for coord in 0..2 {
+        for coord in [0, 1] {
             let sum: Rational = c
                 .terms
                 .iter()
