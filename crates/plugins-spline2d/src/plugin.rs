@@ -35,10 +35,13 @@
 //! ```
 
 use crate::edit::{Neighborhood, Operation, SelectError, SplineEditor};
+use crate::eval::{FloatSpline, Locator};
 use crate::mesh_io::{self, MeshOptions, OrientationPolicy};
+use crate::model::{deform_model, load_model, write_obj};
 use crate::net::ControlNet;
 use crate::source::SplineParams;
 use crate::spline::Spline;
+use crate::svg::{before_after, Picture};
 use api::exact::Exact;
 use api::{
     BuildRequest, ConstraintSource, Contribution, OperationPlan, OutputFile, PlanRequest,
@@ -146,6 +149,27 @@ struct Built {
     spline: Spline,
     net: ControlNet,
     params: SplineParams,
+    /// Id of the row of the first condition (conditions are consecutive rows).
+    first_row: usize,
+}
+
+/// What to render.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct OutputConfig {
+    /// Before/after picture file name (`.svg`).
+    #[serde(default, deserialize_with = "some")]
+    picture: Option<String>,
+    /// A model to deform (OBJ, relative to the run file); written as `<stem>-deformed.obj`.
+    #[serde(default, deserialize_with = "some")]
+    model: Option<String>,
+    /// Draw the control net (default true).
+    #[serde(default = "default_true")]
+    control_net: bool,
+}
+
+fn default_true() -> bool {
+    true
 }
 
 /// The `spline2d` source.
@@ -253,6 +277,7 @@ impl ConstraintSource for Spline2dSource {
             spline,
             net,
             params,
+            first_row: request.system.rows().len(),
         });
         Ok(contribution)
     }
@@ -354,10 +379,99 @@ impl ConstraintSource for Spline2dSource {
 
     fn render(&self, request: &RenderRequest) -> Result<Vec<OutputFile>, SourceError> {
         let built = self.built()?;
-        Err(SourceError::new(format!(
-            "{}: rendering {:?} is not available",
-            built.name, request.output
-        )))
+        let what = format!("{} output", built.name);
+        let config: OutputConfig = from_ron(&request.output, &what)?;
+        let error = |e: &dyn std::fmt::Display| SourceError::new(format!("{what}: {e}"));
+        let before = built.params.positions(&request.initial);
+        let after = built.params.positions(&request.values);
+        let mut files = Vec::new();
+        let model = match &config.model {
+            Some(path) => {
+                let full = request.base_dir.join(path);
+                Some(load_model(&full).map_err(|e| error(&e))?)
+            }
+            None => None,
+        };
+        let deformed = match &model {
+            Some(model) => {
+                let spline = FloatSpline::new(&built.spline, &after).map_err(|e| error(&e))?;
+                let locator = Locator::new(built.spline.mesh());
+                Some(deform_model(model, &spline, &locator).map_err(|e| error(&e))?)
+            }
+            None => None,
+        };
+        if let (Some(path), Some(deformed)) = (&config.model, &deformed) {
+            let stem = std::path::Path::new(path)
+                .file_stem()
+                .map(|s| s.to_string_lossy().into_owned())
+                .unwrap_or_else(|| "model".into());
+            let mut bytes = Vec::new();
+            if !deformed.outside.is_empty() {
+                bytes.extend(
+                    format!(
+                        "# {} vertices lie outside the reference mesh and were left in place: {:?}\n",
+                        deformed.outside.len(),
+                        deformed.outside
+                    )
+                    .into_bytes(),
+                );
+            }
+            write_obj(&deformed.model, &mut bytes).map_err(|e| error(&e))?;
+            files.push(OutputFile {
+                name: format!("{stem}-deformed.obj"),
+                bytes,
+            });
+        }
+        if let Some(name) = &config.picture {
+            let highlight = request.highlight.clone().unwrap_or_default();
+            let points = |ids: &[api::ParamId]| -> Vec<usize> {
+                ids.iter()
+                    .filter_map(|id| built.params.point_of(*id))
+                    .collect()
+            };
+            let anchors = points(&highlight.anchors);
+            let derived = points(&highlight.derived);
+            let conditions: Vec<usize> = highlight
+                .independent_rows
+                .iter()
+                .filter_map(|r| r.index().checked_sub(built.first_row))
+                .filter(|&c| c < built.spline.conditions().len())
+                .collect();
+            let mut before_picture = Picture::new(&built.spline)
+                .positions(&before)
+                .title(format!("{}: before", built.name))
+                .reference_mesh(true)
+                .deformed_mesh(true)
+                .control_points(true)
+                .control_net(config.control_net);
+            let mut after_picture = Picture::new(&built.spline)
+                .positions(&after)
+                .title(format!("{}: after", built.name))
+                .reference_mesh(true)
+                .deformed_mesh(true)
+                .control_points(true)
+                .control_net(config.control_net)
+                .anchors(&anchors)
+                .derived(&derived)
+                .conditions(&conditions);
+            if let Some(model) = &model {
+                before_picture = before_picture.model(model, false, true);
+            }
+            if let Some(deformed) = &deformed {
+                after_picture = after_picture.model(&deformed.model, false, true);
+            }
+            let svg = before_after(&before_picture, &after_picture).map_err(|e| error(&e))?;
+            files.push(OutputFile {
+                name: name.clone(),
+                bytes: svg.into_bytes(),
+            });
+        }
+        if files.is_empty() {
+            return Err(SourceError::new(format!(
+                "{what}: nothing to render; give picture and/or model"
+            )));
+        }
+        Ok(files)
     }
 }
 
