@@ -1,0 +1,339 @@
+//! End-to-end tests through the real `ecles` binary and the real plugin libraries: the bundled
+//! examples, malformed inputs (exit codes, messages, no report left behind), and the dynamic
+//! plugin path against the static one.
+
+use serde_json::Value;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+use std::sync::OnceLock;
+
+/// The workspace root.
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .map(Path::to_path_buf)
+        .unwrap_or_else(|| PathBuf::from(".."))
+}
+
+/// `target/<profile>` of this test binary (`target/<profile>/deps/<test>`).
+fn profile_dir() -> PathBuf {
+    let exe = std::env::current_exe().expect("test binary path");
+    exe.parent()
+        .and_then(Path::parent)
+        .map(Path::to_path_buf)
+        .expect("target/<profile>/deps")
+}
+
+/// Builds the `ecles` binary and the built-in sources as dynamic libraries, once, with this
+/// test's profile.
+fn build() -> &'static PathBuf {
+    static BUILT: OnceLock<PathBuf> = OnceLock::new();
+    BUILT.get_or_init(|| {
+        let dir = profile_dir();
+        let profile = dir
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        let target = dir.parent().map(Path::to_path_buf).expect("target dir");
+        let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+        let mut cmd = Command::new(cargo);
+        cmd.current_dir(root()).args([
+            "build",
+            "-p",
+            "host",
+            "-p",
+            "plugins-spline2d-dylib",
+            "-p",
+            "plugins-linear-dylib",
+            "--target-dir",
+        ]);
+        cmd.arg(&target);
+        match profile.as_str() {
+            "debug" => {}
+            "release" => {
+                cmd.arg("--release");
+            }
+            other => {
+                cmd.args(["--profile", other]);
+            }
+        }
+        let status = cmd.status().expect("cargo runs");
+        assert!(status.success(), "building the binary and plugins failed");
+        dir
+    })
+}
+
+fn ecles(args: &[&str]) -> Output {
+    let bin = build().join(format!("ecles{}", std::env::consts::EXE_SUFFIX));
+    Command::new(bin)
+        .current_dir(root())
+        .args(args)
+        .output()
+        .expect("ecles runs")
+}
+
+fn library(stem: &str) -> PathBuf {
+    build().join(plugin_abi::library_file_name(stem))
+}
+
+fn stderr(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+fn read_report(dir: &Path) -> Value {
+    let text = std::fs::read_to_string(dir.join("report.json")).expect("report written");
+    serde_json::from_str(&text).expect("valid JSON")
+}
+
+fn temp() -> tempfile::TempDir {
+    tempfile::tempdir().expect("temporary directory")
+}
+
+#[test]
+fn bundled_spline_examples_run_exactly_and_deterministically() {
+    for (name, files) in [
+        ("worm", &["worm.svg", "worm-model-deformed.obj"]),
+        ("starfish", &["starfish.svg", "starfish-model-deformed.obj"]),
+        ("grid", &["grid.svg", "grid-model-deformed.obj"]),
+    ] {
+        let out_a = temp();
+        let out_b = temp();
+        let run = format!("examples/{name}.ron");
+        for out in [&out_a, &out_b] {
+            let o = ecles(&[
+                "run",
+                &run,
+                "--quiet",
+                "--out",
+                &out.path().display().to_string(),
+            ]);
+            assert!(o.status.success(), "{name}: {}", stderr(&o));
+        }
+        let report = read_report(out_a.path());
+        assert_eq!(report["consistent"], Value::Bool(true), "{name}");
+        for edit in report["edits"].as_array().expect("edits") {
+            assert_eq!(edit["solvable"], Value::Bool(true), "{name}: {edit}");
+            assert_eq!(edit["max_residual"], "0", "{name}");
+            assert_eq!(edit["float_agrees"], Value::Bool(true), "{name}: {edit}");
+        }
+        for f in files {
+            assert!(out_a.path().join(f).exists(), "{name}: {f} missing");
+        }
+        let a = std::fs::read(out_a.path().join("report.json")).expect("report");
+        let b = std::fs::read(out_b.path().join("report.json")).expect("report");
+        assert_eq!(
+            a, b,
+            "{name}: the report must be byte-identical across runs"
+        );
+    }
+    // The Table 19 counts come out of the bundled meshes.
+    let o = ecles(&["analyze", "examples/starfish.ron", "--json"]);
+    let report: Value = serde_json::from_slice(&o.stdout).expect("JSON on stdout");
+    let counts = &report["sources"][0]["counts"];
+    assert_eq!(counts["control_points"], 151);
+    assert_eq!(counts["conditions"], 50);
+    assert_eq!(report["redundant"].as_array().map(Vec::len), Some(2));
+    let o = ecles(&["analyze", "examples/grid.ron", "--json"]);
+    let report: Value = serde_json::from_slice(&o.stdout).expect("JSON on stdout");
+    assert_eq!(report["sources"][0]["counts"]["control_points"], 121);
+    assert_eq!(report["sources"][0]["counts"]["conditions"], 40);
+    assert_eq!(report["rank"], 76);
+}
+
+#[test]
+fn a_rejected_edit_exits_1_and_names_the_constraint() {
+    let out = temp();
+    let o = ecles(&[
+        "run",
+        "examples/pumps.ron",
+        "--quiet",
+        "--out",
+        &out.path().display().to_string(),
+    ]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    let report = read_report(out.path());
+    assert_eq!(report["summary"]["failed"], 1);
+    let edit = &report["edits"][1];
+    assert_eq!(edit["solvable"], Value::Bool(false));
+    assert_eq!(edit["conflict"][0], "p4 - p3 = 5");
+    // The failed edit changed nothing: the values after edit 0 stand.
+    assert_eq!(report["edits"][0]["values"][3]["exact"][0], "9");
+}
+
+#[test]
+fn float_and_exact_disagree_on_the_near_degenerate_mesh() {
+    let o = ecles(&["analyze", "examples/near-degenerate.ron", "--json"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let report: Value = serde_json::from_slice(&o.stdout).expect("JSON");
+    assert_eq!(report["rank"], 36);
+    assert_eq!(report["cross_check"]["float_rank"], 34);
+    assert_eq!(report["cross_check"]["agree"], Value::Bool(false));
+    let dropped = report["cross_check"]["margin"]["largest_dropped"]
+        .as_f64()
+        .expect("margin");
+    assert!(dropped < 1e-6 && dropped > 1e-9, "{dropped}");
+    let out = temp();
+    let dir = out.path().display().to_string();
+    let o = ecles(&[
+        "run",
+        "examples/near-degenerate.ron",
+        "--quiet",
+        "--out",
+        &dir,
+    ]);
+    assert_eq!(o.status.code(), Some(0));
+    let o = ecles(&[
+        "run",
+        "examples/near-degenerate.ron",
+        "--quiet",
+        "--strict",
+        "--out",
+        &dir,
+    ]);
+    assert_eq!(o.status.code(), Some(1), "--strict fails on disagreement");
+}
+
+/// Writes `text` as a run file next to copies of nothing; returns (dir, run path, out dir).
+fn run_file(text: &str) -> (tempfile::TempDir, PathBuf, PathBuf) {
+    let dir = temp();
+    let path = dir.path().join("run.ron");
+    std::fs::write(&path, text).expect("write run file");
+    let out = dir.path().join("out");
+    (dir, path, out)
+}
+
+fn expect_bad_input(text: &str, needles: &[&str]) {
+    let (_dir, path, out) = run_file(text);
+    let o = ecles(&[
+        "run",
+        &path.display().to_string(),
+        "--quiet",
+        "--out",
+        &out.display().to_string(),
+    ]);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{text}\n{err}");
+    for needle in needles {
+        assert!(err.contains(needle), "expected {needle:?} in {err:?}");
+    }
+    assert!(
+        !out.join("report.json").exists(),
+        "no report may be left behind after bad input"
+    );
+}
+
+#[test]
+fn malformed_inputs_exit_2_with_located_messages() {
+    let meshes = root().join("examples/meshes");
+    let grid = meshes.join("grid.obj").display().to_string();
+    // RON syntax error: file, line and column.
+    expect_bad_input(
+        "(\n  sources: [\n    (name: \"a\" plugin: \"linear\"),\n  ],\n)",
+        &["run.ron:3:"],
+    );
+    // Unknown field.
+    expect_bad_input("(sources: [], edist: [])", &["run.ron:1:", "edist"]);
+    // Missing mesh file.
+    expect_bad_input(
+        "(sources: [(name: \"s\", plugin: \"spline2d\", config: (mesh: \"nowhere.obj\"))])",
+        &["nowhere.obj"],
+    );
+    // Broken mesh: a zero-area triangle, reported with its line.
+    let (dir, _, _) = run_file("");
+    let broken = dir.path().join("broken.obj");
+    std::fs::write(&broken, "v 0 0\nv 1 0\nv 2 0\nv 0 1\nf 1 2 4\nf 1 2 3\n").expect("mesh");
+    expect_bad_input(
+        &format!(
+            "(sources: [(name: \"s\", plugin: \"spline2d\", config: (mesh: {:?}))])",
+            broken.display().to_string()
+        ),
+        &["broken.obj:6", "zero area"],
+    );
+    // Inconsistent linear system: the conflicting equations are named.
+    expect_bad_input(
+        "(sources: [(name: \"l\", plugin: \"linear\", config: (parameters: {\"a\": \"1\", \"b\": \"1\"}, equations: [\"a + b = 2\", \"a + b = 3\"]))])",
+        &["contradict", "a + b = 2", "a + b = 3"],
+    );
+    // A plugin path that is not a library.
+    expect_bad_input(
+        &format!(
+            "(sources: [(name: \"p\", plugin: {:?})])",
+            grid.replace("grid.obj", "grid.so")
+        ),
+        &["grid.so"],
+    );
+    expect_bad_input(
+        &format!("(sources: [(name: \"p\", plugin: {grid:?})])"),
+        &["grid.obj"],
+    );
+    // An unknown built-in plugin.
+    expect_bad_input(
+        "(sources: [(name: \"p\", plugin: \"c3\")])",
+        &["unknown plugin", "c3"],
+    );
+    // A missing run file.
+    let o = ecles(&["run", "no/such/run.ron"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("no/such/run.ron"));
+}
+
+fn without_origin(mut report: Value) -> Value {
+    for source in report["sources"].as_array_mut().expect("sources") {
+        source["loaded_from"] = Value::Null;
+    }
+    report["run"] = Value::Null;
+    report
+}
+
+#[test]
+fn dynamic_plugins_give_the_same_results_as_the_static_ones() {
+    let mesh = root()
+        .join("examples/meshes/worm.obj")
+        .display()
+        .to_string();
+    let model = root()
+        .join("examples/models/worm-model.obj")
+        .display()
+        .to_string();
+    let spline = library("plugins_spline2d_dylib").display().to_string();
+    let linear = library("plugins_linear_dylib").display().to_string();
+    let run = |spline_plugin: &str, linear_plugin: &str| {
+        let text = format!(
+            r#"(
+                sources: [
+                    (name: "w", plugin: {spline_plugin:?}, config: (mesh: {mesh:?})),
+                    (name: "l", plugin: {linear_plugin:?}, config: (
+                        parameters: {{"a": "1", "b": "2"}},
+                        equations: ["a + b = 3"],
+                    )),
+                ],
+                edits: [
+                    Source(source: "w", operation: (anchors: ["v3"], neighborhood: 3, translate: ("1", "2"), steps: 2)),
+                    Ecles(anchors: {{"l.a": "5/2"}}, derived: ["l.b"]),
+                ],
+                outputs: [(source: "w", output: (picture: "w.svg", model: {model:?}))],
+            )"#
+        );
+        let (dir, path, out) = run_file(&text);
+        let o = ecles(&[
+            "run",
+            &path.display().to_string(),
+            "--quiet",
+            "--out",
+            &out.display().to_string(),
+        ]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let svg = std::fs::read(out.join("w.svg")).expect("picture");
+        (without_origin(read_report(&out)), svg, dir)
+    };
+    let (static_report, static_svg, _a) = run("spline2d", "linear");
+    let (dynamic_report, dynamic_svg, _b) = run(&spline, &linear);
+    assert_eq!(static_report, dynamic_report);
+    assert_eq!(static_svg, dynamic_svg);
+    assert_eq!(static_report["sources"][1]["rows"], 1);
+    assert_eq!(static_report["edits"][1]["values"][1]["exact"][0], "1/2");
+
+    let o = ecles(&["plugins", "--path", &spline]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(String::from_utf8_lossy(&o.stdout).contains("plugin spline2d"));
+}
