@@ -1,0 +1,124 @@
+//! spline2d: building control points, conditions and the control net for meshes of about 10,
+//! 1 000 and 10 000 triangles; 2DSD Select + ECLES Initialize and one Update for a single-anchor
+//! soft translation with δ_max = 3 and 8 on the 1 000-triangle mesh, exact and float backends.
+//!
+//! `cargo bench -p benchmarks --bench spline`
+
+// `criterion_group!` generates an undocumented public function.
+#![allow(missing_docs)]
+
+use api::{ConstraintSystem, Factorization, LinearBackend, Values};
+use benchmarks::perturbed_grid;
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
+use ecles::Edit;
+use exact_ldu::ExactLdu;
+use float_qr::FloatQr;
+use plugins_spline2d::edit::{Neighborhood, Operation, SplineEditor};
+use plugins_spline2d::net::ControlNet;
+use plugins_spline2d::spline::Spline;
+use std::hint::black_box;
+
+fn build(c: &mut Criterion) {
+    let mut group = c.benchmark_group("spline-build");
+    group.sample_size(10);
+    // n × n squares, two triangles each: 8, 968 and 9 800 triangles.
+    for n in [2usize, 22, 70] {
+        let mesh = perturbed_grid(n);
+        let triangles = mesh.triangles().len();
+        group.bench_function(BenchmarkId::new("rows+net", triangles), |b| {
+            b.iter(|| {
+                let spline = Spline::new(mesh.clone(), 5, 1).expect("valid mesh");
+                let net = ControlNet::new(&spline);
+                black_box((spline.conditions().len(), net.edges().len()))
+            })
+        });
+    }
+    group.finish();
+}
+
+fn edits_with<B: LinearBackend>(c: &mut Criterion, name: &str, backend: &B)
+where
+    <B::Factorization as Factorization>::Scalar: std::fmt::Debug,
+{
+    let mesh = perturbed_grid(22);
+    let spline = Spline::new(mesh, 5, 1).expect("valid mesh");
+    let net = ControlNet::new(&spline);
+    let mut system = ConstraintSystem::new();
+    let mut values = Values::default();
+    let params = spline
+        .declare(&mut system, &mut values, "phi", spline.identity_positions())
+        .expect("fresh system");
+    let editor = SplineEditor {
+        spline: &spline,
+        net: &net,
+        params: &params,
+    };
+    // An edge point in the middle of the mesh.
+    let anchor = spline
+        .points()
+        .iter()
+        .position(|p| p.name == "e264-265:2")
+        .expect("middle edge point");
+    let mut group = c.benchmark_group("spline-edit");
+    group.sample_size(20);
+    for radius in [3u32, 8] {
+        let label = format!("{name}-delta{radius}");
+        group.bench_function(BenchmarkId::new("select+initialize", &label), |b| {
+            b.iter(|| {
+                let sel = editor
+                    .select(&system, &values, &[anchor], Neighborhood::Radius(radius))
+                    .expect("select");
+                let plan = editor
+                    .plan(
+                        &sel,
+                        &values,
+                        &Operation::Translate {
+                            by: vec![api::Rational::from_integer(3.into()); 2],
+                        },
+                        1,
+                    )
+                    .expect("plan");
+                black_box(Edit::initialize(backend, &system, &values, &plan.spec).is_ok())
+            })
+        });
+        let sel = editor
+            .select(&system, &values, &[anchor], Neighborhood::Radius(radius))
+            .expect("select");
+        let plan = editor
+            .plan(
+                &sel,
+                &values,
+                &Operation::Translate {
+                    by: vec![
+                        api::Rational::new(7.into(), 3.into()),
+                        api::Rational::new((-5).into(), 4.into()),
+                    ],
+                },
+                1,
+            )
+            .expect("plan");
+        let edit = Edit::initialize(backend, &system, &values, &plan.spec).expect("initialize");
+        let step = &plan.steps[0];
+        edit.update(&step.anchors, &step.hints)
+            .expect("strongly solvable");
+        let report = edit.report();
+        eprintln!(
+            "{label}: 1 anchor, {} derived points, {} equations, rank {}",
+            plan.spec.derived.len(),
+            report.equations,
+            report.rank
+        );
+        group.bench_function(BenchmarkId::new("update", &label), |b| {
+            b.iter(|| black_box(edit.update(&step.anchors, &step.hints).is_ok()))
+        });
+    }
+    group.finish();
+}
+
+fn edits(c: &mut Criterion) {
+    edits_with(c, "exact", &ExactLdu::default());
+    edits_with(c, "float", &FloatQr::default());
+}
+
+criterion_group!(benches, build, edits);
+criterion_main!(benches);
