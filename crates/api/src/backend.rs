@@ -254,6 +254,18 @@ pub trait PreparedLeastSquares {
         alpha: &[Rational],
         hints: &[Rational],
     ) -> Result<Vec<Self::Scalar>, SolveError<Self::Scalar>>;
+    /// Like [`PreparedLeastSquares::solve`] (same checks, same verdict) but the solution is
+    /// returned rounded to `f64`, for drawing each frame of a drag. Backends may skip work that
+    /// only an exact result needs (an exact backend skips reducing fractions).
+    fn solve_approx(
+        &self,
+        column: usize,
+        alpha: &[Rational],
+        hints: &[Rational],
+    ) -> Result<Vec<f64>, SolveError<Self::Scalar>> {
+        self.solve(column, alpha, hints)
+            .map(|x| x.iter().map(Value::to_f64).collect())
+    }
 }
 
 /// Checks that every weight is positive; shared by backends.

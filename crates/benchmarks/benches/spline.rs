@@ -111,6 +111,9 @@ where
         group.bench_function(BenchmarkId::new("update", &label), |b| {
             b.iter(|| black_box(edit.update(&step.anchors, &step.hints).is_ok()))
         });
+        group.bench_function(BenchmarkId::new("preview", &label), |b| {
+            b.iter(|| black_box(edit.preview(&step.anchors, &step.hints).is_ok()))
+        });
     }
     group.finish();
 }

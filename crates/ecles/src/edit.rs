@@ -209,53 +209,8 @@ impl<F: Factorization> Edit<F> {
         let anchor_names = names(&spec.anchors);
         let anchor_dims = dims(&spec.anchors);
         if spec.strong {
-            match factorization.check_strongly_consistent(&reduced.family)? {
-                Ok(()) => strongly_solvable = Some(true),
-                Err(StrongFailure::Constant {
-                    column,
-                    inconsistency,
-                }) => {
-                    return Err(EditError::CurrentStateInconsistent(Box::new(conflict(
-                        &reduced.rows,
-                        &reduced.labels,
-                        reduced.layout,
-                        column,
-                        inconsistency,
-                    ))))
-                }
-                Err(StrongFailure::Direction {
-                    parameter,
-                    inconsistency,
-                }) => {
-                    let (anchor, component) = match reduced.layout {
-                        Layout::Vector { .. } => (anchor_names[parameter].clone(), None),
-                        Layout::Scalar => {
-                            let mut offset = 0;
-                            let mut found = (String::new(), None);
-                            for (name, dim) in anchor_names.iter().zip(&anchor_dims) {
-                                if parameter < offset + dim {
-                                    let k = parameter - offset;
-                                    found = (name.clone(), (*dim > 1).then_some(k));
-                                    break;
-                                }
-                                offset += dim;
-                            }
-                            found
-                        }
-                    };
-                    return Err(EditError::NotStronglySolvable {
-                        anchor,
-                        component,
-                        conflict: Box::new(conflict(
-                            &reduced.rows,
-                            &reduced.labels,
-                            Layout::Scalar,
-                            0,
-                            inconsistency,
-                        )),
-                    });
-                }
-            }
+            strong_check(&factorization, &reduced, &anchor_names, &anchor_dims)?;
+            strongly_solvable = Some(true);
         }
         let prepared = factorization.prepare_least_squares(&reduced.family, &edit_weights)?;
         Ok(Edit {
@@ -274,6 +229,35 @@ impl<F: Factorization> Edit<F> {
             prepared,
             strongly_solvable,
         })
+    }
+
+    /// Only the strong-solvability test of an edit (algorithm 3), without preparing the least
+    /// squares: for choosing derived sets, where an edit is tried and grown until it passes.
+    /// `spec.strong` is ignored (the test always runs).
+    pub fn check_strongly_solvable<B>(
+        backend: &B,
+        system: &ConstraintSystem,
+        values: &Values,
+        spec: &EditSpec,
+    ) -> Result<(), EditError<F::Scalar>>
+    where
+        B: LinearBackend<Factorization = F>,
+    {
+        validate_spec::<F::Scalar>(system, values, spec)?;
+        let relevant = extract_relevant(system, &spec.anchors, &spec.derived);
+        let reduced = reduce(system, values, spec, &relevant);
+        let factorization = backend.factor(&reduced.r_ed)?;
+        let names: Vec<String> = spec
+            .anchors
+            .iter()
+            .map(|p| system.params()[p.index()].name.clone())
+            .collect();
+        let dims: Vec<usize> = spec
+            .anchors
+            .iter()
+            .map(|p| system.params()[p.index()].dim)
+            .collect();
+        strong_check(&factorization, &reduced, &names, &dims)
     }
 
     /// The layout of the reduced system.
@@ -372,44 +356,9 @@ impl<F: Factorization> Edit<F> {
         anchor_values: &[Vec<Rational>],
         hints: &[Vec<Rational>],
     ) -> Result<UpdateResult<F::Scalar>, EditError<F::Scalar>> {
-        self.check_values(
-            "anchor values",
-            anchor_values,
-            &self.anchor_names,
-            &self.anchor_dims,
-        )?;
-        self.check_values("hints", hints, &self.derived_names, &self.derived_dims)?;
-        let derived_values: Vec<Vec<F::Scalar>> = match self.layout {
-            Layout::Vector { dim } => {
-                let mut out: Vec<Vec<F::Scalar>> =
-                    vec![Vec::with_capacity(dim); self.derived.len()];
-                for j in 0..dim {
-                    let alpha: Vec<Rational> = anchor_values.iter().map(|v| v[j].clone()).collect();
-                    let h: Vec<Rational> = hints.iter().map(|v| v[j].clone()).collect();
-                    let x = self
-                        .prepared
-                        .solve(j, &alpha, &h)
-                        .map_err(|e| self.solve_error(e, j))?;
-                    for (slot, value) in out.iter_mut().zip(x) {
-                        slot.push(value);
-                    }
-                }
-                out
-            }
-            Layout::Scalar => {
-                let alpha: Vec<Rational> = anchor_values.iter().flatten().cloned().collect();
-                let h: Vec<Rational> = hints.iter().flatten().cloned().collect();
-                let mut x = self
-                    .prepared
-                    .solve(0, &alpha, &h)
-                    .map_err(|e| self.solve_error(e, 0))?
-                    .into_iter();
-                self.derived_dims
-                    .iter()
-                    .map(|&dim| x.by_ref().take(dim).collect())
-                    .collect()
-            }
-        };
+        let derived_values = self.solve_with(anchor_values, hints, |column, alpha, h| {
+            self.prepared.solve(column, alpha, h)
+        })?;
         Ok(UpdateResult {
             anchors: self
                 .anchors
@@ -419,6 +368,65 @@ impl<F: Factorization> Edit<F> {
                 .collect(),
             derived: self.derived.iter().copied().zip(derived_values).collect(),
         })
+    }
+
+    /// ECLES.Update for drawing: the same exact verdict as [`Edit::update`], the derived values
+    /// rounded to `f64`. During a drag every frame needs a picture but only the last position is
+    /// committed; an exact backend skips reducing fractions here, the dominant cost of large
+    /// exact updates.
+    pub fn preview(
+        &self,
+        anchor_values: &[Vec<Rational>],
+        hints: &[Vec<Rational>],
+    ) -> Result<Vec<Vec<f64>>, EditError<F::Scalar>> {
+        self.solve_with(anchor_values, hints, |column, alpha, h| {
+            self.prepared.solve_approx(column, alpha, h)
+        })
+    }
+
+    /// Validates the inputs, then solves per column (vector layout) or once (scalar layout).
+    fn solve_with<T>(
+        &self,
+        anchor_values: &[Vec<Rational>],
+        hints: &[Vec<Rational>],
+        solve: impl Fn(usize, &[Rational], &[Rational]) -> Result<Vec<T>, SolveError<F::Scalar>>,
+    ) -> Result<Vec<Vec<T>>, EditError<F::Scalar>>
+    where
+        T: Clone,
+    {
+        self.check_values(
+            "anchor values",
+            anchor_values,
+            &self.anchor_names,
+            &self.anchor_dims,
+        )?;
+        self.check_values("hints", hints, &self.derived_names, &self.derived_dims)?;
+        match self.layout {
+            Layout::Vector { dim } => {
+                let mut out: Vec<Vec<T>> = vec![Vec::with_capacity(dim); self.derived.len()];
+                for j in 0..dim {
+                    let alpha: Vec<Rational> = anchor_values.iter().map(|v| v[j].clone()).collect();
+                    let h: Vec<Rational> = hints.iter().map(|v| v[j].clone()).collect();
+                    let x = solve(j, &alpha, &h).map_err(|e| self.solve_error(e, j))?;
+                    for (slot, value) in out.iter_mut().zip(x) {
+                        slot.push(value);
+                    }
+                }
+                Ok(out)
+            }
+            Layout::Scalar => {
+                let alpha: Vec<Rational> = anchor_values.iter().flatten().cloned().collect();
+                let h: Vec<Rational> = hints.iter().flatten().cloned().collect();
+                let mut x = solve(0, &alpha, &h)
+                    .map_err(|e| self.solve_error(e, 0))?
+                    .into_iter();
+                Ok(self
+                    .derived_dims
+                    .iter()
+                    .map(|&dim| x.by_ref().take(dim).collect())
+                    .collect())
+            }
+        }
     }
 
     fn solve_error(&self, e: SolveError<F::Scalar>, column: usize) -> EditError<F::Scalar> {
@@ -457,6 +465,61 @@ impl<F: Factorization<Scalar = Rational>> Edit<F> {
         updates.extend(result.derived.iter().cloned());
         values.replace_all(updates);
         Ok(result)
+    }
+}
+
+/// The exact strong-solvability check of a reduced system (algorithm 3): `Ok` when every
+/// anchor value can be absorbed by the derived parameters.
+fn strong_check<F: Factorization>(
+    factorization: &F,
+    reduced: &Reduced,
+    anchor_names: &[String],
+    anchor_dims: &[usize],
+) -> Result<(), EditError<F::Scalar>> {
+    match factorization.check_strongly_consistent(&reduced.family)? {
+        Ok(()) => Ok(()),
+        Err(StrongFailure::Constant {
+            column,
+            inconsistency,
+        }) => Err(EditError::CurrentStateInconsistent(Box::new(conflict(
+            &reduced.rows,
+            &reduced.labels,
+            reduced.layout,
+            column,
+            inconsistency,
+        )))),
+        Err(StrongFailure::Direction {
+            parameter,
+            inconsistency,
+        }) => {
+            let (anchor, component) = match reduced.layout {
+                Layout::Vector { .. } => (anchor_names[parameter].clone(), None),
+                Layout::Scalar => {
+                    let mut offset = 0;
+                    let mut found = (String::new(), None);
+                    for (name, dim) in anchor_names.iter().zip(anchor_dims) {
+                        if parameter < offset + dim {
+                            let k = parameter - offset;
+                            found = (name.clone(), (*dim > 1).then_some(k));
+                            break;
+                        }
+                        offset += dim;
+                    }
+                    found
+                }
+            };
+            Err(EditError::NotStronglySolvable {
+                anchor,
+                component,
+                conflict: Box::new(conflict(
+                    &reduced.rows,
+                    &reduced.labels,
+                    Layout::Scalar,
+                    0,
+                    inconsistency,
+                )),
+            })
+        }
     }
 }
 

@@ -91,6 +91,10 @@ fn pump_with_least_squares_over_three_derived_rates() {
     let out = edit.update(&[vec![z(4)]], &hints).expect("update");
     assert_eq!(out.derived[0].1, vec![q(8, 7)]);
     assert_eq!(out.derived[1].1, vec![q(36, 7)]);
+    // The preview is the same exact solution, rounded.
+    let preview = edit.preview(&[vec![z(4)]], &hints).expect("preview");
+    assert_eq!(preview[0], vec![8.0 / 7.0]);
+    assert_eq!(preview[1], vec![36.0 / 7.0]);
 }
 
 /// Figure 2.1: five points of the plane; p0 p1 p2 p3 must stay a parallelogram
@@ -191,6 +195,10 @@ fn inconsistent_anchor_move_is_rejected_with_labels_and_changes_nothing() {
     let EditError::Conflict(conflict) = &err else {
         panic!("expected a conflict, got {err:?}")
     };
+    assert!(matches!(
+        edit.preview(&[vec![z(5)], vec![z(0)]], &[vec![z(0)]]),
+        Err(EditError::Conflict(_))
+    ));
     let mut labels = conflict.labels();
     labels.sort();
     assert_eq!(labels, vec!["p1=p2", "p2=p3"]);
@@ -205,6 +213,12 @@ fn inconsistent_anchor_move_is_rejected_with_labels_and_changes_nothing() {
     let err =
         Edit::<ExactFactorization>::initialize(&backend(), &s, &values, &spec.clone().strong())
             .expect_err("not strongly solvable");
+    assert!(
+        matches!(err, EditError::NotStronglySolvable { .. }),
+        "{err:?}"
+    );
+    let err = Edit::<ExactFactorization>::check_strongly_solvable(&backend(), &s, &values, &spec)
+        .expect_err("not strongly solvable");
     assert!(
         matches!(err, EditError::NotStronglySolvable { .. }),
         "{err:?}"

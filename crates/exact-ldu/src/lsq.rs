@@ -342,6 +342,44 @@ impl<R: Ring> PreparedLeastSquares for ExactLeastSquares<R> {
         alpha: &[Rational],
         hints: &[Rational],
     ) -> Result<Vec<Rational>, SolveError<Rational>> {
+        Ok(match self.numerators(column, alpha, hints)? {
+            None => hints.to_vec(),
+            Some((numerators, den)) => numerators
+                .into_iter()
+                .map(|n| crate::gcd::reduced_ratio(n, den.clone()))
+                .collect(),
+        })
+    }
+
+    /// The exact solution rounded to `f64` without reducing it: the same verdict and the same
+    /// values (to rounding) as [`PreparedLeastSquares::solve`], for drawing every frame of a
+    /// drag, skipping the GCDs that dominate an exact update.
+    fn solve_approx(
+        &self,
+        column: usize,
+        alpha: &[Rational],
+        hints: &[Rational],
+    ) -> Result<Vec<f64>, SolveError<Rational>> {
+        Ok(match self.numerators(column, alpha, hints)? {
+            None => hints.iter().map(api::Value::to_f64).collect(),
+            Some((numerators, den)) => numerators
+                .into_iter()
+                .map(|n| api::exact::rational_to_f64(&Rational::new_raw(n, den.clone())))
+                .collect(),
+        })
+    }
+}
+
+impl<R: Ring> ExactLeastSquares<R> {
+    /// Checks, then computes the solution as numerators over one positive denominator
+    /// (`None` when there is no constraint and the hints are the answer).
+    #[allow(clippy::type_complexity)]
+    fn numerators(
+        &self,
+        column: usize,
+        alpha: &[Rational],
+        hints: &[Rational],
+    ) -> Result<Option<(Vec<BigInt>, BigInt)>, SolveError<Rational>> {
         self.validate(column, alpha)?;
         check_len("hints", hints.len(), self.n)?;
         let alpha = QVec::<R>::from_rationals(alpha);
@@ -349,7 +387,7 @@ impl<R: Ring> PreparedLeastSquares for ExactLeastSquares<R> {
         let h = QVec::<R>::from_rationals(hints);
         let r = self.a_hat.len();
         if r == 0 {
-            return Ok(hints.to_vec());
+            return Ok(None);
         }
         let c = &self.c_hat[column];
         let common = lcm(&lcm(&h.den, &alpha.den), &c.den);
@@ -357,7 +395,7 @@ impl<R: Ring> PreparedLeastSquares for ExactLeastSquares<R> {
         let fa = common.div_exact(&alpha.den);
         let fc = common.div_exact(&c.den);
         // ρ = Â h − ĉ + K̂ α, over `common`.
-        let rho: Vec<R> = (0..r)
+        let rho: Vec<Limbs> = (0..r)
             .map(|k| {
                 let mut s = dot_sparse(&self.a_hat[k], &h.num).mul(&fh);
                 if !c.num[k].is_zero() {
@@ -367,15 +405,14 @@ impl<R: Ring> PreparedLeastSquares for ExactLeastSquares<R> {
                 if !ka.is_zero() {
                     s = s.add(&ka.mul(&fa));
                 }
-                s
+                Limbs::from_ring(&s)
             })
             .collect();
         // x = h − H ρ over h_den · common.
-        let rho: Vec<Limbs> = rho.iter().map(Limbs::from_ring).collect();
         let h_scale = Limbs::from_bigint(&(&self.h_den * fh.to_bigint()));
         let den = &self.h_den * common.to_bigint();
         let mut acc = Accumulator::default();
-        let x = self
+        let numerators = self
             .h_rows
             .iter()
             .zip(&h.num)
@@ -385,14 +422,12 @@ impl<R: Ring> PreparedLeastSquares for ExactLeastSquares<R> {
                 for (hk, rk) in row.iter().zip(&rho) {
                     acc.sub_product(hk, rk);
                 }
-                crate::gcd::reduced_ratio(acc.to_bigint(), den.clone())
+                acc.to_bigint()
             })
             .collect();
-        Ok(x)
+        Ok(Some((numerators, den)))
     }
-}
 
-impl<R: Ring> ExactLeastSquares<R> {
     /// Number of redundant rows whose consistency each update checks.
     pub fn redundant_rows(&self) -> usize {
         self.checks.len()

@@ -191,13 +191,13 @@ impl SplineEditor<'_> {
         loop {
             checks += 1;
             let spec = EditSpec::new(self.ids(&anchors), self.ids(derived.iter())).strong();
-            match Edit::<ExactFactorization>::initialize(
+            match Edit::<ExactFactorization>::check_strongly_solvable(
                 &ExactLdu::default(),
                 system,
                 values,
                 &spec,
             ) {
-                Ok(_) => break,
+                Ok(()) => break,
                 Err(EditError::NotStronglySolvable {
                     anchor, conflict, ..
                 }) => {
