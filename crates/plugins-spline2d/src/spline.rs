@@ -9,7 +9,7 @@
 //!   are the barycentric coordinates of `v`'s opposite vertex relative to `u`. The coefficients
 //!   are rational; each row is scaled to coprime integers.
 
-use crate::mesh::{twice_area, Mesh, Point, Topology};
+use crate::mesh::{Mesh, Point, Topology};
 use api::{Integer, Rational};
 use num_integer::Integer as _;
 use num_traits::{One, Zero};
@@ -140,16 +140,19 @@ fn factorial(n: usize) -> Integer {
     (1..=n).fold(Integer::one(), |acc, k| acc * Integer::from(k))
 }
 
-/// Canonical key of a nominal position: `(vertex, weight)` pairs with positive weight, sorted.
-type PositionKey = Vec<(usize, usize)>;
+/// Canonical key of a nominal position: `(vertex, weight)` pairs with positive weight, sorted,
+/// padded with `(usize::MAX, 0)` (a fixed-size key: no allocation per lookup).
+type PositionKey = [(usize, usize); 3];
+
+const NO_VERTEX: (usize, usize) = (usize::MAX, 0);
 
 fn position_key(vertices: [usize; 3], idx: [usize; 3]) -> PositionKey {
-    let mut key: PositionKey = vertices
-        .iter()
-        .zip(idx)
-        .filter(|(_, w)| *w > 0)
-        .map(|(v, w)| (*v, w))
-        .collect();
+    let mut key = [NO_VERTEX; 3];
+    for (slot, (v, w)) in vertices.iter().zip(idx).enumerate() {
+        if w > 0 {
+            key[slot] = (*v, w);
+        }
+    }
     key.sort_unstable();
     key
 }
@@ -169,26 +172,50 @@ impl Spline {
         let mut by_key: HashMap<PositionKey, usize> = HashMap::new();
         let mut points: Vec<ControlPoint> = Vec::new();
         let mut triangle_points = Vec::with_capacity(mesh.triangles().len());
-        let dq = Rational::from_integer(d.into());
+        // Vertex coordinates over one common denominator, so that a nominal position costs
+        // integer sums and a single reduction.
+        let common = mesh
+            .vertices()
+            .iter()
+            .flatten()
+            .fold(Integer::one(), |acc, c| {
+                if c.denom().is_one() {
+                    acc
+                } else {
+                    acc.lcm(c.denom())
+                }
+            });
+        let scaled: Vec<[Integer; 2]> = mesh
+            .vertices()
+            .iter()
+            .map(|p| {
+                let s = |c: &Rational| c.numer() * (&common / c.denom());
+                [s(&p[0]), s(&p[1])]
+            })
+            .collect();
+        let denominator = &common * Integer::from(d);
         for (t, tri) in mesh.triangles().iter().enumerate() {
             let mut own = Vec::with_capacity(indices.len());
             for idx in &indices {
                 let key = position_key(*tri, *idx);
-                let id = *by_key.entry(key.clone()).or_insert_with(|| {
-                    let name = match key.as_slice() {
-                        [(a, _)] => format!("v{a}"),
-                        [(a, i), (b, _)] => format!("e{a}-{b}:{i}"),
+                let id = *by_key.entry(key).or_insert_with(|| {
+                    let name = match key {
+                        [(a, _), NO_VERTEX, NO_VERTEX] => format!("v{a}"),
+                        [(a, i), (b, _), NO_VERTEX] => format!("e{a}-{b}:{i}"),
                         _ => format!("t{t}:{},{},{}", idx[0], idx[1], idx[2]),
                     };
-                    let mut nominal = [Rational::zero(), Rational::zero()];
+                    let mut sums = [Integer::zero(), Integer::zero()];
                     for (v, w) in tri.iter().zip(idx) {
-                        let p = &mesh.vertices()[*v];
-                        let w = Rational::from_integer((*w).into());
-                        nominal[0] += &p[0] * &w;
-                        nominal[1] += &p[1] * &w;
+                        if *w > 0 {
+                            sums[0] += &scaled[*v][0] * Integer::from(*w);
+                            sums[1] += &scaled[*v][1] * Integer::from(*w);
+                        }
                     }
-                    nominal[0] /= &dq;
-                    nominal[1] /= &dq;
+                    let [x, y] = sums;
+                    let nominal = [
+                        exact_ldu::reduced_ratio(x, denominator.clone()),
+                        exact_ldu::reduced_ratio(y, denominator.clone()),
+                    ];
                     points.push(ControlPoint {
                         name,
                         nominal,
@@ -209,14 +236,23 @@ impl Spline {
             triangle_points,
             conditions: Vec::new(),
         };
-        spline.conditions = spline.build_conditions(&by_key);
+        spline.conditions = spline.build_conditions(&by_key, &scaled);
         Ok(spline)
     }
 
-    fn build_conditions(&self, by_key: &HashMap<PositionKey, usize>) -> Vec<Condition> {
+    fn build_conditions(
+        &self,
+        by_key: &HashMap<PositionKey, usize>,
+        scaled: &[[Integer; 2]],
+    ) -> Vec<Condition> {
         let d = self.degree;
         let mut out = Vec::new();
-        let verts = self.mesh.vertices();
+        // Twice the signed area in the common-denominator integer coordinates: the ratios of
+        // these are the barycentric coordinates.
+        let area = |a: usize, b: usize, c: usize| -> Integer {
+            let (pa, pb, pc) = (&scaled[a], &scaled[b], &scaled[c]);
+            (&pb[0] - &pa[0]) * (&pc[1] - &pa[1]) - (&pb[1] - &pa[1]) * (&pc[0] - &pa[0])
+        };
         for (e, edge) in self.topology.edges.iter().enumerate() {
             let [(tu, ku), (tv, kv)] = match edge.faces.as_slice() {
                 [a, b] => [*a, *b],
@@ -226,11 +262,11 @@ impl Spline {
             let v = self.mesh.triangles()[tv];
             let (u0, u1, u2) = (u[ku], u[(ku + 1) % 3], u[(ku + 2) % 3]);
             let v0 = v[kv];
-            let area = twice_area(&verts[u0], &verts[u1], &verts[u2]);
+            let whole = area(u0, u1, u2);
             let beta = [
-                twice_area(&verts[v0], &verts[u1], &verts[u2]) / &area,
-                twice_area(&verts[u0], &verts[v0], &verts[u2]) / &area,
-                twice_area(&verts[u0], &verts[u1], &verts[v0]) / &area,
+                exact_ldu::reduced_ratio(area(v0, u1, u2), whole.clone()),
+                exact_ldu::reduced_ratio(area(u0, v0, u2), whole.clone()),
+                exact_ldu::reduced_ratio(area(u0, u1, v0), whole),
             ];
             let point =
                 |vs: [usize; 3], idx: [usize; 3]| -> usize { by_key[&position_key(vs, idx)] };
@@ -395,14 +431,21 @@ fn integer_row(terms: Vec<(usize, Rational)>) -> Vec<(usize, Integer)> {
         }
     }
     merged.retain(|(_, c)| !c.is_zero());
-    let lcm = merged
-        .iter()
-        .fold(Integer::one(), |acc, (_, c)| acc.lcm(c.denom()));
+    let lcm = merged.iter().fold(Integer::one(), |acc, (_, c)| {
+        if c.denom().is_one() {
+            acc
+        } else {
+            let g = exact_ldu::gcd_bigint(&acc, c.denom());
+            acc / g * c.denom()
+        }
+    });
     let ints: Vec<(usize, Integer)> = merged
         .into_iter()
         .map(|(p, c)| (p, c.numer() * (&lcm / c.denom())))
         .collect();
-    let g = ints.iter().fold(Integer::zero(), |acc, (_, c)| acc.gcd(c));
+    let g = ints.iter().fold(Integer::zero(), |acc, (_, c)| {
+        exact_ldu::gcd_bigint(&acc, c)
+    });
     let mut out: Vec<(usize, Integer)> = if g.is_zero() || g.is_one() {
         ints
     } else {
@@ -415,6 +458,7 @@ fn integer_row(terms: Vec<(usize, Rational)>) -> Vec<(usize, Integer)> {
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
+    use crate::mesh::twice_area;
     use api::{Factorization, IntMatrix, LinearBackend};
     use exact_ldu::ExactLdu;
 
