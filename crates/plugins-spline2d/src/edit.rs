@@ -581,6 +581,69 @@ mod tests {
         }
     }
 
+    /// The `z` mode of scalar splines (terrain heights): a translation along the one axis.
+    #[test]
+    fn scalar_splines_translate_along_their_axis() {
+        let spline = Spline::new(grid(3, true), 5, 1).expect("spline");
+        let net = ControlNet::new(&spline);
+        let mut system = ConstraintSystem::new();
+        let mut values = Values::default();
+        let params = spline
+            .declare(
+                &mut system,
+                &mut values,
+                "z0",
+                spline.constant_positions(&Rational::from_integer((-5).into())),
+            )
+            .expect("declare");
+        let editor = SplineEditor {
+            spline: &spline,
+            net: &net,
+            params: &params,
+        };
+        let anchor = spline
+            .points()
+            .iter()
+            .position(|p| p.name == "v5")
+            .expect("interior vertex");
+        let sel = editor
+            .select(&system, &values, &[anchor], Neighborhood::Radius(3))
+            .expect("select");
+        let dz = Rational::new(9.into(), 2.into());
+        let plan = editor
+            .plan(
+                &sel,
+                &values,
+                &Operation::Translate {
+                    by: vec![dz.clone()],
+                },
+                2,
+            )
+            .expect("plan");
+        assert!(editor
+            .plan(
+                &sel,
+                &values,
+                &Operation::Rotate {
+                    center: [Rational::zero(), Rational::zero()],
+                    degrees: Rational::one(),
+                    precision: 10
+                },
+                1
+            )
+            .is_err());
+        let edit: Edit<ExactFactorization> =
+            Edit::initialize(&ExactLdu::default(), &system, &values, &plan.spec).expect("init");
+        let last = plan.steps.last().expect("steps");
+        edit.apply(&system, &mut values, &last.anchors, &last.hints)
+            .expect("strongly solvable");
+        assert!(system.violations(&values).is_empty());
+        assert_eq!(
+            values.get(params.ids[anchor])[0],
+            Rational::from_integer((-5).into()) + dz
+        );
+    }
+
     #[test]
     fn bad_requests_are_errors() {
         let f = fixture(1);
