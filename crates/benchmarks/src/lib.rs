@@ -101,36 +101,10 @@ pub fn banded_system(n: usize, seed: u64) -> (ConstraintSystem, Vec<ParamId>, Va
     (system, params, values)
 }
 
-/// A reference mesh of `n × n` squares of side 10, each split by its rising diagonal, with the
-/// interior vertices displaced by up to 2 units (so no two edges at a vertex are collinear by
-/// accident): `2 n²` triangles, `(n + 1)²` vertices, exact integer coordinates.
+/// A reference mesh of `n × n` squares of side 10, each split by its rising diagonal, interior
+/// vertices displaced by up to 2 units: `2 n²` triangles, `(n + 1)²` vertices.
 pub fn perturbed_grid(n: usize) -> plugins_spline2d::mesh::Mesh {
-    let mut points = Vec::with_capacity((n + 1) * (n + 1));
-    for y in 0..=n as i64 {
-        for x in 0..=n as i64 {
-            let inner = x > 0 && y > 0 && x < n as i64 && y < n as i64;
-            let (dx, dy) = if inner {
-                ((x * 7 + y * 3) % 5 - 2, (x * 2 + y * 5) % 5 - 2)
-            } else {
-                (0, 0)
-            };
-            points.push([
-                Rational::from_integer((10 * x + dx).into()),
-                Rational::from_integer((10 * y + dy).into()),
-            ]);
-        }
-    }
-    let at = |x: usize, y: usize| y * (n + 1) + x;
-    let mut triangles = Vec::with_capacity(2 * n * n);
-    for y in 0..n {
-        for x in 0..n {
-            triangles.push([at(x, y), at(x + 1, y), at(x + 1, y + 1)]);
-            triangles.push([at(x, y), at(x + 1, y + 1), at(x, y + 1)]);
-        }
-    }
-    plugins_spline2d::mesh_io::from_points(points, triangles, &Default::default())
-        .expect("a perturbed grid is a valid mesh")
-        .mesh
+    plugins_spline2d::mesh::grid(n, 10, true)
 }
 
 /// Anchor and derived sets for an edit of a banded system: the anchor is the middle parameter of

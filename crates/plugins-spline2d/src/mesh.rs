@@ -148,6 +148,38 @@ impl Mesh {
     }
 }
 
+/// A generated mesh: `(n + 1)²` vertices `cell` apart, each square split by its rising diagonal
+/// (`2 n²` counter-clockwise triangles). With `perturb`, interior vertices are displaced by up
+/// to 2 units in a fixed pattern, so that no two edges at a vertex are collinear by accident —
+/// the generic case of the spline-space dimension formula. Used by tests, benchmarks and as a
+/// starting mesh. `cell` must exceed 4 when perturbing (so triangles stay counter-clockwise).
+pub fn grid(n: usize, cell: i64, perturb: bool) -> Mesh {
+    let mut vertices = Vec::with_capacity((n + 1) * (n + 1));
+    for y in 0..=n as i64 {
+        for x in 0..=n as i64 {
+            let inner = x > 0 && y > 0 && x < n as i64 && y < n as i64;
+            let (dx, dy) = if perturb && inner {
+                ((x * 7 + y * 3) % 5 - 2, (x * 2 + y * 5) % 5 - 2)
+            } else {
+                (0, 0)
+            };
+            vertices.push([
+                Rational::from_integer((cell * x + dx).into()),
+                Rational::from_integer((cell * y + dy).into()),
+            ]);
+        }
+    }
+    let at = |x: usize, y: usize| y * (n + 1) + x;
+    let mut triangles = Vec::with_capacity(2 * n * n);
+    for y in 0..n {
+        for x in 0..n {
+            triangles.push([at(x, y), at(x + 1, y), at(x + 1, y + 1)]);
+            triangles.push([at(x, y), at(x + 1, y + 1), at(x, y + 1)]);
+        }
+    }
+    Mesh::from_validated(vertices, triangles)
+}
+
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;

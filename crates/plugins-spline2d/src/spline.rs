@@ -508,30 +508,9 @@ pub(crate) mod tests {
         mesh(&points, &tris)
     }
 
-    /// A grid of `(n+1) × (n+1)` vertices, each square split by its rising diagonal; interior
-    /// vertices optionally displaced to break collinearity.
+    /// A grid of `n × n` squares of side 10 (see [`crate::mesh::grid`]).
     pub(crate) fn grid(n: usize, perturb: bool) -> Mesh {
-        let mut points = Vec::new();
-        for y in 0..=n as i64 {
-            for x in 0..=n as i64 {
-                let inner = x > 0 && y > 0 && x < n as i64 && y < n as i64;
-                let (dx, dy) = if perturb && inner {
-                    ((x * 7 + y * 3) % 5 - 2, (x * 2 + y * 5) % 5 - 2)
-                } else {
-                    (0, 0)
-                };
-                points.push((10 * x + dx, 10 * y + dy));
-            }
-        }
-        let at = |x: usize, y: usize| y * (n + 1) + x;
-        let mut tris = Vec::new();
-        for y in 0..n {
-            for x in 0..n {
-                tris.push([at(x, y), at(x + 1, y), at(x + 1, y + 1)]);
-                tris.push([at(x, y), at(x + 1, y + 1), at(x, y + 1)]);
-            }
-        }
-        mesh(&points, &tris)
+        crate::mesh::grid(n, 10, perturb)
     }
 
     /// The square split by both diagonals: the centre's four edges lie on two lines.

@@ -32,32 +32,9 @@ fn data(name: &str) -> PathBuf {
         .join(name)
 }
 
-/// `(n+1)²` vertices `cell` apart, interior ones optionally displaced, squares split by their
-/// rising diagonal.
+/// `(n+1)²` vertices `cell` apart, interior ones optionally displaced.
 fn grid(n: usize, cell: i64, perturb: bool) -> Mesh {
-    let mut points = Vec::new();
-    for y in 0..=n as i64 {
-        for x in 0..=n as i64 {
-            let inner = x > 0 && y > 0 && x < n as i64 && y < n as i64;
-            let (dx, dy) = if perturb && inner {
-                ((x * 7 + y * 3) % 5 - 2, (x * 2 + y * 5) % 5 - 2)
-            } else {
-                (0, 0)
-            };
-            points.push([q(cell * x + dx), q(cell * y + dy)]);
-        }
-    }
-    let at = |x: usize, y: usize| y * (n + 1) + x;
-    let mut triangles = Vec::new();
-    for y in 0..n {
-        for x in 0..n {
-            triangles.push([at(x, y), at(x + 1, y), at(x + 1, y + 1)]);
-            triangles.push([at(x, y), at(x + 1, y + 1), at(x, y + 1)]);
-        }
-    }
-    from_points(points, triangles, &MeshOptions::default())
-        .expect("valid grid")
-        .mesh
+    plugins_spline2d::mesh::grid(n, cell, perturb)
 }
 
 fn nominal(spline: &Spline) -> Vec<Vec<Rational>> {
