@@ -10,8 +10,9 @@
 //!   of `A` at position `k` of `A Π_C⁻¹`. Hence
 //!   `A[row_perm[k]][col_perm[c]] = Σ_{j ≤ min(k, r−1)} L[k][j] · U[j][c] / D[j]`.
 //! * Pivoting (algorithm 7): columns that are zero in the remaining rows are moved to the end
-//!   (swapping with the last active column), then the pivot is the first entry of smallest
-//!   nonzero absolute value, scanning rows then columns.
+//!   (swapping with the last active column), then the pivot is an entry of smallest nonzero
+//!   absolute value; ties go to the lowest original row, then the lowest original column (the
+//!   thesis takes the first in the current scan order; see below).
 //! * Elimination (algorithm 8): `L_ti ← L_tt U_ti`, `D_tt ← D_tt U_ii`,
 //!   `U_ts ← U_ii U_ts − U_ti U_is`. The pending `D_tt` of all uneliminated rows are always equal,
 //!   so they are kept as one value.
@@ -21,10 +22,17 @@
 //!   as the invariant requires, `D_tt ← D_tt / U_{i−1,i−1}` (the printed algorithm 13 has a slip
 //!   there).
 //!
-//! The `Gcd` method takes two shortcuts that give bit-for-bit the results of the literal
-//! algorithm: the elimination multipliers are divided by `gcd(U_ii, U_ti)` first (the row GCD
-//! absorbs that factor anyway), and a row with `U_ti = 0` that is already primitive is only
-//! negated when `U_ii < 0` instead of being multiplied by `U_ii` and divided back.
+//! Two deliberate departures from the printed algorithms make the pivots of a block-diagonal
+//! matrix independent of the order its blocks are eliminated in, so that factoring connected
+//! components separately gives exactly the same rank, independent rows, combinations and
+//! solutions as one factoring: ties in the pivot search are broken on original indices, and the
+//! `Gcd` method makes every row primitive before the first stage (the thesis simplifies a row
+//! after its first elimination). The thesis' worked examples come out unchanged.
+//!
+//! The `Gcd` method also takes two shortcuts with the same results as the plain steps: the
+//! elimination multipliers are divided by `gcd(U_ii, U_ti)` first (the row GCD absorbs that
+//! factor anyway), and a row with `U_ti = 0`, already primitive, is only negated when
+//! `U_ii < 0` instead of being multiplied by `U_ii` and divided back.
 
 use crate::qvec::QVec;
 use crate::ring::{gcd_all, Ring};
@@ -143,6 +151,24 @@ impl<R: Ring> Ldu<R> {
         let mut primitive = vec![false; m];
         let mut d: Vec<R> = Vec::new();
         let mut pending_d = R::one();
+        if method == Simplification::Gcd {
+            // SimplifyURow on every row before the first stage (the thesis simplifies the first
+            // pivot row here and every other row after its first elimination): all rows start
+            // primitive, so pivot choices never depend on which block was eliminated first.
+            for ((row, l_tt), is_primitive) in u.iter_mut().zip(&mut ldiag).zip(&mut primitive) {
+                let g = gcd_all(row);
+                if g.is_zero() {
+                    continue;
+                }
+                if !g.is_one() {
+                    for v in row.iter_mut() {
+                        *v = v.div_exact(&g);
+                    }
+                    *l_tt = l_tt.mul(&g);
+                }
+                *is_primitive = true;
+            }
+        }
         let mut i = 0;
         let mut j = n;
         while i < m && i < j {
@@ -161,7 +187,11 @@ impl<R: Ring> Ldu<R> {
             if j <= i {
                 break;
             }
-            // LinSys.Pivot: first entry of smallest nonzero magnitude.
+            // LinSys.Pivot: an entry of smallest nonzero magnitude; among equal magnitudes the
+            // one of lowest original row, then lowest original column (the thesis takes the
+            // first in the current scan order; breaking ties on original indices makes the
+            // choice independent of the positions earlier pivots moved rows to, so factoring
+            // the connected components of a matrix separately gives the same pivots).
             let mut best: Option<(usize, usize)> = None;
             for (p, row) in u.iter().enumerate().skip(i) {
                 for (q, v) in row.iter().enumerate().take(j).skip(i) {
@@ -172,7 +202,13 @@ impl<R: Ring> Ldu<R> {
                         (None, _) => true,
                         (Some(_), Pivoting::FirstNonzero) => false,
                         (Some((bp, bq)), Pivoting::SmallestMagnitude) => {
-                            v.abs_cmp(&u[bp][bq]) == Ordering::Less
+                            match v.abs_cmp(&u[bp][bq]) {
+                                Ordering::Less => true,
+                                Ordering::Greater => false,
+                                Ordering::Equal => {
+                                    (row_perm[p], col_perm[q]) < (row_perm[bp], col_perm[bq])
+                                }
+                            }
                         }
                     };
                     if better {
@@ -190,15 +226,6 @@ impl<R: Ring> Ldu<R> {
                 ldiag.swap(i, s);
                 primitive.swap(i, s);
                 row_perm.swap(i, s);
-            }
-            if i == 0 && method == Simplification::Gcd {
-                let g = gcd_all(&u[0]);
-                if !g.is_one() {
-                    for v in u[0].iter_mut() {
-                        *v = v.div_exact(&g);
-                    }
-                    ldiag[0] = ldiag[0].mul(&g);
-                }
             }
             let pivot = u[i][i].clone();
             let lii = ldiag[i].mul(&pivot);
