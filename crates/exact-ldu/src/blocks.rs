@@ -236,7 +236,10 @@ impl<R: Ring> Factorization for BlockFactorization<R> {
         // Directions first over all components, then constants (as one factoring would).
         let mut constant_failure = None;
         for c in &self.components {
-            match c.factor.check_strongly_consistent(&self.restrict(c, family))? {
+            match c
+                .factor
+                .check_strongly_consistent(&self.restrict(c, family))?
+            {
                 Ok(()) => {}
                 Err(StrongFailure::Direction {
                     parameter,
@@ -292,8 +295,10 @@ impl<R: Ring> Factorization for BlockFactorization<R> {
             .components
             .iter()
             .map(|c| {
-                c.factor
-                    .prepare_least_squares(&self.restrict(c, family), &Self::local(weights, &c.cols))
+                c.factor.prepare_least_squares(
+                    &self.restrict(c, family),
+                    &Self::local(weights, &c.cols),
+                )
             })
             .collect::<Result<Vec<_>, _>>()?;
         Ok(BlockLeastSquares {
@@ -377,9 +382,13 @@ impl<R: Ring> PreparedLeastSquares for BlockLeastSquares<R> {
     type Scalar = Rational;
 
     fn check(&self, column: usize, alpha: &[Rational]) -> Result<(), SolveError<Rational>> {
-        self.solve_parts(column, alpha, &vec![Rational::zero(); self.n], (), |_, l| {
-            Ok(vec![(); l.len()])
-        })
+        self.solve_parts(
+            column,
+            alpha,
+            &vec![Rational::zero(); self.n],
+            (),
+            |_, l| Ok(vec![(); l.len()]),
+        )
         .map(|_| ())
     }
 

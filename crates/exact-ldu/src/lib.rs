@@ -29,6 +29,7 @@ mod limbs;
 mod lsq;
 mod qvec;
 mod ring;
+pub mod sparse;
 
 pub use blocks::{components, BlockFactorization, BlockLeastSquares};
 pub use factorization::ExactFactorization;

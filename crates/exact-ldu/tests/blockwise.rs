@@ -29,15 +29,25 @@ fn block() -> impl Strategy<Value = Vec<Vec<i64>>> {
         prop_oneof![
             prop::collection::vec(prop::collection::vec(-3i64..=3, n), m),
             // rank-1 blocks
-            (prop::collection::vec(-2i64..=2, m), prop::collection::vec(-2i64..=2, n))
-                .prop_map(|(u, v)| u.iter().map(|a| v.iter().map(|b| a * b).collect()).collect()),
+            (
+                prop::collection::vec(-2i64..=2, m),
+                prop::collection::vec(-2i64..=2, n)
+            )
+                .prop_map(|(u, v)| u
+                    .iter()
+                    .map(|a| v.iter().map(|b| a * b).collect())
+                    .collect()),
         ]
     })
 }
 
 fn case() -> impl Strategy<Value = Case> {
-    (prop::collection::vec(block(), 1..=4), any::<bool>(), 0u64..1000).prop_map(
-        |(mut blocks, duplicate, seed)| {
+    (
+        prop::collection::vec(block(), 1..=4),
+        any::<bool>(),
+        0u64..1000,
+    )
+        .prop_map(|(mut blocks, duplicate, seed)| {
             if duplicate {
                 let first = blocks[0].clone();
                 blocks.push(first);
@@ -71,8 +81,7 @@ fn case() -> impl Strategy<Value = Case> {
                 cols,
                 entries,
             }
-        },
-    )
+        })
 }
 
 fn matrix(c: &Case) -> IntMatrix {

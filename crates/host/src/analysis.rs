@@ -4,15 +4,20 @@
 use crate::report::{CrossCheckReport, Margin, RedundantRow, Term};
 use api::{
     format_rational, ConstraintSystem, Factorization, IntMatrix, Integer, LinearBackend, Rational,
-    RowBody, RowId, SolveError, Values,
+    RowBody, RowId, Values,
 };
+use exact_ldu::sparse::eliminate_blockwise;
 use exact_ldu::ExactLdu;
 use float_qr::FloatQr;
 use std::collections::BTreeSet;
 
-/// Largest matrix (rows × columns) factored as one dense block. Larger systems are reported as
-/// skipped with this reason until block-wise factoring exists.
+/// Largest matrix (rows × columns) the float cross-check factors as one dense block; beyond it the
+/// report says the cross-check was skipped, and why.
 pub const DENSE_LIMIT: usize = 4_000_000;
+
+/// Largest number of independent rows a redundant row's exact combination is solved over; a
+/// longer combination is reported as unknown (`null`) rather than delaying the analysis.
+pub const COMBINATION_LIMIT: usize = 256;
 
 /// The exact facts about a system.
 #[derive(Debug, Clone, Default)]
@@ -22,15 +27,13 @@ pub struct Analysis {
     /// Scalar rows.
     pub constraints: usize,
     /// Exact rank (scalar).
-    pub rank: Option<usize>,
+    pub rank: usize,
     /// Whether `R p = q` is solvable.
-    pub consistent: Option<bool>,
+    pub consistent: bool,
     /// Redundant rows.
     pub redundant: Vec<RedundantRow>,
     /// Labels of a minimal conflicting set.
     pub conflict: Option<Vec<String>>,
-    /// Why the analysis was skipped.
-    pub skipped: Option<String>,
     /// Labels of rows violated by the current values.
     pub violated: Vec<String>,
     /// Float view.
@@ -119,12 +122,7 @@ pub fn label(system: &ConstraintSystem, row: RowId, component: Option<usize>) ->
 }
 
 /// Analyses `system` with the exact backend and, when `tolerance` is given, the float one.
-pub fn analyse(
-    system: &ConstraintSystem,
-    values: &Values,
-    exact: &ExactLdu,
-    tolerance: Option<f64>,
-) -> Analysis {
+pub fn analyse(system: &ConstraintSystem, values: &Values, tolerance: Option<f64>) -> Analysis {
     let scalar_params = system.coordinate_count();
     let scalar_rows: usize = system.rows().iter().map(|r| r.body.scalar_rows()).sum();
     let violated: Vec<String> = {
@@ -143,65 +141,67 @@ pub fn analyse(
         ..Analysis::default()
     };
     let shape = shape(system);
-    if shape.matrix.rows().saturating_mul(shape.matrix.cols()) > DENSE_LIMIT {
-        let reason = format!(
-            "the constraint matrix ({} × {}) is too large for one dense factoring (limit {} entries)",
-            shape.matrix.rows(),
-            shape.matrix.cols(),
-            DENSE_LIMIT
-        );
-        analysis.skipped = Some(reason.clone());
-        analysis.cross_check = CrossCheckReport {
-            enabled: tolerance.is_some(),
-            tolerance,
-            skipped: Some(reason),
-            ..CrossCheckReport::default()
-        };
-        return analysis;
-    }
-    let f = match exact.factor(&shape.matrix) {
-        Ok(f) => f,
-        Err(e) => {
-            analysis.skipped = Some(format!("exact factoring failed: {e}"));
-            return analysis;
-        }
-    };
-    analysis.rank = Some(f.rank() * shape.copies);
-    analysis.redundant = f
-        .redundancies()
-        .into_iter()
+    // Exact: sparse fraction-free elimination per connected component (identical components,
+    // such as the x and y coordinates, once). Scales to large meshes.
+    let rhs: Vec<Vec<Integer>> = shape
+        .rhs
+        .iter()
+        .map(|col| col.iter().map(|v| v.numer().clone()).collect())
+        .collect();
+    let elimination = eliminate_blockwise(&shape.matrix, &rhs, COMBINATION_LIMIT);
+    analysis.rank = elimination.rank * shape.copies;
+    analysis.redundant = elimination
+        .redundant
+        .iter()
         .map(|red| RedundantRow {
             row: shape.labels[red.row].clone(),
-            combination: red
-                .combination
-                .iter()
-                .map(|(i, c)| Term {
-                    row: shape.labels[*i].clone(),
-                    coefficient: format_rational(c),
-                })
-                .collect(),
+            combination: red.combination.as_ref().map(|w| {
+                w.iter()
+                    .map(|(i, c)| Term {
+                        row: shape.labels[*i].clone(),
+                        coefficient: format_rational(c),
+                    })
+                    .collect()
+            }),
         })
         .collect();
-    let mut consistent = true;
-    for column in &shape.rhs {
-        if let Err(SolveError::Inconsistent(cert)) = f.check_consistent(column) {
-            consistent = false;
-            analysis.conflict = Some(cert.rows.iter().map(|&i| shape.labels[i].clone()).collect());
-            break;
-        }
+    analysis.consistent = elimination.consistent();
+    if let Some(red) = elimination
+        .redundant
+        .iter()
+        .find(|r| !r.inconsistent_columns.is_empty())
+    {
+        let mut rows: Vec<usize> = red
+            .combination
+            .as_ref()
+            .map(|w| w.iter().map(|(i, _)| *i).collect())
+            .unwrap_or_default();
+        rows.push(red.row);
+        rows.sort_unstable();
+        analysis.conflict = Some(rows.iter().map(|&i| shape.labels[i].clone()).collect());
     }
-    analysis.consistent = Some(consistent);
     if let Some(tol) = tolerance {
-        analysis.cross_check = cross_check(&shape, &f, tol);
+        analysis.cross_check =
+            if shape.matrix.rows().saturating_mul(shape.matrix.cols()) > DENSE_LIMIT {
+                CrossCheckReport {
+                    enabled: true,
+                    tolerance: Some(tol),
+                    skipped: Some(format!(
+                        "the float QR would factor a dense {} × {} matrix (limit {} entries)",
+                        shape.matrix.rows(),
+                        shape.matrix.cols(),
+                        DENSE_LIMIT
+                    )),
+                    ..CrossCheckReport::default()
+                }
+            } else {
+                cross_check(&shape, elimination.rank, tol)
+            };
     }
     analysis
 }
 
-fn cross_check(
-    shape: &Shape,
-    exact: &exact_ldu::ExactFactorization,
-    tolerance: f64,
-) -> CrossCheckReport {
+fn cross_check(shape: &Shape, exact_rank: usize, tolerance: f64) -> CrossCheckReport {
     let mut report = CrossCheckReport {
         enabled: true,
         tolerance: Some(tolerance),
@@ -226,10 +226,10 @@ fn cross_check(
         smallest_kept: m.smallest_kept,
         largest_dropped: m.largest_dropped,
     });
-    if f.rank() != exact.rank() {
+    if f.rank() != exact_rank {
         report.disagreements.push(format!(
             "rank: exact {}, float {}",
-            exact.rank() * shape.copies,
+            exact_rank * shape.copies,
             f.rank() * shape.copies
         ));
     } else {

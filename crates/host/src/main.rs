@@ -120,9 +120,6 @@ fn print_system(report: &Report) {
         }
     }
     println!("system: {}", describe(report));
-    if let Some(reason) = &report.analysis_skipped {
-        println!("  analysis skipped: {reason}");
-    }
     let cc = &report.cross_check;
     if cc.enabled {
         match (cc.float_rank, cc.agree, &cc.skipped) {
@@ -156,7 +153,7 @@ fn default_out_dir(run: &Path) -> PathBuf {
 fn run_command(run: &Path, out: Option<PathBuf>, quiet: bool, strict: bool) -> Result<ExitCode> {
     let mut session = build(run)?;
     let mut report = session.analyze();
-    if report.consistent == Some(false) {
+    if !report.consistent {
         return Err(InputError(format!(
             "{}: the constraints contradict each other: {}",
             run.display(),

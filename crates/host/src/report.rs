@@ -15,20 +15,18 @@ pub struct Report {
     pub parameters: usize,
     /// Number of scalar constraint rows.
     pub constraints: usize,
-    /// Exact rank of the constraint matrix (`null` when skipped, see `analysis_skipped`).
-    pub rank: Option<usize>,
+    /// Exact rank of the constraint matrix.
+    pub rank: usize,
     /// Degrees of freedom `parameters − rank`.
-    pub dof: Option<usize>,
+    pub dof: usize,
     /// Whether `R p = q` has a solution.
-    pub consistent: Option<bool>,
+    pub consistent: bool,
     /// Whether the current (initial) values satisfy every row exactly.
     pub satisfied: bool,
     /// Rows found dependent, each with its exact combination of independent rows.
     pub redundant: Vec<RedundantRow>,
     /// Labels in the inconsistency certificate, when inconsistent.
     pub conflict: Option<Vec<String>>,
-    /// Why the whole-system analysis was skipped, if it was.
-    pub analysis_skipped: Option<String>,
     /// Labels of rows the initial values violate.
     pub violated: Vec<String>,
     /// Per source: plugin and counts.
@@ -48,8 +46,9 @@ pub struct Report {
 pub struct RedundantRow {
     /// Its label (with `[k]` for coordinate `k` of a vector row split per coordinate).
     pub row: String,
-    /// `row = Σ coefficient · independent row`.
-    pub combination: Vec<Term>,
+    /// `row = Σ coefficient · independent row` (`null` when it runs over more than
+    /// `analysis::COMBINATION_LIMIT` rows).
+    pub combination: Option<Vec<Term>>,
 }
 
 /// One term of a combination.

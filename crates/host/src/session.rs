@@ -141,18 +141,17 @@ impl Session {
 
     /// The whole-system report without edits.
     pub fn analyze(&self) -> Report {
-        let a = analysis::analyse(&self.system, &self.initial, &self.exact, self.tolerance);
+        let a = analysis::analyse(&self.system, &self.initial, self.tolerance);
         Report {
             run: self.run_path.display().to_string(),
             parameters: a.parameters,
             constraints: a.constraints,
             rank: a.rank,
-            dof: a.rank.map(|r| a.parameters - r),
+            dof: a.parameters - a.rank,
             consistent: a.consistent,
             satisfied: a.violated.is_empty(),
             redundant: a.redundant,
             conflict: a.conflict,
-            analysis_skipped: a.skipped,
             violated: a.violated,
             sources: self.sources.iter().map(|s| s.report.clone()).collect(),
             cross_check: a.cross_check,
@@ -548,22 +547,19 @@ fn conflict_labels<S: std::fmt::Debug>(
 
 /// A one-line description of a system report.
 pub fn describe(report: &Report) -> String {
-    let rank = report
-        .rank
-        .map(|r| r.to_string())
-        .unwrap_or_else(|| "skipped".into());
     format!(
-        "{} parameters, {} constraints, rank {rank}, {} redundant, {}",
+        "{} parameters, {} constraints, rank {}, {} redundant, {}",
         report.parameters,
         report.constraints,
+        report.rank,
         report.redundant.len(),
-        match report.consistent {
-            Some(true) => "consistent".to_string(),
-            Some(false) => format!(
+        if report.consistent {
+            "consistent".to_string()
+        } else {
+            format!(
                 "INCONSISTENT ({})",
                 report.conflict.clone().unwrap_or_default().join(", ")
-            ),
-            None => "consistency not checked".to_string(),
+            )
         }
     )
 }
