@@ -36,6 +36,45 @@ fn build(c: &mut Criterion) {
     group.finish();
 }
 
+/// Whole-system exact rank of the scalar C1 system (x and y rows are two identical connected
+/// components): one elimination of the whole matrix against one per distinct component.
+fn rank(c: &mut Criterion) {
+    let mut group = c.benchmark_group("spline-rank");
+    group.sample_size(10);
+    for n in [3usize, 22] {
+        let spline = Spline::new(perturbed_grid(n), 5, 1).expect("valid mesh");
+        let mut system = ConstraintSystem::new();
+        let mut values = Values::default();
+        spline
+            .declare(&mut system, &mut values, "phi", spline.identity_positions())
+            .expect("fresh system");
+        let (matrix, _, _) = system.scalar_matrix();
+        let triangles = 2 * n * n;
+        group.bench_function(BenchmarkId::new("sparse-monolithic", triangles), |b| {
+            b.iter(|| black_box(exact_ldu::sparse::eliminate(&matrix, &[], 0).rank))
+        });
+        group.bench_function(BenchmarkId::new("sparse-blockwise", triangles), |b| {
+            b.iter(|| black_box(exact_ldu::sparse::eliminate_blockwise(&matrix, &[], 0).rank))
+        });
+        if n <= 3 {
+            // The dense LDU (the one edits use) is only feasible on small systems.
+            group.bench_function(BenchmarkId::new("dense-monolithic", triangles), |b| {
+                b.iter(|| black_box(ExactLdu::default().factor(&matrix).map(|f| f.rank())))
+            });
+            group.bench_function(BenchmarkId::new("dense-blockwise", triangles), |b| {
+                b.iter(|| {
+                    black_box(
+                        exact_ldu::BlockwiseLdu::default()
+                            .factor(&matrix)
+                            .map(|f| f.rank()),
+                    )
+                })
+            });
+        }
+    }
+    group.finish();
+}
+
 fn edits_with<B: LinearBackend>(c: &mut Criterion, name: &str, backend: &B)
 where
     <B::Factorization as Factorization>::Scalar: std::fmt::Debug,
@@ -123,5 +162,5 @@ fn edits(c: &mut Criterion) {
     edits_with(c, "float", &FloatQr::default());
 }
 
-criterion_group!(benches, build, edits);
+criterion_group!(benches, build, rank, edits);
 criterion_main!(benches);
