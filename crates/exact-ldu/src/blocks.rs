@@ -22,6 +22,9 @@ use num_traits::Zero;
 use std::collections::HashMap;
 use std::sync::Arc;
 
+/// A component's matrix in its own numbering: equal keys mean identical components.
+type ComponentKey = Vec<Vec<(usize, api::Integer)>>;
+
 /// One connected component: its rows and columns (sorted) and the factorization of its
 /// submatrix (shared between identical components).
 #[derive(Debug, Clone)]
@@ -83,13 +86,11 @@ pub fn components(matrix: &IntMatrix) -> Vec<(Vec<usize>, Vec<usize>)> {
 impl<R: Ring> BlockFactorization<R> {
     /// Factors each connected component of `matrix`, sharing identical ones.
     pub fn new(matrix: &IntMatrix, method: Simplification) -> Self {
-        let mut cache: HashMap<Vec<Vec<(usize, api::Integer)>>, Arc<ExactFactorization<R>>> =
-            HashMap::new();
+        let mut cache: HashMap<ComponentKey, Arc<ExactFactorization<R>>> = HashMap::new();
         let mut parts = Vec::new();
         for (rows, cols) in components(matrix) {
             let local = matrix.select(&rows, &cols);
-            let key: Vec<Vec<(usize, api::Integer)>> =
-                local.row_iter().map(|r| r.to_vec()).collect();
+            let key: ComponentKey = local.row_iter().map(|r| r.to_vec()).collect();
             let key = if local.rows() == 0 {
                 // Components without rows (free columns) differ only in their width.
                 vec![vec![(local.cols(), api::Integer::from(0))]]

@@ -38,21 +38,28 @@ pub struct Analysis {
     pub violated: Vec<String>,
     /// Float view.
     pub cross_check: CrossCheckReport,
+    /// Structural view.
+    pub structure: Option<crate::structural::StructureReport>,
 }
 
-/// The matrix analysed: vector rows of one dimension share one matrix over parameters;
-/// anything else is split into scalar rows over coordinates.
-struct Shape {
-    matrix: IntMatrix,
+/// The matrix analysed, with row labels and column names.
+pub struct Shape {
+    /// The matrix analysed.
+    pub matrix: IntMatrix,
     /// Right-hand sides, one column per coordinate.
-    rhs: Vec<Vec<Rational>>,
+    pub rhs: Vec<Vec<Rational>>,
     /// Label of each row.
-    labels: Vec<String>,
+    pub labels: Vec<String>,
+    /// Name of each column: a parameter, or `name[k]` for coordinate `k` of a vector parameter.
+    pub columns: Vec<String>,
     /// Coordinates per matrix row (the scalar count is rows × this).
-    copies: usize,
+    pub copies: usize,
 }
 
-fn shape(system: &ConstraintSystem) -> Shape {
+/// The matrix the analysis works on: one column per parameter when every row is a vector row
+/// of the parameters' common dimension (the coordinates then share one matrix), one column per
+/// coordinate otherwise.
+pub fn shape(system: &ConstraintSystem) -> Shape {
     let dims: BTreeSet<usize> = system.params().iter().map(|p| p.dim).collect();
     let vector_dim = match (dims.len(), dims.iter().next()) {
         (1, Some(&d)) => system
@@ -93,6 +100,7 @@ fn shape(system: &ConstraintSystem) -> Shape {
                 matrix,
                 rhs,
                 labels: system.rows().iter().map(|r| r.label.clone()).collect(),
+                columns: system.params().iter().map(|p| p.name.clone()).collect(),
                 copies: d,
             }
         }
@@ -102,10 +110,24 @@ fn shape(system: &ConstraintSystem) -> Shape {
                 .iter()
                 .map(|(row, k)| label(system, *row, Some(*k)))
                 .collect();
+            let columns = system
+                .params()
+                .iter()
+                .flat_map(|p| {
+                    (0..p.dim).map(move |k| {
+                        if p.dim == 1 {
+                            p.name.clone()
+                        } else {
+                            format!("{}[{k}]", p.name)
+                        }
+                    })
+                })
+                .collect();
             Shape {
                 matrix,
                 rhs: vec![rhs.into_iter().map(Rational::from_integer).collect()],
                 labels,
+                columns,
                 copies: 1,
             }
         }
@@ -150,6 +172,7 @@ pub fn analyse(system: &ConstraintSystem, values: &Values, tolerance: Option<f64
         .collect();
     let elimination = eliminate_blockwise(&shape.matrix, &rhs, COMBINATION_LIMIT);
     analysis.rank = elimination.rank * shape.copies;
+    analysis.structure = Some(crate::structural::report(&shape, &elimination));
     analysis.redundant = elimination
         .redundant
         .iter()

@@ -4,6 +4,7 @@
 //!   the exact backend (cross-checked by the float backend), renders outputs and writes
 //!   `DIR/report.json`.
 //! * `ecles analyze RUN.ron [--json]` builds the system and reports on it without editing.
+//! * `ecles explain RUN.ron PARAM` says why a parameter is fixed, limited or free.
 //! * `ecles plugins [--path LIB]` lists the built-in sources, or checks a dynamic plugin.
 //!
 //! Exit codes: 0 success; 1 the run completed but an edit failed (or, with `--strict`, the
@@ -14,6 +15,7 @@ mod registry;
 mod report;
 mod runfile;
 mod session;
+mod structural;
 
 use anyhow::{Context, Result};
 use clap::{Parser, Subcommand};
@@ -55,6 +57,14 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Explain why a parameter is fixed, limited or free (Dulmage–Mendelsohn blocks in solve
+    /// order).
+    Explain {
+        /// The RON run file.
+        run: PathBuf,
+        /// Parameter name (`src.name`), or one coordinate `src.name[k]`.
+        param: String,
+    },
     /// List built-in sources, or check a dynamic plugin library.
     Plugins {
         /// A plugin library to load and describe.
@@ -73,6 +83,7 @@ fn main() -> ExitCode {
             strict,
         } => run_command(&run, out, quiet, strict),
         Command::Analyze { run, json } => analyze_command(&run, json),
+        Command::Explain { run, param } => explain_command(&run, &param),
         Command::Plugins { path } => plugins_command(path.as_deref()),
     };
     match outcome {
@@ -238,6 +249,9 @@ fn run_command(run: &Path, out: Option<PathBuf>, quiet: bool, strict: bool) -> R
                     "{what}: FAILED: {}",
                     e.error.clone().unwrap_or_else(|| "unknown".into())
                 );
+                for line in &e.explanation {
+                    println!("  {line}");
+                }
             }
             for d in &e.disagreements {
                 println!("  float disagrees: {d}");
@@ -269,6 +283,19 @@ fn run_command(run: &Path, out: Option<PathBuf>, quiet: bool, strict: bool) -> R
     } else {
         ExitCode::SUCCESS
     })
+}
+
+fn explain_command(run: &Path, param: &str) -> Result<ExitCode> {
+    let session = build(run)?;
+    match session.explain(param) {
+        Some(lines) => {
+            for line in lines {
+                println!("{line}");
+            }
+            Ok(ExitCode::SUCCESS)
+        }
+        None => Err(InputError(format!("{}: no parameter named {param:?}", run.display())).into()),
+    }
 }
 
 fn plugins_command(path: Option<&Path>) -> Result<ExitCode> {

@@ -33,6 +33,8 @@ pub struct Report {
     pub sources: Vec<SourceReport>,
     /// The float backend's view of the whole system.
     pub cross_check: CrossCheckReport,
+    /// Components, Dulmage–Mendelsohn parts and blocks, structural against exact rank.
+    pub structure: Option<crate::structural::StructureReport>,
     /// Edits, in run order (empty for `analyze`).
     pub edits: Vec<EditReport>,
     /// Files written by outputs.
@@ -138,6 +140,8 @@ pub struct EditReport {
     pub error: Option<String>,
     /// Conflicting constraints when a step was not solvable.
     pub conflict: Option<Vec<String>>,
+    /// Which anchors and constraints clash, in words (empty when solvable).
+    pub explanation: Vec<String>,
     /// Final values of anchors and derived parameters (unchanged when not solvable).
     pub values: Vec<ValueReport>,
     /// Largest exact residual over all rows after the edit (`"0"`).

@@ -155,10 +155,18 @@ impl Session {
             violated: a.violated,
             sources: self.sources.iter().map(|s| s.report.clone()).collect(),
             cross_check: a.cross_check,
+            structure: a.structure,
             edits: Vec::new(),
             outputs: Vec::new(),
             summary: Summary::default(),
         }
+    }
+
+    /// Why the parameter (or coordinate `name[k]`) is fixed, limited or free, in lines of text;
+    /// `None` when no such parameter exists.
+    pub fn explain(&self, name: &str) -> Option<Vec<String>> {
+        let shape = analysis::shape(&self.system);
+        crate::structural::explain_parameter(&shape, name)
     }
 
     /// Number of edits in the run file.
@@ -312,10 +320,68 @@ impl Session {
                 report.solvable = false;
                 report.error = Some(e.to_string());
                 report.conflict = conflict_labels(&self.system, e);
+                report.explanation = self.explain_conflict(&spec, e);
             }
         }
         report.max_residual = max_residual(&self.system, &self.values);
         Ok(report)
+    }
+
+    /// Which anchors and constraints clash in a refused edit, in words: the conflicting rows,
+    /// the anchors they contain, and the fixed and derived parameters they tie them to.
+    fn explain_conflict<S: std::fmt::Debug>(
+        &self,
+        spec: &EditSpec,
+        e: &EditError<S>,
+    ) -> Vec<String> {
+        let conflict = match e {
+            EditError::Conflict(c) | EditError::CurrentStateInconsistent(c) => c,
+            EditError::NotStronglySolvable { conflict, .. } => conflict,
+            _ => return Vec::new(),
+        };
+        let rows: std::collections::BTreeSet<api::RowId> =
+            conflict.rows.iter().map(|r| r.row.row).collect();
+        let mut anchors = std::collections::BTreeSet::new();
+        let mut derived = std::collections::BTreeSet::new();
+        let mut fixed = std::collections::BTreeSet::new();
+        for row in &rows {
+            for p in self.system.rows()[row.index()].body.params() {
+                if spec.anchors.contains(&p) {
+                    anchors.insert(self.name(p));
+                } else if spec.derived.contains(&p) {
+                    derived.insert(self.name(p));
+                } else {
+                    fixed.insert(self.name(p));
+                }
+            }
+        }
+        let list = |set: &std::collections::BTreeSet<String>| {
+            set.iter().cloned().collect::<Vec<_>>().join(", ")
+        };
+        let labels: Vec<String> = rows
+            .iter()
+            .map(|r| self.system.rows()[r.index()].label.clone())
+            .collect();
+        let mut lines = vec![format!(
+            "the constraints {} cannot all hold with the requested anchor values",
+            labels.join("; ")
+        )];
+        if !anchors.is_empty() {
+            lines.push(format!("anchors involved: {}", list(&anchors)));
+        }
+        if !fixed.is_empty() {
+            lines.push(format!(
+                "they tie the anchors to fixed parameters: {} (make some of them derived to let them follow)",
+                list(&fixed)
+            ));
+        }
+        if !derived.is_empty() {
+            lines.push(format!(
+                "the derived parameters {} cannot absorb the move on their own",
+                list(&derived)
+            ));
+        }
+        lines
     }
 
     fn generic_plan(

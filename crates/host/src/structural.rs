@@ -1,0 +1,200 @@
+//! The `structure` section of the report and `ecles explain`: connected components, the
+//! Dulmage–Mendelsohn parts and blocks (crate `structure`), and where the exact rank falls short
+//! of the structural rank.
+
+use crate::analysis::Shape;
+use exact_ldu::sparse::{eliminate, SparseElimination};
+use serde::Serialize;
+use structure::{
+    components, decompose, dulmage_mendelsohn, explain, maximum_matching, Bipartite,
+    DmDecomposition, PartKind,
+};
+
+/// Names listed per part or block before the report says "and N more".
+const LIST_LIMIT: usize = 50;
+/// Blocks listed in solve order before the report stops listing.
+const BLOCK_LIMIT: usize = 200;
+
+/// The structural view of the whole system.
+#[derive(Debug, Clone, Serialize)]
+pub struct StructureReport {
+    /// `"parameters"` when vector parameters share one matrix, `"coordinates"` otherwise.
+    pub columns_are: String,
+    /// Connected components of the constraint graph.
+    pub components: usize,
+    /// Maximum matching size, in scalar rows.
+    pub structural_rank: usize,
+    /// Exact rank, in scalar rows.
+    pub exact_rank: usize,
+    /// `structural_rank − exact_rank`: dependencies that come from the coefficient values, not
+    /// from the pattern.
+    pub numerical_dependency: usize,
+    /// Over-determined part (more constraints than unknowns).
+    pub over: PartReport,
+    /// Well-determined part (square, perfectly matched).
+    pub well: PartReport,
+    /// Under-determined part (free unknowns).
+    pub under: PartReport,
+    /// Irreducible blocks of the well part in solve order (the first 200).
+    pub blocks: Vec<BlockReport>,
+    /// Number of blocks.
+    pub blocks_total: usize,
+    /// Components and blocks whose exact rank is below their structural rank.
+    pub dependent: Vec<DependentReport>,
+}
+
+/// One Dulmage–Mendelsohn part.
+#[derive(Debug, Clone, Serialize)]
+pub struct PartReport {
+    /// Constraint rows in the part.
+    pub rows: usize,
+    /// Columns (parameters or coordinates) in the part.
+    pub columns: usize,
+    /// Row labels (the first 50).
+    pub row_labels: Vec<String>,
+    /// Column names (the first 50).
+    pub column_names: Vec<String>,
+}
+
+/// One irreducible block.
+#[derive(Debug, Clone, Serialize)]
+pub struct BlockReport {
+    /// Position in the solve order.
+    pub index: usize,
+    /// Its rows.
+    pub rows: Vec<String>,
+    /// Its columns.
+    pub columns: Vec<String>,
+    /// Blocks solved before it that it uses.
+    pub depends_on: Vec<usize>,
+}
+
+/// A component or block carrying numerical dependency.
+#[derive(Debug, Clone, Serialize)]
+pub struct DependentReport {
+    /// `"component 2"` or `"block 7"`.
+    pub place: String,
+    /// Structural rank there.
+    pub structural_rank: usize,
+    /// Exact rank there.
+    pub exact_rank: usize,
+    /// Labels of its rows found redundant (the first 50).
+    pub redundant_rows: Vec<String>,
+}
+
+fn capped(names: impl Iterator<Item = String>) -> Vec<String> {
+    names.take(LIST_LIMIT).collect()
+}
+
+fn part(shape: &Shape, dm: &DmDecomposition, kind: PartKind) -> PartReport {
+    let p = dm.part(kind);
+    PartReport {
+        rows: p.rows.len(),
+        columns: p.cols.len(),
+        row_labels: capped(p.rows.iter().map(|&i| shape.labels[i].clone())),
+        column_names: capped(p.cols.iter().map(|&j| shape.columns[j].clone())),
+    }
+}
+
+/// The structure section for `shape`, with the exact elimination of the same matrix.
+pub fn report(shape: &Shape, exact: &SparseElimination) -> StructureReport {
+    let graph = Bipartite::from_matrix(&shape.matrix);
+    let matching = maximum_matching(&graph);
+    let dm = dulmage_mendelsohn(&graph, &matching)
+        .expect("the matching of maximum_matching is a valid maximum matching");
+    let comps = components(&graph);
+    let mut is_pivot = vec![false; shape.matrix.rows()];
+    for (row, _) in &exact.pivots {
+        is_pivot[*row] = true;
+    }
+    let matched: Vec<bool> = matching.row_to_col.iter().map(Option::is_some).collect();
+    let mut dependent = Vec::new();
+    for (k, c) in comps.components.iter().enumerate() {
+        let structural = c.rows.iter().filter(|&&i| matched[i]).count();
+        let exact_rank = c.rows.iter().filter(|&&i| is_pivot[i]).count();
+        if exact_rank < structural {
+            dependent.push(DependentReport {
+                place: format!("component {k}"),
+                structural_rank: structural * shape.copies,
+                exact_rank: exact_rank * shape.copies,
+                redundant_rows: capped(
+                    c.rows
+                        .iter()
+                        .filter(|&&i| !is_pivot[i])
+                        .map(|&i| shape.labels[i].clone()),
+                ),
+            });
+        }
+    }
+    // Square blocks: exact rank of each block's own submatrix.
+    for (b, block) in dm.blocks.iter().enumerate() {
+        let sub = shape.matrix.select(&block.rows, &block.cols);
+        let rank = eliminate(&sub, &[], 0).rank;
+        if rank < block.rows.len() {
+            dependent.push(DependentReport {
+                place: format!("block {b}"),
+                structural_rank: block.rows.len() * shape.copies,
+                exact_rank: rank * shape.copies,
+                redundant_rows: capped(block.rows.iter().map(|&i| shape.labels[i].clone())),
+            });
+        }
+    }
+    StructureReport {
+        columns_are: if shape.copies > 1 || shape.columns.iter().all(|c| !c.ends_with(']')) {
+            "parameters".into()
+        } else {
+            "coordinates".into()
+        },
+        components: comps.components.len(),
+        structural_rank: dm.structural_rank * shape.copies,
+        exact_rank: exact.rank * shape.copies,
+        numerical_dependency: (dm.structural_rank - exact.rank.min(dm.structural_rank))
+            * shape.copies,
+        over: part(shape, &dm, PartKind::Over),
+        well: part(shape, &dm, PartKind::Well),
+        under: part(shape, &dm, PartKind::Under),
+        blocks: dm
+            .blocks
+            .iter()
+            .take(BLOCK_LIMIT)
+            .enumerate()
+            .map(|(index, b)| BlockReport {
+                index,
+                rows: capped(b.rows.iter().map(|&i| shape.labels[i].clone())),
+                columns: capped(b.cols.iter().map(|&j| shape.columns[j].clone())),
+                depends_on: b.depends_on.clone(),
+            })
+            .collect(),
+        blocks_total: dm.blocks.len(),
+        dependent,
+    }
+}
+
+/// Lines explaining why the columns named `name` (a parameter, or one coordinate `name[k]`)
+/// are fixed, limited or free.
+pub fn explain_parameter(shape: &Shape, name: &str) -> Option<Vec<String>> {
+    let targets: Vec<usize> = shape
+        .columns
+        .iter()
+        .enumerate()
+        .filter(|(_, c)| {
+            *c == name
+                || c.strip_prefix(name)
+                    .is_some_and(|rest| rest.starts_with('['))
+        })
+        .map(|(j, _)| j)
+        .collect();
+    if targets.is_empty() {
+        return None;
+    }
+    let graph = Bipartite::from_matrix(&shape.matrix);
+    let dm = decompose(&graph);
+    let mut lines = Vec::new();
+    for j in targets {
+        match explain(&dm, &graph, j, &shape.labels, &shape.columns) {
+            Ok(e) => lines.extend(e.text),
+            Err(e) => lines.push(format!("{}: {e}", shape.columns[j])),
+        }
+    }
+    Some(lines)
+}
