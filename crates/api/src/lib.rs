@@ -26,7 +26,8 @@ pub use exact::{format_rational, parse_rational, Integer, ParseRationalError, Ra
 pub use matrix::{IntMatrix, MatrixError};
 pub use source::{
     BuildRequest, ConstraintSource, Contribution, Highlight, NewParameter, OperationPlan,
-    OutputFile, PlanRequest, PlannedStep, RenderRequest, SourceError, SourceInfo, SummaryItem,
+    OutputFile, PlanRequest, PlannedStep, RenderRequest, SourceError, SourceInfo, StructureParts,
+    SummaryItem,
 };
 pub use system::{
     ConstraintRow, ConstraintSystem, Coord, Origin, ParamId, Parameter, RowBody, RowId,

@@ -153,6 +153,22 @@ pub struct RenderRequest {
     pub values: Values,
     /// Parameters and rows of the last edit, to highlight.
     pub highlight: Option<Highlight>,
+    /// The Dulmage–Mendelsohn parts of the whole system, for pictures coloured by part.
+    pub structure: Option<StructureParts>,
+}
+
+/// Parameters and rows by Dulmage–Mendelsohn part (a parameter is in the part of any of its
+/// coordinates, the more constrained part winning).
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+pub struct StructureParts {
+    /// Parameters in the over-determined part.
+    pub over: Vec<ParamId>,
+    /// Parameters in the well-determined part.
+    pub well: Vec<ParamId>,
+    /// Rows in the over-determined part.
+    pub over_rows: Vec<crate::system::RowId>,
+    /// Rows in the well-determined part.
+    pub well_rows: Vec<crate::system::RowId>,
 }
 
 /// What the last edit touched.

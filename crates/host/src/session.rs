@@ -494,6 +494,14 @@ impl Session {
     /// Renders every output; nothing is written here.
     pub fn render_outputs(&self) -> Result<Vec<OutputFile>, InputError> {
         let mut files: Vec<OutputFile> = Vec::new();
+        let parts = if self.run.outputs.is_empty() {
+            None
+        } else {
+            Some(crate::structural::parts(
+                &self.system,
+                &analysis::shape(&self.system),
+            ))
+        };
         for (i, out) in self.run.outputs.iter().enumerate() {
             let Some(loaded) = self.sources.iter().find(|s| s.name == out.source) else {
                 return Err(InputError(format!(
@@ -508,6 +516,7 @@ impl Session {
                 initial: self.initial.clone(),
                 values: self.values.clone(),
                 highlight: self.last_highlight.get(&out.source).cloned(),
+                structure: parts.clone(),
             };
             let rendered = loaded.source.render(&request).map_err(|e| {
                 InputError(format!(

@@ -198,3 +198,52 @@ pub fn explain_parameter(shape: &Shape, name: &str) -> Option<Vec<String>> {
     }
     Some(lines)
 }
+
+/// The parts of the whole system by parameter and row, for pictures coloured by part.
+pub fn parts(system: &api::ConstraintSystem, shape: &Shape) -> api::StructureParts {
+    let graph = Bipartite::from_matrix(&shape.matrix);
+    let dm = decompose(&graph);
+    // Column → parameter, row → system row.
+    let param_of_column: Vec<api::ParamId> = if shape.columns.len() == system.params().len() {
+        (0..system.params().len() as u32)
+            .map(api::ParamId)
+            .collect()
+    } else {
+        system
+            .params()
+            .iter()
+            .enumerate()
+            .flat_map(|(i, p)| std::iter::repeat_n(api::ParamId(i as u32), p.dim))
+            .collect()
+    };
+    let row_of: Vec<api::RowId> = if shape.labels.len() == system.rows().len() {
+        (0..system.rows().len() as u32).map(api::RowId).collect()
+    } else {
+        system
+            .rows()
+            .iter()
+            .enumerate()
+            .flat_map(|(i, r)| std::iter::repeat_n(api::RowId(i as u32), r.body.scalar_rows()))
+            .collect()
+    };
+    let collect_params = |cols: &[usize]| -> Vec<api::ParamId> {
+        let set: std::collections::BTreeSet<api::ParamId> =
+            cols.iter().map(|&j| param_of_column[j]).collect();
+        set.into_iter().collect()
+    };
+    let collect_rows = |rows: &[usize]| -> Vec<api::RowId> {
+        let set: std::collections::BTreeSet<api::RowId> = rows.iter().map(|&i| row_of[i]).collect();
+        set.into_iter().collect()
+    };
+    let over = collect_params(&dm.over.cols);
+    let well: Vec<api::ParamId> = collect_params(&dm.well.cols)
+        .into_iter()
+        .filter(|p| over.binary_search(p).is_err())
+        .collect();
+    api::StructureParts {
+        over,
+        well,
+        over_rows: collect_rows(&dm.over.rows),
+        well_rows: collect_rows(&dm.well.rows),
+    }
+}

@@ -482,6 +482,7 @@ mod tests {
             initial: Default::default(),
             values: Default::default(),
             highlight: None,
+            structure: None,
         })
         .expect("serialise");
         let (status, text) = invoke(METHOD_RENDER, &input);

@@ -238,6 +238,7 @@ fn refusals_cross_the_boundary_unchanged() {
         initial: good.values.clone(),
         values: good.values.clone(),
         highlight: None,
+        structure: None,
     };
     let plan_error = dynamic.plan(&plan).expect_err("no operations");
     assert_eq!(Err(plan_error.clone()), fixed.plan(&plan).map(|_| ()));

@@ -391,6 +391,7 @@ fn plan_and_render_are_refused() {
             initial: values.clone(),
             values,
             highlight: None,
+            structure: None,
         })
         .expect_err("no outputs");
     assert_eq!(e.message, "the linear source has no outputs");

@@ -31,6 +31,7 @@
 //! (
 //!     picture: "worm.svg",               // before/after picture with the last edit highlighted
 //!     model: "models/worm-model.obj",    // optional: deform this model, write <stem>-deformed.obj
+//!     parts: false,                      // colour by Dulmage–Mendelsohn part
 //! )
 //! ```
 
@@ -166,6 +167,10 @@ struct OutputConfig {
     /// Draw the control net (default true).
     #[serde(default = "default_true")]
     control_net: bool,
+    /// Colour the "after" panel by Dulmage–Mendelsohn part: over-determined points and
+    /// conditions red, well-determined orange (default false).
+    #[serde(default)]
+    parts: bool,
 }
 
 fn default_true() -> bool {
@@ -454,6 +459,29 @@ impl ConstraintSource for Spline2dSource {
                 .anchors(&anchors)
                 .derived(&derived)
                 .conditions(&conditions);
+            if let (true, Some(parts)) = (config.parts, &request.structure) {
+                let over_points = points(&parts.over);
+                let well_points = points(&parts.well);
+                let conditions_of = |rows: &[api::RowId]| -> Vec<usize> {
+                    rows.iter()
+                        .filter_map(|r| r.index().checked_sub(built.first_row))
+                        .filter(|&c| c < built.spline.conditions().len())
+                        .collect()
+                };
+                after_picture = after_picture
+                    .group(
+                        "well-determined",
+                        "#ff7f0e",
+                        &well_points,
+                        &conditions_of(&parts.well_rows),
+                    )
+                    .group(
+                        "over-determined",
+                        "#d62728",
+                        &over_points,
+                        &conditions_of(&parts.over_rows),
+                    );
+            }
             if let Some(model) = &model {
                 before_picture = before_picture.model(model, false, true);
             }

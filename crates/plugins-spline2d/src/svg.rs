@@ -79,11 +79,21 @@ pub struct Picture<'a> {
     derived: Vec<usize>,
     conditions: Vec<usize>,
     labels: Vec<(usize, String)>,
+    groups: Vec<Group>,
     model: Option<&'a Model>,
     model_vertices: bool,
     model_edges: bool,
     samples: usize,
     size: f64,
+}
+
+/// Points and conditions drawn in one colour (a Dulmage–Mendelsohn part, say).
+#[derive(Debug, Clone)]
+struct Group {
+    class: String,
+    colour: String,
+    points: Vec<usize>,
+    conditions: Vec<usize>,
 }
 
 /// Margin around the data, in pixels.
@@ -110,6 +120,7 @@ impl<'a> Picture<'a> {
             derived: Vec::new(),
             conditions: Vec::new(),
             labels: Vec::new(),
+            groups: Vec::new(),
             model: None,
             model_vertices: false,
             model_edges: false,
@@ -156,6 +167,25 @@ impl<'a> Picture<'a> {
     }
 
     /// Anchors of an edit (open bold circles), by control point id.
+    /// Draws `points` and `conditions` in `colour` (an SVG colour such as `"#d62728"`), in a
+    /// group of class `class` (for example the over-determined part of the system).
+    pub fn group(
+        mut self,
+        class: &str,
+        colour: &str,
+        points: &[usize],
+        conditions: &[usize],
+    ) -> Self {
+        self.groups.push(Group {
+            class: class.to_string(),
+            colour: colour.to_string(),
+            points: points.to_vec(),
+            conditions: conditions.to_vec(),
+        });
+        self
+    }
+
+    /// Marks anchor points (open bold circles).
     pub fn anchors(mut self, points: &[usize]) -> Self {
         self.anchors = points.to_vec();
         self
@@ -425,6 +455,45 @@ impl<'a> Picture<'a> {
             layers.push(Layer::new("control-points", r##"fill="#404040""##, shapes));
         }
 
+        for group in &self.groups {
+            let count = spline.conditions().len();
+            let mut polygons = Vec::with_capacity(group.conditions.len());
+            for &c in &group.conditions {
+                let condition = spline
+                    .conditions()
+                    .get(c)
+                    .ok_or(SvgError::NoSuchCondition {
+                        condition: c,
+                        count,
+                    })?;
+                let points: Vec<[f64; 2]> =
+                    condition.terms.iter().map(|(p, _)| current[*p]).collect();
+                polygons.push(Shape::Polygon(around_centroid(points)));
+            }
+            let colour = escape(&group.colour);
+            if !polygons.is_empty() {
+                layers.push(Layer::new(
+                    &format!("{}-conditions", escape(&group.class)),
+                    &format!(
+                        r#"fill="{colour}" fill-opacity="0.3" stroke="{colour}" stroke-width="0.5""#
+                    ),
+                    polygons,
+                ));
+            }
+            let circles = group
+                .points
+                .iter()
+                .map(|&p| Ok(Shape::Circle(current[self.check_point(p)?], 2.6)))
+                .collect::<Result<Vec<_>, SvgError>>()?;
+            if !circles.is_empty() {
+                layers.push(Layer::new(
+                    &format!("{}-points", escape(&group.class)),
+                    &format!(r#"fill="{colour}""#),
+                    circles,
+                ));
+            }
+        }
+
         if !self.derived.is_empty() {
             let shapes = self
                 .derived
@@ -534,16 +603,16 @@ impl Shape {
 /// One group of shapes sharing a style.
 #[derive(Debug, Clone)]
 struct Layer {
-    class: &'static str,
-    style: &'static str,
+    class: String,
+    style: String,
     shapes: Vec<Shape>,
 }
 
 impl Layer {
-    fn new(class: &'static str, style: &'static str, shapes: Vec<Shape>) -> Self {
+    fn new(class: &str, style: &str, shapes: Vec<Shape>) -> Self {
         Layer {
-            class,
-            style,
+            class: class.to_string(),
+            style: style.to_string(),
             shapes,
         }
     }
@@ -807,5 +876,25 @@ mod tests {
         assert_eq!(p, vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]);
         assert_eq!(num(-0.001), "0.00");
         assert_eq!(num(2.5), "2.50");
+    }
+
+    #[test]
+    fn groups_colour_points_and_conditions() {
+        let spline = Spline::new(grid(1, false), 3, 1).expect("spline");
+        let svg = Picture::new(&spline)
+            .control_points(false)
+            .group("over-determined", "#d62728", &[0, 1, 2], &[0])
+            .to_svg()
+            .expect("svg");
+        let start = svg
+            .find(r#"class="over-determined-points""#)
+            .expect("points group");
+        let group = &svg[start..svg[start..].find("</g>").map_or(svg.len(), |e| start + e)];
+        assert_eq!(group.matches("<circle").count(), 3);
+        assert!(svg.contains(r#"class="over-determined-conditions""#));
+        assert!(Picture::new(&spline)
+            .group("x", "red", &[9999], &[])
+            .to_svg()
+            .is_err());
     }
 }
