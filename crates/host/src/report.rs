@@ -142,6 +142,8 @@ pub struct EditReport {
     pub conflict: Option<Vec<String>>,
     /// Which anchors and constraints clash, in words (empty when solvable).
     pub explanation: Vec<String>,
+    /// Dulmage–Mendelsohn view of the relevant subsystem `R_ED`.
+    pub structure: Option<crate::structural::EditStructure>,
     /// Final values of anchors and derived parameters (unchanged when not solvable).
     pub values: Vec<ValueReport>,
     /// Largest exact residual over all rows after the edit (`"0"`).

@@ -247,3 +247,79 @@ pub fn parts(system: &api::ConstraintSystem, shape: &Shape) -> api::StructurePar
         well_rows: collect_rows(&dm.well.rows),
     }
 }
+
+/// The structure of an edit's relevant subsystem `R_ED` (rows: relevant constraints split per
+/// coordinate; columns: coordinates of the derived parameters).
+#[derive(Debug, Clone, Serialize, Default)]
+pub struct EditStructure {
+    /// Scalar equations.
+    pub equations: usize,
+    /// Scalar unknowns.
+    pub unknowns: usize,
+    /// Maximum matching size.
+    pub structural_rank: usize,
+    /// Labels of the relevant constraints in the over-determined part: more of them than derived
+    /// unknowns they involve, so some anchor moves cannot be absorbed whatever the values.
+    pub over_determined: Vec<String>,
+}
+
+/// Dulmage–Mendelsohn view of `R_ED` for an edit with relevant rows `relevant` and derived
+/// parameters `derived`.
+pub fn edit_structure(
+    system: &api::ConstraintSystem,
+    relevant: &[api::RowId],
+    derived: &[api::ParamId],
+) -> EditStructure {
+    let mut column_of: std::collections::HashMap<(api::ParamId, usize), usize> =
+        std::collections::HashMap::new();
+    for p in derived {
+        for k in 0..system.params()[p.index()].dim {
+            let next = column_of.len();
+            column_of.insert((*p, k), next);
+        }
+    }
+    let mut rows: Vec<Vec<(usize, api::Integer)>> = Vec::new();
+    let mut labels = Vec::new();
+    for id in relevant {
+        let row = &system.rows()[id.index()];
+        match &row.body {
+            api::RowBody::Vector { terms, rhs } => {
+                for k in 0..rhs.len() {
+                    rows.push(
+                        terms
+                            .iter()
+                            .filter_map(|(p, c)| column_of.get(&(*p, k)).map(|&j| (j, c.clone())))
+                            .collect(),
+                    );
+                    labels.push(crate::analysis::label(system, *id, Some(k)));
+                }
+            }
+            api::RowBody::Scalar { terms, .. } => {
+                rows.push(
+                    terms
+                        .iter()
+                        .filter_map(|(c, v)| {
+                            column_of
+                                .get(&(c.param, c.component))
+                                .map(|&j| (j, v.clone()))
+                        })
+                        .collect(),
+                );
+                labels.push(row.label.clone());
+            }
+        }
+    }
+    let Ok(matrix) = api::IntMatrix::from_sparse(column_of.len(), rows) else {
+        return EditStructure::default();
+    };
+    let graph = Bipartite::from_matrix(&matrix);
+    let dm = decompose(&graph);
+    let mut over: Vec<String> = dm.over.rows.iter().map(|&i| labels[i].clone()).collect();
+    over.dedup();
+    EditStructure {
+        equations: matrix.rows(),
+        unknowns: matrix.cols(),
+        structural_rank: dm.structural_rank,
+        over_determined: capped(over.into_iter()),
+    }
+}
