@@ -153,6 +153,22 @@ where
         group.bench_function(BenchmarkId::new("preview", &label), |b| {
             b.iter(|| black_box(edit.preview(&step.anchors, &step.hints).is_ok()))
         });
+        // The drag from the current positions to the step: two updates once, then one linear
+        // interpolation per frame.
+        let here = |ids: &[api::ParamId]| -> Vec<Vec<api::Rational>> {
+            ids.iter().map(|p| values.get(*p).to_vec()).collect()
+        };
+        let drag = edit
+            .drag(
+                &here(&plan.spec.anchors),
+                &here(&plan.spec.derived),
+                &step.anchors,
+                &step.hints,
+            )
+            .expect("strongly solvable");
+        group.bench_function(BenchmarkId::new("drag-frame", &label), |b| {
+            b.iter(|| black_box(drag.preview(0.37)))
+        });
     }
     group.finish();
 }

@@ -12,16 +12,20 @@
 //! * [`Edit::update`] (algorithm 4) checks weak solvability (algorithm 5) for new anchor values
 //!   and solves the least-squares problem for new hints. It is cheap: everything that does not
 //!   depend on anchor values and hints was computed by `initialize`.
+//! * [`Edit::drag`]: a straight drag solved at its two ends; every frame is then an exact
+//!   linear interpolation (the solution is affine in the anchor values and hints).
 //!
 //! Parameters of dimension `d` whose relevant constraints are all vector rows share one
 //! factorization for their `d` coordinates ([`Layout::Vector`]); otherwise the edit works on
 //! single coordinates ([`Layout::Scalar`]). The crate is generic over the backend and knows
 //! nothing about splines.
 
+mod drag;
 mod edit;
 mod error;
 mod relevant;
 
+pub use drag::Drag;
 pub use edit::{Edit, EditReport, EditSpec, Layout, RowRef, UpdateResult};
 pub use error::{Conflict, ConflictingRow, EditError};
 pub use relevant::{extract_relevant, Relevant};

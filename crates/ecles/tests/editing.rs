@@ -291,3 +291,42 @@ fn unconstrained_parameters_take_their_hints() {
         .expect("free move");
     assert_eq!(values.get(p[4]), &[q(1, 3), z(2)]);
 }
+
+/// A straight drag is exact at every point: interpolating the two end solutions gives exactly
+/// what an update at the interpolated anchor values and hints gives.
+#[test]
+fn straight_drags_interpolate_exactly() {
+    let (s, p, values) = parallelogram(false);
+    let spec =
+        EditSpec::new(vec![p[0]], vec![p[1], p[2], p[3]]).with_weights(vec![z(1), z(3), z(2)]);
+    let edit: ExactEdit = Edit::initialize(&backend(), &s, &values, &spec).expect("init");
+    let hints0: Vec<Vec<Rational>> = (1..4).map(|i| values.get(p[i]).to_vec()).collect();
+    let hints1: Vec<Vec<Rational>> = hints0
+        .iter()
+        .map(|h| vec![&h[0] + q(1, 2), &h[1] - q(2, 3)])
+        .collect();
+    let a0 = vec![values.get(p[0]).to_vec()];
+    let a1 = vec![vec![z(3), z(-6)]];
+    let drag = edit.drag(&a0, &hints0, &a1, &hints1).expect("drag");
+    for t in [q(0, 1), q(1, 3), q(5, 7), q(1, 1), q(3, 2)] {
+        let lerp = |a: &[Vec<Rational>], b: &[Vec<Rational>]| -> Vec<Vec<Rational>> {
+            a.iter()
+                .zip(b)
+                .map(|(x, y)| x.iter().zip(y).map(|(u, v)| u + &t * (v - u)).collect())
+                .collect()
+        };
+        let direct = edit
+            .update(&lerp(&a0, &a1), &lerp(&hints0, &hints1))
+            .expect("update");
+        let (anchors, derived) = drag.at(&t);
+        assert_eq!(anchors, lerp(&a0, &a1));
+        let expected: Vec<Vec<Rational>> = direct.derived.into_iter().map(|(_, v)| v).collect();
+        assert_eq!(derived, expected);
+        let tf = api::Value::to_f64(&t);
+        for (pv, ev) in drag.preview(tf).iter().zip(&expected) {
+            for (x, y) in pv.iter().zip(ev) {
+                assert!((x - api::Value::to_f64(y)).abs() < 1e-12);
+            }
+        }
+    }
+}
