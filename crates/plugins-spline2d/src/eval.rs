@@ -572,6 +572,55 @@ impl FloatSpline {
         });
     }
 
+    /// `φ` on triangle `t` at `beta` with its partial derivatives with respect to the three
+    /// barycentric coordinates, taken as independent variables of the Bernstein form:
+    /// `∂φ/∂β0 = Σ_{i ≥ 1} i · β0^(i−1) β1^j β2^k · stored_{ijk}` and likewise for `β1`, `β2`.
+    /// The derivative along a direction `u` of the plane is `Σ_a ∂φ/∂β_a · ∂β_a/∂u` (the
+    /// `∂β_a/∂u` of a triangle sum to zero). Returns the value and the three partials (each
+    /// with [`FloatSpline::dim`] coordinates); `None` if `t` is not a triangle.
+    pub fn evaluate_with_derivatives(
+        &self,
+        t: usize,
+        beta: [f64; 3],
+    ) -> Option<(Vec<f64>, [Vec<f64>; 3])> {
+        if t >= self.triangle_count() {
+            return None;
+        }
+        let d = self.degree;
+        let dim = self.dim;
+        let coefficients = &self.coefficients[t * self.stride..(t + 1) * self.stride];
+        let mut value = vec![0.0; dim];
+        let mut partials = [vec![0.0; dim], vec![0.0; dim], vec![0.0; dim]];
+        self.with_powers(beta, |pw| {
+            let (p0, rest) = pw.split_at(d + 1);
+            let (p1, p2) = rest.split_at(d + 1);
+            // β^e and e·β^(e−1) for one coordinate.
+            let power = |p: &[f64], e: usize| p[e];
+            let derivative = |p: &[f64], e: usize| if e == 0 { 0.0 } else { e as f64 * p[e - 1] };
+            let mut chunks = coefficients.chunks_exact(dim);
+            for i in (0..=d).rev() {
+                for j in (0..=d - i).rev() {
+                    let k = d - i - j;
+                    let Some(q) = chunks.next() else { return };
+                    let (a, b, c) = (power(p0, i), power(p1, j), power(p2, k));
+                    let weights = [
+                        a * b * c,
+                        derivative(p0, i) * b * c,
+                        a * derivative(p1, j) * c,
+                        a * b * derivative(p2, k),
+                    ];
+                    for (coordinate, x) in q.iter().enumerate() {
+                        value[coordinate] += weights[0] * x;
+                        for (partial, w) in partials.iter_mut().zip(&weights[1..]) {
+                            partial[coordinate] += w * x;
+                        }
+                    }
+                }
+            }
+        });
+        Some((value, partials))
+    }
+
     /// `φ(p)`: locates `p` with `locator` (built from the same mesh) and evaluates. `None` when
     /// `p` is outside the mesh or the locator belongs to a mesh with other triangles.
     pub fn evaluate_point(&self, locator: &Locator, p: [f64; 2]) -> Option<Vec<f64>> {
@@ -768,6 +817,55 @@ mod tests {
         assert!(float.evaluate(1, [1.0, 0.0, 0.0]).is_none());
         let mut out = [0.0; 2];
         assert!(!float.evaluate_point_into(&Locator::new(spline.mesh()), [1.0, 1.0], &mut out));
+    }
+
+    #[test]
+    fn derivatives_match_the_identity_and_finite_differences() {
+        let spline = Spline::new(grid(2, true), 5, 1).expect("spline");
+        let identity = FloatSpline::new(&spline, &nominal(&spline)).expect("float");
+        let mut rng = Rng(77);
+        let positions: Vec<Vec<Rational>> = spline
+            .points()
+            .iter()
+            .map(|_| vec![frac(rng.below(200) - 100, 7)])
+            .collect();
+        let bumpy = FloatSpline::new(&spline, &positions).expect("float");
+        assert!(identity
+            .evaluate_with_derivatives(99, [1.0, 0.0, 0.0])
+            .is_none());
+        for t in 0..spline.mesh().triangles().len() {
+            let beta = [0.2, 0.5, 0.3];
+            // Identity: the x coordinate changes by the change of x along any direction.
+            let (value, partials) = identity.evaluate_with_derivatives(t, beta).expect("t");
+            assert_eq!(Some(value.clone()), identity.evaluate(t, beta));
+            let corners = spline.mesh().triangles()[t]
+                .map(|v| spline.mesh().vertices()[v].clone())
+                .map(|p| [rational_to_f64(&p[0]), rational_to_f64(&p[1])]);
+            for c in 0..2 {
+                // Moving from corner 0 to corner 1 is d/dβ1 − d/dβ0.
+                let along = partials[1][c] - partials[0][c];
+                let expected = corners[1][c] - corners[0][c];
+                assert!((along - expected).abs() < 1e-9, "{along} vs {expected}");
+            }
+            // Arbitrary scalar values: central differences in barycentric directions.
+            let (_, partials) = bumpy.evaluate_with_derivatives(t, beta).expect("t");
+            let h = 1e-6;
+            for (from, to) in [(0, 1), (1, 2), (2, 0)] {
+                let mut plus = beta;
+                let mut minus = beta;
+                plus[to] += h;
+                plus[from] -= h;
+                minus[to] -= h;
+                minus[from] += h;
+                let f = |b: [f64; 3]| bumpy.evaluate(t, b).expect("t")[0];
+                let numeric = (f(plus) - f(minus)) / (2.0 * h);
+                let analytic = partials[to][0] - partials[from][0];
+                assert!(
+                    (numeric - analytic).abs() < 1e-5 * (1.0 + analytic.abs()),
+                    "{numeric} vs {analytic}"
+                );
+            }
+        }
     }
 
     #[test]
