@@ -2,92 +2,10 @@
 //! examples, malformed inputs (exit codes, messages, no report left behind), and the dynamic
 //! plugin path against the static one.
 
+mod common;
+
+use common::{ecles, expect_bad_input, library, read_report, root, run_file, stderr, temp};
 use serde_json::Value;
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-use std::sync::OnceLock;
-
-/// The workspace root.
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .parent()
-        .map(Path::to_path_buf)
-        .unwrap_or_else(|| PathBuf::from(".."))
-}
-
-/// `target/<profile>` of this test binary (`target/<profile>/deps/<test>`).
-fn profile_dir() -> PathBuf {
-    let exe = std::env::current_exe().expect("test binary path");
-    exe.parent()
-        .and_then(Path::parent)
-        .map(Path::to_path_buf)
-        .expect("target/<profile>/deps")
-}
-
-/// Builds the `ecles` binary and the built-in sources as dynamic libraries, once, with this
-/// test's profile.
-fn build() -> &'static PathBuf {
-    static BUILT: OnceLock<PathBuf> = OnceLock::new();
-    BUILT.get_or_init(|| {
-        let dir = profile_dir();
-        let profile = dir
-            .file_name()
-            .map(|n| n.to_string_lossy().into_owned())
-            .unwrap_or_default();
-        let target = dir.parent().map(Path::to_path_buf).expect("target dir");
-        let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
-        let mut cmd = Command::new(cargo);
-        cmd.current_dir(root()).args([
-            "build",
-            "-p",
-            "host",
-            "-p",
-            "plugins-spline2d-dylib",
-            "-p",
-            "plugins-linear-dylib",
-            "--target-dir",
-        ]);
-        cmd.arg(&target);
-        match profile.as_str() {
-            "debug" => {}
-            "release" => {
-                cmd.arg("--release");
-            }
-            other => {
-                cmd.args(["--profile", other]);
-            }
-        }
-        let status = cmd.status().expect("cargo runs");
-        assert!(status.success(), "building the binary and plugins failed");
-        dir
-    })
-}
-
-fn ecles(args: &[&str]) -> Output {
-    let bin = build().join(format!("ecles{}", std::env::consts::EXE_SUFFIX));
-    Command::new(bin)
-        .current_dir(root())
-        .args(args)
-        .output()
-        .expect("ecles runs")
-}
-
-fn library(stem: &str) -> PathBuf {
-    build().join(plugin_abi::library_file_name(stem))
-}
-
-fn stderr(out: &Output) -> String {
-    String::from_utf8_lossy(&out.stderr).into_owned()
-}
-
-fn read_report(dir: &Path) -> Value {
-    let text = std::fs::read_to_string(dir.join("report.json")).expect("report written");
-    serde_json::from_str(&text).expect("valid JSON")
-}
-
-fn temp() -> tempfile::TempDir {
-    tempfile::tempdir().expect("temporary directory")
-}
 
 #[test]
 fn bundled_spline_examples_run_exactly_and_deterministically() {
@@ -191,35 +109,6 @@ fn float_and_exact_disagree_on_the_near_degenerate_mesh() {
         &dir,
     ]);
     assert_eq!(o.status.code(), Some(1), "--strict fails on disagreement");
-}
-
-/// Writes `text` as a run file next to copies of nothing; returns (dir, run path, out dir).
-fn run_file(text: &str) -> (tempfile::TempDir, PathBuf, PathBuf) {
-    let dir = temp();
-    let path = dir.path().join("run.ron");
-    std::fs::write(&path, text).expect("write run file");
-    let out = dir.path().join("out");
-    (dir, path, out)
-}
-
-fn expect_bad_input(text: &str, needles: &[&str]) {
-    let (_dir, path, out) = run_file(text);
-    let o = ecles(&[
-        "run",
-        &path.display().to_string(),
-        "--quiet",
-        "--out",
-        &out.display().to_string(),
-    ]);
-    let err = stderr(&o);
-    assert_eq!(o.status.code(), Some(2), "{text}\n{err}");
-    for needle in needles {
-        assert!(err.contains(needle), "expected {needle:?} in {err:?}");
-    }
-    assert!(
-        !out.join("report.json").exists(),
-        "no report may be left behind after bad input"
-    );
 }
 
 #[test]

@@ -7,12 +7,15 @@
 //!   with a label and an origin, and the merged [`ConstraintSystem`];
 //! * [`matrix`]: the sparse integer matrix handed to a backend;
 //! * [`source`]: the [`ConstraintSource`] trait constraint plugins implement;
+//! * [`conformance`]: checks every plugin's tests can run on a source, static or dynamic
+//!   (deterministic builds, clean contributions, prefixed names, graceful refusals);
 //! * [`backend`]: the traits a linear-algebra backend implements (factor, rank, independent and
 //!   redundant rows, solve, weak and strong consistency, null space, weighted least squares).
 //!
 //! The crate depends on no backend; backends and the ECLES editor depend on it.
 
 pub mod backend;
+pub mod conformance;
 pub mod exact;
 pub mod matrix;
 pub mod source;

@@ -1,10 +1,10 @@
 //! Built-in constraint sources and the dynamic loader.
 
 use api::ConstraintSource;
-use plugin_abi::{load, LoadError};
+use plugin_abi::{library_file_name, load, LoadError};
 use plugins_linear::LinearSource;
 use plugins_spline2d::plugin::Spline2dSource;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// A built-in source kind with its constructor.
 pub struct Builtin {
@@ -62,14 +62,25 @@ pub enum RegistryError {
     Load(#[from] LoadError),
 }
 
+/// The file a run file's library path names, relative to `base_dir`. A path whose file name has
+/// no extension names a library portably: `"../target/release/plugins_c2"` is
+/// `libplugins_c2.so` on Linux, `libplugins_c2.dylib` on macOS and `plugins_c2.dll` on Windows.
+pub fn library_path(plugin: &str, base_dir: &Path) -> PathBuf {
+    let path = base_dir.join(plugin);
+    match (path.extension(), path.file_name()) {
+        (None, Some(stem)) => path.with_file_name(library_file_name(&stem.to_string_lossy())),
+        _ => path,
+    }
+}
+
 /// Instantiates the source named by a run file's `plugin` field (library paths are relative
-/// to `base_dir`).
+/// to `base_dir`, see [`library_path`]).
 pub fn instantiate(
     plugin: &str,
     base_dir: &Path,
 ) -> Result<(Box<dyn ConstraintSource>, Origin), RegistryError> {
     if is_library(plugin) {
-        let path = base_dir.join(plugin);
+        let path = library_path(plugin, base_dir);
         let loaded = load(&path)?;
         return Ok((
             Box::new(loaded.instantiate()),
@@ -104,5 +115,18 @@ mod tests {
         let (source, origin) = instantiate("linear", Path::new(".")).expect("builtin");
         assert_eq!(source.kind(), "linear");
         assert_eq!(origin, Origin::Builtin);
+    }
+
+    #[test]
+    fn library_paths_without_extension_follow_the_platform() {
+        let base = Path::new("runs");
+        assert_eq!(
+            library_path("../lib/plugins_c2", base),
+            base.join("../lib").join(library_file_name("plugins_c2"))
+        );
+        assert_eq!(
+            library_path("lib/libc2.so", base),
+            base.join("lib/libc2.so")
+        );
     }
 }

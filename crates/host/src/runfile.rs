@@ -7,7 +7,7 @@
 //!     sources: [
 //!         (name: "phi", plugin: "spline2d", config: (mesh: "meshes/worm.obj", degree: 5)),
 //!         (name: "eq", plugin: "linear", config: (parameters: {"a": "1"}, equations: [])),
-//!         (name: "c2", plugin: "plugins/libplugins_c2.so", config: (spline: "phi")),
+//!         (name: "c2", plugin: "plugins/plugins_c2", config: (spline: "phi")), // libplugins_c2.so on Linux
 //!     ],
 //!     backend: (simplify: Gcd),             // Gcd (default), Turner or None
 //!     cross_check: (tolerance: 1e-10),      // default; None turns the float backend off
@@ -53,7 +53,8 @@ pub struct SourceEntry {
     /// Instance name, unique in the run: prefix of its parameter names and row labels.
     pub name: String,
     /// A built-in kind (`"linear"`, `"spline2d"`) or the path of a dynamic plugin library
-    /// (relative to the run file).
+    /// (relative to the run file; without an extension, the platform's library file name,
+    /// see [`crate::registry::library_path`]).
     pub plugin: String,
     /// The plugin's configuration (its own schema), kept as the text written in the run file.
     #[serde(default = "empty_config")]

@@ -108,6 +108,8 @@ mod host;
 
 pub use host::{load, DynamicSource, LoadError, LoadedPlugin};
 
+use std::path::{Path, PathBuf};
+
 /// Support for [`export_source!`]; not part of the public API.
 #[doc(hidden)]
 pub mod __private {
@@ -125,6 +127,27 @@ pub fn library_file_name(stem: &str) -> String {
         std::env::consts::DLL_PREFIX,
         std::env::consts::DLL_SUFFIX
     )
+}
+
+/// The dynamic library of crate `crate_name` as Cargo builds it for that crate's own
+/// integration tests (`tests/*.rs`), for a plugin to test its loaded self.
+///
+/// When a crate with `crate-type = ["cdylib", "rlib"]` has integration tests, Cargo compiles
+/// the `cdylib` into `target/<profile>/deps/`, next to the test executables, from the same
+/// sources as the `rlib` the tests link. So an integration test can run the same checks on its
+/// source linked statically and on its library loaded through the ABI:
+///
+/// ```no_run
+/// let path = plugin_abi::library_beside_test("plugin-example").expect("test executable path");
+/// let plugin = plugin_abi::load(&path).expect("the crate's own library loads");
+/// let _source = plugin.instantiate();
+/// ```
+///
+/// Fails only when the test executable's own path is unknown.
+pub fn library_beside_test(crate_name: &str) -> std::io::Result<PathBuf> {
+    let exe = std::env::current_exe()?;
+    let dir = exe.parent().unwrap_or(Path::new("."));
+    Ok(dir.join(library_file_name(&crate_name.replace('-', "_"))))
 }
 
 #[cfg(test)]

@@ -50,6 +50,7 @@ use api::{
 };
 use num_traits::One;
 use serde::{Deserialize, Deserializer};
+use std::path::Path;
 
 /// Vertices and triangles written in the configuration.
 #[derive(Debug, Clone, Deserialize)]
@@ -196,14 +197,17 @@ impl Spline2dSource {
     }
 }
 
-fn read_mesh(config: &Config, request: &BuildRequest) -> Result<mesh_io::MeshRead, SourceError> {
+fn read_mesh(
+    config: &Config,
+    name: &str,
+    base_dir: &Path,
+) -> Result<mesh_io::MeshRead, SourceError> {
     let orientation = match config.orientation.as_deref() {
         None | Some("fix") => OrientationPolicy::Fix,
         Some("reject") => OrientationPolicy::Reject,
         Some(other) => {
             return Err(SourceError::new(format!(
-                "{}: orientation must be \"fix\" or \"reject\", not {other:?}",
-                request.name
+                "{name}: orientation must be \"fix\" or \"reject\", not {other:?}"
             )))
         }
     };
@@ -212,12 +216,11 @@ fn read_mesh(config: &Config, request: &BuildRequest) -> Result<mesh_io::MeshRea
         orientation,
     };
     let read = match &config.mesh {
-        ron::Value::String(path) => mesh_io::read_obj(&request.base_dir.join(path), &options),
+        ron::Value::String(path) => mesh_io::read_obj(&base_dir.join(path), &options),
         other => {
             let inline: InlineMesh = other.clone().into_rust().map_err(|e| {
                 SourceError::new(format!(
-                    "{}: mesh must be an OBJ path or (vertices: [...], triangles: [...]): {e}",
-                    request.name
+                    "{name}: mesh must be an OBJ path or (vertices: [...], triangles: [...]): {e}"
                 ))
             })?;
             mesh_io::from_points(
@@ -231,7 +234,27 @@ fn read_mesh(config: &Config, request: &BuildRequest) -> Result<mesh_io::MeshRea
             )
         }
     };
-    read.map_err(|e| SourceError::new(format!("{}: {e}", request.name)))
+    read.map_err(|e| SourceError::new(format!("{name}: {e}")))
+}
+
+/// Reads a `spline2d` configuration exactly as [`Spline2dSource::build`] does: parses the RON
+/// text, reads the mesh (an OBJ path is resolved against `base_dir`) and builds the spline of
+/// the configured degree and smoothness. Errors are prefixed with `name` as the source's own
+/// errors are.
+///
+/// For plugins that build on a `spline2d` source of the same run: its name and configuration
+/// text are in [`api::BuildRequest::sources`], and its control points are the parameters
+/// `{name}.{point name}` (see [`crate::spline::ControlPoint::name`]).
+pub fn spline_from_config(
+    name: &str,
+    config: &str,
+    base_dir: &Path,
+) -> Result<(Spline, Vec<mesh_io::MeshWarning>), SourceError> {
+    let config: Config = from_ron(config, &format!("{name} config"))?;
+    let read = read_mesh(&config, name, base_dir)?;
+    let spline = Spline::new(read.mesh, config.degree, config.smoothness)
+        .map_err(|e| SourceError::new(format!("{name}: {e}")))?;
+    Ok((spline, read.warnings))
 }
 
 impl ConstraintSource for Spline2dSource {
@@ -244,10 +267,8 @@ impl ConstraintSource for Spline2dSource {
     }
 
     fn build(&mut self, request: &BuildRequest) -> Result<Contribution, SourceError> {
-        let config: Config = from_ron(&request.config, &format!("{} config", request.name))?;
-        let read = read_mesh(&config, request)?;
-        let spline = Spline::new(read.mesh, config.degree, config.smoothness)
-            .map_err(|e| SourceError::new(format!("{}: {e}", request.name)))?;
+        let (spline, warnings) =
+            spline_from_config(&request.name, &request.config, &request.base_dir)?;
         let (mut contribution, params) = spline.contribution(
             &request.name,
             2,
@@ -275,7 +296,7 @@ impl ConstraintSource for Spline2dSource {
                 value: value as u64,
             })
             .collect();
-        contribution.warnings = read.warnings.iter().map(|w| w.to_string()).collect();
+        contribution.warnings = warnings.iter().map(|w| w.to_string()).collect();
         let net = ControlNet::new(&spline);
         self.built = Some(Built {
             name: request.name.clone(),

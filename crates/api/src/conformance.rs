@@ -1,0 +1,759 @@
+//! Conformance checks for constraint sources: what every plugin's tests should verify.
+//!
+//! The checks take sources as `&mut dyn ConstraintSource`, so they run the same on a source
+//! linked statically and on a dynamic plugin loaded with `plugin_abi::load(..)?.instantiate()`
+//! (a `DynamicSource` implements the same trait). They verify the rules of
+//! [`crate::source`] that a host relies on:
+//!
+//! * **builds answer** and **never panic**: a good configuration gives a contribution, a bad one
+//!   an error (with a message naming the instance), and neither unwinds;
+//! * **determinism**: two fresh instances given the same request give identical contributions
+//!   (reports are byte-identical across runs);
+//! * **contributions apply cleanly** to the system of the request
+//!   ([`Contribution::apply_to`]: new names unique, ids and dimensions valid);
+//! * **names are prefixed by the instance name**: new parameters are `{name}.…`, row labels
+//!   start with `{name}:` and row origins name the instance;
+//! * **summary keys are stable `snake_case`** (`control_points`), each given once;
+//! * **plan and render answer or refuse gracefully**: an answer is well formed (anchors and
+//!   derived parameters exist, one weight per derived parameter, step sizes match), a refusal
+//!   has a message, and neither panics.
+//!
+//! [`check_source`] runs everything on a set of [`Samples`]; the single checks are public for
+//! tests that need only one.
+//!
+//! ```
+//! use api::conformance::{self, Samples};
+//! use api::{
+//!     BuildRequest, ConstraintSource, Contribution, NewParameter, OperationPlan, OutputFile,
+//!     PlanRequest, RenderRequest, SourceError, SummaryItem,
+//! };
+//!
+//! /// Declares one scalar parameter `{name}.x = 0`; its configuration must be `()`.
+//! #[derive(Default)]
+//! struct Zero;
+//!
+//! impl ConstraintSource for Zero {
+//!     fn kind(&self) -> &str { "zero" }
+//!     fn version(&self) -> &str { "1.0.0" }
+//!     fn build(&mut self, request: &BuildRequest) -> Result<Contribution, SourceError> {
+//!         if request.config.trim() != "()" {
+//!             return Err(SourceError::new(format!("{} config: expected ()", request.name)));
+//!         }
+//!         Ok(Contribution {
+//!             parameters: vec![NewParameter {
+//!                 name: format!("{}.x", request.name),
+//!                 value: vec![api::Rational::from_integer(0.into())],
+//!             }],
+//!             summary: vec![SummaryItem { key: "parameters".into(), value: 1 }],
+//!             ..Contribution::default()
+//!         })
+//!     }
+//!     fn plan(&self, _: &PlanRequest) -> Result<OperationPlan, SourceError> {
+//!         Err(SourceError::new("zero: no operations"))
+//!     }
+//!     fn render(&self, _: &RenderRequest) -> Result<Vec<OutputFile>, SourceError> {
+//!         Err(SourceError::new("zero: no outputs"))
+//!     }
+//! }
+//!
+//! let samples = Samples {
+//!     good: vec![conformance::request("z", "()")],
+//!     bad: vec![conformance::request("z", "(x: 1)")],
+//!     operations: vec!["(anchors: [])".into()],
+//!     outputs: vec!["(picture: \"z.svg\")".into()],
+//! };
+//! conformance::check_source(&mut || Box::new(Zero), &samples)?;
+//! # Ok::<(), api::conformance::ConformanceError>(())
+//! ```
+
+use crate::source::{
+    BuildRequest, ConstraintSource, Contribution, OperationPlan, PlanRequest, RenderRequest,
+};
+use crate::system::{ConstraintSystem, SystemError, Values};
+use std::collections::BTreeSet;
+use std::panic::{catch_unwind, AssertUnwindSafe};
+
+/// A rule a source broke. The message says which rule, which call and which item.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum ConformanceError {
+    /// A call unwound instead of answering.
+    #[error("{call} panicked: {message}")]
+    Panicked {
+        /// The call (`build of "phi"`, `plan of "phi"`).
+        call: String,
+        /// The panic message.
+        message: String,
+    },
+    /// A sample configuration that should build was refused.
+    #[error("build of {name:?} refused a good configuration: {message}")]
+    Refused {
+        /// The instance name.
+        name: String,
+        /// The source's error.
+        message: String,
+    },
+    /// A sample configuration that should be refused was built.
+    #[error("build of {name:?} accepted a bad configuration: {config}")]
+    AcceptedBadConfig {
+        /// The instance name.
+        name: String,
+        /// The configuration text.
+        config: String,
+    },
+    /// An error without a usable message.
+    #[error("{call} returned an error that {problem}: {message:?}")]
+    PoorError {
+        /// The call.
+        call: String,
+        /// What is wrong with the message.
+        problem: String,
+        /// The message.
+        message: String,
+    },
+    /// The contribution does not apply to the system of the request.
+    #[error("the contribution of {name:?} does not apply to the request's system: {error}")]
+    DoesNotApply {
+        /// The instance name.
+        name: String,
+        /// Why the system refused it.
+        error: SystemError,
+    },
+    /// A parameter name, row label or row origin does not name the instance.
+    #[error(
+        "{what} {found:?} of {name:?} is not prefixed by the instance name (expected {expected})"
+    )]
+    Unprefixed {
+        /// The instance name.
+        name: String,
+        /// `"parameter"`, `"row label"` or `"row origin"`.
+        what: String,
+        /// The offending text.
+        found: String,
+        /// What it should look like.
+        expected: String,
+    },
+    /// A summary key that is not stable `snake_case`, or given twice.
+    #[error("summary key {key:?} of {name:?} {problem}")]
+    SummaryKey {
+        /// The instance name.
+        name: String,
+        /// The key.
+        key: String,
+        /// What is wrong with it.
+        problem: String,
+    },
+    /// Two instances built the same request differently.
+    #[error("two instances built {name:?} differently: {difference}")]
+    NotDeterministic {
+        /// The instance name.
+        name: String,
+        /// The first difference found.
+        difference: String,
+    },
+    /// Kind or version empty, or different between two instances.
+    #[error("identity: {problem}")]
+    Identity {
+        /// What is wrong.
+        problem: String,
+    },
+    /// A plan that refers to unknown parameters or has inconsistent sizes.
+    #[error("plan of {name:?} for {operation:?} is malformed: {problem}")]
+    BadPlan {
+        /// The instance name.
+        name: String,
+        /// The operation text.
+        operation: String,
+        /// What is wrong.
+        problem: String,
+    },
+    /// Render answered with an unusable file name.
+    #[error("render of {name:?} for {output:?} produced the file name {file:?}, which is not a plain file name")]
+    BadFileName {
+        /// The instance name.
+        name: String,
+        /// The output text.
+        output: String,
+        /// The file name.
+        file: String,
+    },
+}
+
+/// Sample inputs for [`check_source`].
+#[derive(Debug, Clone, Default)]
+pub struct Samples {
+    /// Requests the source must build (each on fresh instances).
+    pub good: Vec<BuildRequest>,
+    /// Requests the source must refuse with an error (each on a fresh instance).
+    pub bad: Vec<BuildRequest>,
+    /// Operation texts planned after each good build; a plan or a refusal is fine.
+    pub operations: Vec<String>,
+    /// Output texts rendered after each good build; files or a refusal are fine.
+    pub outputs: Vec<String>,
+}
+
+/// A build request on an empty system with no earlier sources, relative paths resolved against
+/// the current directory.
+pub fn request(name: &str, config: &str) -> BuildRequest {
+    BuildRequest {
+        name: name.to_string(),
+        config: config.to_string(),
+        base_dir: ".".into(),
+        system: ConstraintSystem::new(),
+        values: Values::default(),
+        sources: Vec::new(),
+    }
+}
+
+/// Runs `f`, turning a panic into [`ConformanceError::Panicked`].
+fn no_panic<T>(call: String, f: impl FnOnce() -> T) -> Result<T, ConformanceError> {
+    catch_unwind(AssertUnwindSafe(f)).map_err(|payload| {
+        let message = if let Some(s) = payload.downcast_ref::<&str>() {
+            (*s).to_string()
+        } else if let Some(s) = payload.downcast_ref::<String>() {
+            s.clone()
+        } else {
+            "a panic with a non-string payload".to_string()
+        };
+        ConformanceError::Panicked { call, message }
+    })
+}
+
+/// Checks an error message: non-empty, and naming the instance when `name` is given.
+fn check_message(call: &str, name: Option<&str>, message: &str) -> Result<(), ConformanceError> {
+    let poor = |problem: &str| ConformanceError::PoorError {
+        call: call.to_string(),
+        problem: problem.to_string(),
+        message: message.to_string(),
+    };
+    if message.trim().is_empty() {
+        return Err(poor("is empty"));
+    }
+    if let Some(name) = name {
+        if !message.contains(name) {
+            return Err(poor(&format!("does not name the instance {name:?}")));
+        }
+    }
+    Ok(())
+}
+
+/// True for stable report keys: `snake_case` ASCII, starting with a letter.
+fn is_snake_case(key: &str) -> bool {
+    let mut chars = key.chars();
+    chars.next().is_some_and(|c| c.is_ascii_lowercase())
+        && chars.all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_')
+        && !key.ends_with('_')
+        && !key.contains("__")
+}
+
+/// Checks the contribution of instance `name` against the rules that need no second build:
+/// it applies to `system`/`values`, names are prefixed, summary keys are stable `snake_case`.
+/// Returns the system and values with the contribution applied.
+pub fn check_contribution(
+    name: &str,
+    contribution: &Contribution,
+    system: &ConstraintSystem,
+    values: &Values,
+) -> Result<(ConstraintSystem, Values), ConformanceError> {
+    let unprefixed = |what: &str, found: &str, expected: String| ConformanceError::Unprefixed {
+        name: name.to_string(),
+        what: what.to_string(),
+        found: found.to_string(),
+        expected,
+    };
+    let param_prefix = format!("{name}.");
+    for p in &contribution.parameters {
+        if !p.name.starts_with(&param_prefix) || p.name.len() == param_prefix.len() {
+            return Err(unprefixed("parameter", &p.name, format!("\"{name}.…\"")));
+        }
+    }
+    let label_prefix = format!("{name}:");
+    for row in &contribution.rows {
+        if !row.label.starts_with(&label_prefix) {
+            return Err(unprefixed(
+                "row label",
+                &row.label,
+                format!("\"{name}: …\""),
+            ));
+        }
+        if row.origin.source != name {
+            return Err(unprefixed(
+                "row origin",
+                &row.origin.source,
+                format!("origin.source == {name:?}"),
+            ));
+        }
+    }
+    let mut keys = BTreeSet::new();
+    for item in &contribution.summary {
+        let bad = |problem: &str| ConformanceError::SummaryKey {
+            name: name.to_string(),
+            key: item.key.clone(),
+            problem: problem.to_string(),
+        };
+        if !is_snake_case(&item.key) {
+            return Err(bad(
+                "is not snake_case (lowercase letters, digits, single underscores)",
+            ));
+        }
+        if !keys.insert(item.key.as_str()) {
+            return Err(bad("is given twice"));
+        }
+    }
+    let mut system = system.clone();
+    let mut values = values.clone();
+    contribution
+        .apply_to(&mut system, &mut values)
+        .map_err(|error| ConformanceError::DoesNotApply {
+            name: name.to_string(),
+            error,
+        })?;
+    Ok((system, values))
+}
+
+/// Builds `request` once (no panic, no refusal) and checks the contribution with
+/// [`check_contribution`]. Returns the contribution.
+pub fn check_build(
+    source: &mut dyn ConstraintSource,
+    request: &BuildRequest,
+) -> Result<Contribution, ConformanceError> {
+    let name = &request.name;
+    let contribution =
+        no_panic(format!("build of {name:?}"), || source.build(request))?.map_err(|e| {
+            ConformanceError::Refused {
+                name: name.clone(),
+                message: e.message,
+            }
+        })?;
+    check_contribution(name, &contribution, &request.system, &request.values)?;
+    Ok(contribution)
+}
+
+/// Builds `request` on two fresh instances and checks both contributions
+/// ([`check_build`]) and that they are identical.
+pub fn check_deterministic(
+    first: &mut dyn ConstraintSource,
+    second: &mut dyn ConstraintSource,
+    request: &BuildRequest,
+) -> Result<Contribution, ConformanceError> {
+    let a = check_build(first, request)?;
+    let b = check_build(second, request)?;
+    if let Some(difference) = first_difference(&a, &b) {
+        return Err(ConformanceError::NotDeterministic {
+            name: request.name.clone(),
+            difference,
+        });
+    }
+    Ok(a)
+}
+
+/// The first place two contributions differ, in words.
+fn first_difference(a: &Contribution, b: &Contribution) -> Option<String> {
+    if a == b {
+        return None;
+    }
+    fn list<T: PartialEq + std::fmt::Debug>(what: &str, a: &[T], b: &[T]) -> Option<String> {
+        if a.len() != b.len() {
+            return Some(format!("{} vs {} {what}", a.len(), b.len()));
+        }
+        a.iter()
+            .zip(b)
+            .position(|(x, y)| x != y)
+            .map(|i| format!("{what} #{i}: {:?} vs {:?}", a[i], b[i]))
+    }
+    list("parameters", &a.parameters, &b.parameters)
+        .or_else(|| list("rows", &a.rows, &b.rows))
+        .or_else(|| list("summary items", &a.summary, &b.summary))
+        .or_else(|| list("warnings", &a.warnings, &b.warnings))
+}
+
+/// Builds `request` expecting a refusal: an error whose message names the instance, and no
+/// panic. Returns the message.
+pub fn check_refuses(
+    source: &mut dyn ConstraintSource,
+    request: &BuildRequest,
+) -> Result<String, ConformanceError> {
+    let call = format!("build of {:?}", request.name);
+    match no_panic(call.clone(), || source.build(request))? {
+        Ok(_) => Err(ConformanceError::AcceptedBadConfig {
+            name: request.name.clone(),
+            config: request.config.clone(),
+        }),
+        Err(e) => {
+            check_message(&call, Some(&request.name), &e.message)?;
+            Ok(e.message)
+        }
+    }
+}
+
+/// Plans each operation and renders each output on a built source over `system`/`values` (the
+/// system with its contribution applied). Answers must be well formed, refusals must have a
+/// message, and nothing may panic.
+pub fn check_plan_and_render(
+    source: &dyn ConstraintSource,
+    name: &str,
+    system: &ConstraintSystem,
+    values: &Values,
+    operations: &[String],
+    outputs: &[String],
+) -> Result<(), ConformanceError> {
+    for operation in operations {
+        let call = format!("plan of {name:?} for {operation:?}");
+        let request = PlanRequest {
+            operation: operation.clone(),
+            system: system.clone(),
+            values: values.clone(),
+        };
+        match no_panic(call.clone(), || source.plan(&request))? {
+            Ok(plan) => check_plan(name, operation, system, &plan)?,
+            Err(e) => check_message(&call, None, &e.message)?,
+        }
+    }
+    for output in outputs {
+        let call = format!("render of {name:?} for {output:?}");
+        let request = RenderRequest {
+            output: output.clone(),
+            base_dir: ".".into(),
+            system: system.clone(),
+            initial: values.clone(),
+            values: values.clone(),
+            highlight: None,
+            structure: None,
+        };
+        match no_panic(call.clone(), || source.render(&request))? {
+            Ok(files) => {
+                for file in files {
+                    if file.name.is_empty()
+                        || file.name.contains(['/', '\\'])
+                        || file.name.starts_with('.')
+                    {
+                        return Err(ConformanceError::BadFileName {
+                            name: name.to_string(),
+                            output: output.clone(),
+                            file: file.name,
+                        });
+                    }
+                }
+            }
+            Err(e) => check_message(&call, None, &e.message)?,
+        }
+    }
+    Ok(())
+}
+
+fn check_plan(
+    name: &str,
+    operation: &str,
+    system: &ConstraintSystem,
+    plan: &OperationPlan,
+) -> Result<(), ConformanceError> {
+    let bad = |problem: String| ConformanceError::BadPlan {
+        name: name.to_string(),
+        operation: operation.to_string(),
+        problem,
+    };
+    let dims = |ids: &[crate::system::ParamId]| -> Result<Vec<usize>, ConformanceError> {
+        ids.iter()
+            .map(|id| {
+                system
+                    .param(*id)
+                    .map(|p| p.dim)
+                    .ok_or_else(|| bad(format!("parameter {id} does not exist")))
+            })
+            .collect()
+    };
+    let anchor_dims = dims(&plan.anchors)?;
+    let derived_dims = dims(&plan.derived)?;
+    if plan.weights.len() != plan.derived.len() {
+        return Err(bad(format!(
+            "{} weights for {} derived parameters",
+            plan.weights.len(),
+            plan.derived.len()
+        )));
+    }
+    for (k, step) in plan.steps.iter().enumerate() {
+        let sizes = |values: &[Vec<crate::exact::Rational>]| -> Vec<usize> {
+            values.iter().map(Vec::len).collect()
+        };
+        if sizes(&step.anchors) != anchor_dims || sizes(&step.hints) != derived_dims {
+            return Err(bad(format!(
+                "step {k} does not give one value of the right dimension per anchor and derived parameter"
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// Runs every check on the samples, with fresh instances from `make`:
+///
+/// * kind and version are non-empty and the same for every instance;
+/// * each good request builds identically on two instances ([`check_deterministic`]), and the
+///   first instance then plans [`Samples::operations`] and renders [`Samples::outputs`]
+///   ([`check_plan_and_render`]);
+/// * each bad request is refused ([`check_refuses`]).
+///
+/// Returns the contributions of the good requests, in order. For a dynamic plugin, `make` is
+/// `|| Box::new(plugin.instantiate())`.
+pub fn check_source(
+    make: &mut dyn FnMut() -> Box<dyn ConstraintSource>,
+    samples: &Samples,
+) -> Result<Vec<Contribution>, ConformanceError> {
+    let mut make = {
+        let constructor = make;
+        move || no_panic("the constructor".to_string(), &mut *constructor)
+    };
+    let reference = make()?;
+    let (kind, version) = (
+        reference.kind().to_string(),
+        reference.version().to_string(),
+    );
+    if kind.trim().is_empty() || version.trim().is_empty() {
+        return Err(ConformanceError::Identity {
+            problem: format!("kind {kind:?} and version {version:?} must not be empty"),
+        });
+    }
+    let same_identity = |source: &dyn ConstraintSource| {
+        if source.kind() == kind && source.version() == version {
+            Ok(())
+        } else {
+            Err(ConformanceError::Identity {
+                problem: format!(
+                    "one instance is {kind:?} {version:?}, another {:?} {:?}",
+                    source.kind(),
+                    source.version()
+                ),
+            })
+        }
+    };
+    let mut contributions = Vec::with_capacity(samples.good.len());
+    for request in &samples.good {
+        let mut first = make()?;
+        let mut second = make()?;
+        same_identity(first.as_ref())?;
+        same_identity(second.as_ref())?;
+        let contribution = check_deterministic(first.as_mut(), second.as_mut(), request)?;
+        let (system, values) = check_contribution(
+            &request.name,
+            &contribution,
+            &request.system,
+            &request.values,
+        )?;
+        check_plan_and_render(
+            first.as_ref(),
+            &request.name,
+            &system,
+            &values,
+            &samples.operations,
+            &samples.outputs,
+        )?;
+        contributions.push(contribution);
+    }
+    for request in &samples.bad {
+        let mut source = make()?;
+        same_identity(source.as_ref())?;
+        check_refuses(source.as_mut(), request)?;
+    }
+    Ok(contributions)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::source::{NewParameter, OutputFile, SourceError, SummaryItem};
+    use crate::system::{ConstraintRow, Origin, ParamId, RowBody};
+
+    /// A source whose misbehaviour is chosen by its configuration text.
+    #[derive(Default)]
+    struct Fixture {
+        calls: usize,
+    }
+
+    impl ConstraintSource for Fixture {
+        fn kind(&self) -> &str {
+            "fixture"
+        }
+        fn version(&self) -> &str {
+            "0.1.0"
+        }
+        fn build(&mut self, request: &BuildRequest) -> Result<Contribution, SourceError> {
+            self.calls += 1;
+            let name = &request.name;
+            let param = |n: &str| NewParameter {
+                name: n.to_string(),
+                value: vec![crate::exact::Rational::from_integer(0.into())],
+            };
+            let row = |label: String, source: &str, id: u32| ConstraintRow {
+                label,
+                origin: Origin {
+                    source: source.to_string(),
+                    item: "x".into(),
+                },
+                body: RowBody::Vector {
+                    terms: vec![(ParamId(id), 1.into())],
+                    rhs: vec![0.into()],
+                },
+            };
+            let good = Contribution {
+                parameters: vec![param(&format!("{name}.x"))],
+                rows: vec![row(format!("{name}: x = 0"), name, 0)],
+                summary: vec![SummaryItem {
+                    key: "rows".into(),
+                    value: 1,
+                }],
+                warnings: vec![],
+            };
+            match request.config.as_str() {
+                "good" => Ok(good),
+                "panic" => panic!("fixture panics"),
+                "refuse" => Err(SourceError::new(format!("{name}: refused"))),
+                "mute" => Err(SourceError::new("")),
+                "unprefixed" => Ok(Contribution {
+                    parameters: vec![param("x")],
+                    ..good
+                }),
+                "label" => Ok(Contribution {
+                    rows: vec![row("x = 0".into(), name, 0)],
+                    ..good
+                }),
+                "origin" => Ok(Contribution {
+                    rows: vec![row(format!("{name}: x = 0"), "other", 0)],
+                    ..good
+                }),
+                "key" => Ok(Contribution {
+                    summary: vec![SummaryItem {
+                        key: "Control Points".into(),
+                        value: 1,
+                    }],
+                    ..good
+                }),
+                "twice" => Ok(Contribution {
+                    summary: vec![good.summary[0].clone(), good.summary[0].clone()],
+                    ..good
+                }),
+                "dangling" => Ok(Contribution {
+                    rows: vec![row(format!("{name}: x = 0"), name, 7)],
+                    ..good
+                }),
+                "counter" => Ok(Contribution {
+                    summary: vec![SummaryItem {
+                        key: "calls".into(),
+                        value: COUNTER.fetch_add(1, std::sync::atomic::Ordering::SeqCst),
+                    }],
+                    ..good
+                }),
+                _ => Err(SourceError::new(format!("{name}: unknown test config"))),
+            }
+        }
+        fn plan(&self, request: &PlanRequest) -> Result<OperationPlan, SourceError> {
+            match request.operation.as_str() {
+                "panic" => panic!("plan panics"),
+                "dangling" => Ok(OperationPlan {
+                    anchors: vec![ParamId(9)],
+                    derived: vec![],
+                    weights: vec![],
+                    strong: false,
+                    steps: vec![],
+                    summary: vec![],
+                }),
+                _ => Err(SourceError::new("fixture: no operations")),
+            }
+        }
+        fn render(&self, request: &RenderRequest) -> Result<Vec<OutputFile>, SourceError> {
+            match request.output.as_str() {
+                "escape" => Ok(vec![OutputFile {
+                    name: "../x.svg".into(),
+                    bytes: vec![],
+                }]),
+                _ => Ok(vec![OutputFile {
+                    name: "x.svg".into(),
+                    bytes: vec![],
+                }]),
+            }
+        }
+    }
+
+    static COUNTER: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+
+    fn samples(good: &[&str], bad: &[&str]) -> Samples {
+        Samples {
+            good: good.iter().map(|c| request("f", c)).collect(),
+            bad: bad.iter().map(|c| request("f", c)).collect(),
+            operations: vec!["(move: 1)".into()],
+            outputs: vec!["(picture: \"x.svg\")".into()],
+        }
+    }
+
+    fn check(good: &[&str], bad: &[&str]) -> Result<Vec<Contribution>, ConformanceError> {
+        check_source(&mut || Box::new(Fixture::default()), &samples(good, bad))
+    }
+
+    #[test]
+    fn a_conforming_source_passes() {
+        let contributions = check(&["good"], &["refuse", "whatever"]).expect("conforms");
+        assert_eq!(contributions.len(), 1);
+        assert_eq!(contributions[0].parameters[0].name, "f.x");
+    }
+
+    #[test]
+    fn each_broken_rule_is_named() {
+        let cases: &[(&[&str], &[&str], &str)] = &[
+            (&["panic"], &[], "panicked: fixture panics"),
+            (&[], &["panic"], "panicked"),
+            (&["refuse"], &[], "refused a good configuration"),
+            (&[], &["good"], "accepted a bad configuration"),
+            (&[], &["mute"], "is empty"),
+            (&["unprefixed"], &[], "parameter \"x\""),
+            (&["label"], &[], "row label"),
+            (&["origin"], &[], "row origin"),
+            (&["key"], &[], "not snake_case"),
+            (&["twice"], &[], "given twice"),
+            (&["dangling"], &[], "does not apply"),
+            (&["counter"], &[], "differently: summary items #0"),
+        ];
+        for (good, bad, needle) in cases {
+            let error = check(good, bad).expect_err(needle).to_string();
+            assert!(error.contains(needle), "{needle}: {error}");
+        }
+        // Plan and render answers are checked too.
+        let mut source = Fixture::default();
+        let built = check_build(&mut source, &request("f", "good")).expect("builds");
+        let (system, values) =
+            check_contribution("f", &built, &ConstraintSystem::new(), &Values::default())
+                .expect("applies");
+        for (operation, output, needle) in [
+            ("panic", "x", "plan of \"f\" for \"panic\" panicked"),
+            ("dangling", "x", "parameter #9 does not exist"),
+            ("x", "escape", "\"../x.svg\""),
+        ] {
+            let error = check_plan_and_render(
+                &source,
+                "f",
+                &system,
+                &values,
+                &[operation.into()],
+                &[output.into()],
+            )
+            .expect_err(needle)
+            .to_string();
+            assert!(error.contains(needle), "{needle}: {error}");
+        }
+    }
+
+    #[test]
+    fn snake_case_keys() {
+        for good in ["control_points", "c2_conditions", "x"] {
+            assert!(is_snake_case(good), "{good}");
+        }
+        for bad in [
+            "",
+            "Control",
+            "control-points",
+            "_x",
+            "x_",
+            "a__b",
+            "2d",
+            "a b",
+        ] {
+            assert!(!is_snake_case(bad), "{bad}");
+        }
+    }
+}

@@ -1,0 +1,216 @@
+//! New constraint types as external plugins, end to end: the bundled `c2` and `align` example
+//! runs through the real binary with the plugins loaded from their dynamic libraries, and a
+//! plugin of another ABI version refused with both versions named.
+
+mod common;
+
+use common::{ecles, expect_bad_input, library, read_report, root, stderr, temp};
+use serde_json::Value;
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::process::Output;
+
+/// Runs the bundled example `examples/{name}.ron` with its plugin libraries taken from this
+/// test's build (the example names `../target/release/<stem>`; the copy names the library
+/// built for this test's profile). Meshes and models are read from the examples directory.
+fn run_example(name: &str, stems: &[&str]) -> (tempfile::TempDir, Output, PathBuf) {
+    let examples = root().join("examples");
+    let mut text =
+        std::fs::read_to_string(examples.join(format!("{name}.ron"))).expect("bundled example");
+    for stem in stems {
+        let written = format!("\"../target/release/{stem}\"");
+        assert!(text.contains(&written), "{name}.ron loads {stem}");
+        text = text.replace(
+            &written,
+            &format!("{:?}", library(stem).display().to_string()),
+        );
+    }
+    for dir in ["meshes", "models"] {
+        let absolute = format!("\"{}/", examples.join(dir).display());
+        text = text.replace(&format!("\"{dir}/"), &absolute);
+    }
+    let dir = temp();
+    let run = dir.path().join(format!("{name}.ron"));
+    std::fs::write(&run, text).expect("write run file");
+    let out = dir.path().join("out");
+    let o = ecles(&[
+        "run",
+        &run.display().to_string(),
+        "--quiet",
+        "--out",
+        &out.display().to_string(),
+    ]);
+    (dir, o, out)
+}
+
+/// The exact values of every parameter an edit changed, the later edit winning.
+fn final_values(report: &Value) -> BTreeMap<String, Vec<String>> {
+    let mut values = BTreeMap::new();
+    for edit in report["edits"].as_array().expect("edits") {
+        for v in edit["values"].as_array().expect("values") {
+            let exact = v["exact"]
+                .as_array()
+                .expect("exact coordinates")
+                .iter()
+                .map(|c| c.as_str().expect("rational text").to_string())
+                .collect();
+            values.insert(v["name"].as_str().expect("name").to_string(), exact);
+        }
+    }
+    values
+}
+
+fn labels(list: &Value) -> Vec<String> {
+    list.as_array()
+        .expect("labels")
+        .iter()
+        .map(|l| l.as_str().expect("label").to_string())
+        .collect()
+}
+
+#[test]
+fn the_c2_plugin_makes_the_worm_c2_and_its_edits_keep_every_condition() {
+    let (_dir, o, out) = run_example("c2", &["plugins_c2"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let report = read_report(&out);
+    let c2 = &report["sources"][1];
+    assert_eq!(c2["plugin"], "c2");
+    assert!(c2["loaded_from"].is_string(), "{c2}");
+    // Degree 9 on the worm (6 triangles in a strip, 5 interior edges, no interior vertex):
+    // dim S^2_9 = C(11, 2) + 5·C(8, 2) = 55 + 140 = 195 (Schumaker), and the system has one
+    // independent row per coordinate per lost degree of freedom.
+    let points = report["sources"][0]["counts"]["control_points"]
+        .as_u64()
+        .expect("count");
+    assert_eq!(points, 280);
+    assert_eq!(c2["counts"]["conditions"], 5 * 8);
+    assert_eq!(report["rank"], 2 * (points - 195));
+    assert_eq!(report["redundant"].as_array().map(Vec::len), Some(0));
+    for edit in report["edits"].as_array().expect("edits") {
+        assert_eq!(edit["solvable"], true, "{edit}");
+        assert_eq!(edit["max_residual"], "0");
+        assert_eq!(edit["float_agrees"], true, "{edit}");
+        assert!(
+            edit["rank"].as_u64() > Some(0),
+            "the C2 rows take part: {edit}"
+        );
+    }
+    assert!(out.join("c2-worm.svg").is_file());
+    assert!(out.join("worm-model-deformed.obj").is_file());
+}
+
+#[test]
+fn an_alignment_that_over_constrains_the_spline_is_named_and_edits_breaking_it_are_refused() {
+    let (_dir, o, out) = run_example("align", &["plugins_align"]);
+    // One edit is refused on purpose: exit status 1, report still written.
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    let report = read_report(&out);
+    assert_eq!(report["consistent"], true);
+
+    // The pinned bump: four pinned points and the C1 condition tying them — structurally
+    // over-determined (10 rows on 8 coordinates), with labels from both plugins.
+    let over = &report["structure"]["over"];
+    assert_eq!(
+        (over["rows"].as_u64(), over["columns"].as_u64()),
+        (Some(10), Some(8))
+    );
+    let over_rows = labels(&over["row_labels"]);
+    assert!(
+        over_rows.contains(&"worm: C1 edge 1-2 #0[0]".to_string()),
+        "{over_rows:?}"
+    );
+    assert!(
+        over_rows.contains(&"align: worm.v1 x = 12".to_string()),
+        "{over_rows:?}"
+    );
+    // ... and exactly: one redundant row per coordinate, each an exact combination of rows of
+    // both sources.
+    let redundant = report["redundant"].as_array().expect("redundant rows");
+    assert_eq!(redundant.len(), 2);
+    for r in redundant {
+        let rows: Vec<&str> = r["combination"]
+            .as_array()
+            .expect("combination")
+            .iter()
+            .map(|t| t["row"].as_str().expect("row label"))
+            .chain([r["row"].as_str().expect("row label")])
+            .collect();
+        assert!(rows.iter().any(|l| l.starts_with("worm: C1")), "{rows:?}");
+        assert!(rows.iter().any(|l| l.starts_with("align: ")), "{rows:?}");
+    }
+
+    let edits = report["edits"].as_array().expect("edits");
+    for edit in &edits[..2] {
+        assert_eq!(edit["solvable"], true, "{edit}");
+        assert_eq!(edit["max_residual"], "0");
+    }
+    let refused = &edits[2];
+    assert_eq!(refused["solvable"], false);
+    let message = refused["error"].as_str().expect("reason");
+    assert!(message.contains("align: worm.v1 x = 12"), "{message}");
+
+    // Every alignment holds exactly after the edits.
+    let values = final_values(&report);
+    let at = |name: &str, initial: [&str; 2]| -> Vec<String> {
+        values
+            .get(name)
+            .cloned()
+            .unwrap_or_else(|| initial.iter().map(|c| c.to_string()).collect())
+    };
+    let (v0, v4) = (at("worm.v0", ["0", "0"]), at("worm.v4", ["48", "0"]));
+    assert_eq!(v0[1], v4[1], "SameY(v0, v4)");
+    let (v5, v7) = (at("worm.v5", ["60", "11"]), at("worm.v7", ["84", "11"]));
+    assert_ne!(v7, ["84", "11"], "the tail moved");
+    assert_eq!(v5[1], v7[1], "Offset(v7, v5, (24, 0)) in y");
+    assert_eq!(at("worm.v1", ["12", "17"]), ["12", "17"], "Fixed(v1)");
+    assert!(out.join("align-worm.svg").is_file());
+}
+
+#[test]
+fn a_plugin_of_another_abi_version_is_refused_naming_both_versions() {
+    // A library whose probe answers ABI version 999 (its entry aborts if ever called).
+    let dir = temp();
+    let fixture = root().join("crates/plugin-abi/tests/fixtures/fake_plugin.rs");
+    let library = dir
+        .path()
+        .join(plugin_abi::library_file_name("fake_old_abi"));
+    let rustc = std::env::var_os("RUSTC").unwrap_or_else(|| "rustc".into());
+    let status = std::process::Command::new(rustc)
+        .args(["--edition", "2021", "--crate-type", "cdylib"])
+        .args([
+            "--crate-name",
+            "fake_old_abi",
+            "--cfg",
+            "variant=\"old_abi\"",
+        ])
+        .arg("-o")
+        .arg(&library)
+        .arg(&fixture)
+        .status()
+        .expect("rustc runs");
+    assert!(status.success(), "compiling the fixture failed");
+    let expected = format!("version {}", plugin_abi::abi::ABI_VERSION);
+    expect_bad_input(
+        &format!(
+            r#"(sources: [(name: "old", plugin: {:?}, config: ())])"#,
+            library.display().to_string()
+        ),
+        &["version 999", &expected, &library.display().to_string()],
+    );
+    // `ecles plugins --path` says the same.
+    let o = ecles(&["plugins", "--path", &library.display().to_string()]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("version 999"), "{}", stderr(&o));
+}
+
+#[test]
+fn a_missing_plugin_library_is_named() {
+    let missing: &Path = Path::new("no/such/plugins_c2");
+    expect_bad_input(
+        &format!(
+            r#"(sources: [(name: "c", plugin: {:?}, config: ())])"#,
+            missing
+        ),
+        &[&plugin_abi::library_file_name("plugins_c2"), "not found"],
+    );
+}
