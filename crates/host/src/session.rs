@@ -79,8 +79,14 @@ impl Session {
     }
 
     fn build_source(&mut self, entry: &runfile::SourceEntry) -> Result<(), InputError> {
-        let (mut source, origin) = registry::instantiate(&entry.plugin, &self.base_dir)
-            .map_err(|e| InputError(format!("source {:?}: {e}", entry.name)))?;
+        let (mut source, origin) =
+            registry::instantiate(&entry.plugin, &self.base_dir).map_err(|e| {
+                InputError(format!(
+                    "{}: source {:?}: {e}",
+                    self.run_path.display(),
+                    entry.name
+                ))
+            })?;
         let config = runfile::to_ron_text(&entry.config);
         let request = BuildRequest {
             name: entry.name.clone(),
@@ -101,16 +107,21 @@ impl Session {
         };
         let contribution = source.build(&request).map_err(|e| {
             InputError(format!(
-                "source {:?} (plugin {}): {}",
-                entry.name, entry.plugin, e.message
+                "{}: source {:?} (plugin {}): {}",
+                self.run_path.display(),
+                entry.name,
+                entry.plugin,
+                e.message
             ))
         })?;
         contribution
             .apply_to(&mut self.system, &mut self.values)
             .map_err(|e| {
                 InputError(format!(
-                    "source {:?} (plugin {}) contributed invalid data: {e}",
-                    entry.name, entry.plugin
+                    "{}: source {:?} (plugin {}) contributed invalid data: {e}",
+                    self.run_path.display(),
+                    entry.name,
+                    entry.plugin
                 ))
             })?;
         let report = SourceReport {
