@@ -235,7 +235,7 @@ fn integer_row(terms: Vec<(Coord, Rational)>, rhs: Rational) -> (Vec<(Coord, Int
         for (_, v) in ints.iter_mut() {
             *v = &*v / &divisor;
         }
-        q = q / &divisor;
+        q /= &divisor;
     }
     (ints, q)
 }
