@@ -1,0 +1,597 @@
+//! Height fields: terrains given as a regular grid of heights, read from an ESRI ASCII grid
+//! (`.asc`) or a plain whitespace grid, and turned into a triangulated [`Model`].
+//!
+//! # ESRI ASCII grid
+//! ```text
+//! ncols         33
+//! nrows         33
+//! xllcorner     -0.625      (or xllcenter: the centre of the lower-left sample)
+//! yllcorner     -0.625      (or yllcenter)
+//! cellsize      1.25
+//! NODATA_value  -9999       (optional)
+//! 3.5 3.75 ...              nrows × ncols heights, the first row is the northernmost
+//! ```
+//! Keywords are case-insensitive and may come in any order before the data. Heights are samples
+//! at the cell centres: with `xllcorner` the centre of the lower-left cell is at
+//! `xllcorner + cellsize/2`. Values may be split over lines freely; exactly `nrows · ncols`
+//! values must follow the header.
+//!
+//! # Plain grid
+//! One row of heights per line, every row with the same number of values, the first line the
+//! northernmost row (as in an ESRI grid without its header); samples are one unit apart and the
+//! lower-left sample is at `(0, 0)`. Empty lines and `#` comments are ignored.
+//!
+//! Every number (header and heights) is read exactly ([`api::parse_rational`]): sample
+//! positions `x0 + column · cellsize` are computed exactly and rounded to `f64` once, and a
+//! height equals `NODATA_value` exactly or not at all. Errors name the file, the line and the
+//! column.
+
+use api::exact::rational_to_f64;
+use api::{parse_rational, Rational};
+use num_traits::{Signed, Zero};
+use plugins_spline2d::model::Model;
+use std::path::Path;
+
+/// Why a height field could not be read. File, line and column are 1-based.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum HeightFieldError {
+    /// The file could not be read.
+    #[error("{file}: cannot read the height field: {message}")]
+    Io {
+        /// The file.
+        file: String,
+        /// The underlying error.
+        message: String,
+    },
+    /// Something wrong at a place in the text.
+    #[error("{file}:{line}:{column}: {message}")]
+    Syntax {
+        /// The file (or the name given to the parser).
+        file: String,
+        /// Line of the offending item.
+        line: usize,
+        /// Column (in characters) of the offending item.
+        column: usize,
+        /// What is wrong.
+        message: String,
+    },
+    /// Something missing at the end of the text (a header keyword, values).
+    #[error("{file}: {message}")]
+    Incomplete {
+        /// The file.
+        file: String,
+        /// What is missing.
+        message: String,
+    },
+}
+
+/// A regular grid of heights.
+#[derive(Debug, Clone, PartialEq)]
+pub struct HeightField {
+    /// Samples per row (west to east).
+    pub columns: usize,
+    /// Rows (south to north).
+    pub rows: usize,
+    /// Position of the south-west sample, exact.
+    pub origin: [Rational; 2],
+    /// Distance between neighbouring samples, exact and positive.
+    pub cell: Rational,
+    /// Heights row by row from the south-west sample (`rows · columns` entries), `None` where
+    /// the file has `NODATA_value`.
+    pub heights: Vec<Option<f64>>,
+}
+
+/// A token of the text with its 1-based line and column.
+#[derive(Debug, Clone, Copy)]
+struct Token<'a> {
+    text: &'a str,
+    line: usize,
+    column: usize,
+}
+
+/// Splits `line` (number `line_number`) into whitespace-separated tokens, stopping at `#` when
+/// `comments` is set.
+fn tokens(line: &str, line_number: usize, comments: bool) -> Vec<Token<'_>> {
+    let content = if comments {
+        line.split('#').next().unwrap_or("")
+    } else {
+        line
+    };
+    let mut out = Vec::new();
+    let mut start: Option<(usize, usize)> = None; // (byte, column)
+    for (column, (byte, c)) in content.char_indices().enumerate() {
+        match (c.is_whitespace(), start) {
+            (true, Some((from, col))) => {
+                out.push(Token {
+                    text: &content[from..byte],
+                    line: line_number,
+                    column: col + 1,
+                });
+                start = None;
+            }
+            (false, None) => start = Some((byte, column)),
+            _ => {}
+        }
+    }
+    if let Some((from, col)) = start {
+        out.push(Token {
+            text: &content[from..],
+            line: line_number,
+            column: col + 1,
+        });
+    }
+    out
+}
+
+impl HeightField {
+    /// Reads a height field from a file: an ESRI ASCII grid when the extension is `.asc`
+    /// (any case), a plain grid otherwise.
+    pub fn read(path: &Path) -> Result<HeightField, HeightFieldError> {
+        let file = path.display().to_string();
+        let bytes = std::fs::read(path).map_err(|e| HeightFieldError::Io {
+            file: file.clone(),
+            message: e.to_string(),
+        })?;
+        let text = String::from_utf8(bytes).map_err(|e| HeightFieldError::Io {
+            file: file.clone(),
+            message: format!("not UTF-8 text ({e})"),
+        })?;
+        if is_esri(path) {
+            Self::parse_esri(&text, &file)
+        } else {
+            Self::parse_plain(&text, &file)
+        }
+    }
+
+    /// Reads an ESRI ASCII grid from text; `file` names it in errors.
+    pub fn parse_esri(text: &str, file: &str) -> Result<HeightField, HeightFieldError> {
+        let syntax = |t: &Token<'_>, message: String| HeightFieldError::Syntax {
+            file: file.to_string(),
+            line: t.line,
+            column: t.column,
+            message,
+        };
+        let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+        let mut header: Vec<(String, Token<'_>, Token<'_>)> = Vec::new();
+        let mut data: Vec<Token<'_>> = Vec::new();
+        for (number, line) in text.lines().enumerate() {
+            let toks = tokens(line, number + 1, false);
+            let Some(first) = toks.first() else { continue };
+            let is_keyword = first
+                .text
+                .chars()
+                .next()
+                .is_some_and(|c| c.is_ascii_alphabetic());
+            if !is_keyword {
+                data.extend(toks);
+                continue;
+            }
+            if !data.is_empty() {
+                return Err(syntax(
+                    first,
+                    format!(
+                        "header keyword {:?} after the first height value (the header comes first)",
+                        first.text
+                    ),
+                ));
+            }
+            let key = first.text.to_ascii_lowercase();
+            match toks.as_slice() {
+                [k, v] => {
+                    if header.iter().any(|(existing, _, _)| *existing == key) {
+                        return Err(syntax(
+                            k,
+                            format!("header keyword {:?} given twice", k.text),
+                        ));
+                    }
+                    header.push((key, *k, *v));
+                }
+                [k] => {
+                    return Err(syntax(
+                        k,
+                        format!("header keyword {:?} has no value", k.text),
+                    ))
+                }
+                [_, _, extra, ..] => {
+                    return Err(syntax(
+                        extra,
+                        format!("unexpected {:?} after the header value", extra.text),
+                    ))
+                }
+                [] => {}
+            }
+        }
+        let known = [
+            "ncols",
+            "nrows",
+            "xllcorner",
+            "xllcenter",
+            "yllcorner",
+            "yllcenter",
+            "cellsize",
+            "nodata_value",
+        ];
+        if let Some((_, k, _)) = header
+            .iter()
+            .find(|(key, _, _)| !known.contains(&key.as_str()))
+        {
+            return Err(syntax(
+                k,
+                format!(
+                    "unknown header keyword {:?} (expected ncols, nrows, xllcorner or xllcenter, \
+                     yllcorner or yllcenter, cellsize, NODATA_value)",
+                    k.text
+                ),
+            ));
+        }
+        let find = |key: &str| header.iter().find(|(k, _, _)| k == key).map(|(_, _, v)| *v);
+        let missing = |what: &str| HeightFieldError::Incomplete {
+            file: file.to_string(),
+            message: format!("the header has no {what}"),
+        };
+        let count = |key: &str| -> Result<usize, HeightFieldError> {
+            let v = find(key).ok_or_else(|| missing(key))?;
+            v.text
+                .parse::<usize>()
+                .ok()
+                .filter(|n| *n >= 2)
+                .ok_or_else(|| {
+                    syntax(
+                        &v,
+                        format!("{key} must be an integer of at least 2, got {:?}", v.text),
+                    )
+                })
+        };
+        let columns = count("ncols")?;
+        let rows = count("nrows")?;
+        let number = |v: &Token<'_>| -> Result<Rational, HeightFieldError> {
+            parse_rational(v.text).map_err(|e| HeightFieldError::Syntax {
+                file: file.to_string(),
+                line: v.line,
+                column: v.column + e.column - 1,
+                message: format!("invalid number {:?}: {}", v.text, e.message),
+            })
+        };
+        let cell_token = find("cellsize").ok_or_else(|| missing("cellsize"))?;
+        let cell = number(&cell_token)?;
+        if !cell.is_positive() {
+            return Err(syntax(&cell_token, "cellsize must be positive".into()));
+        }
+        let half = &cell / Rational::from_integer(2.into());
+        let mut origin = Vec::with_capacity(2);
+        for axis in ["x", "y"] {
+            let corner = find(&format!("{axis}llcorner"));
+            let center = find(&format!("{axis}llcenter"));
+            origin.push(match (corner, center) {
+                (Some(v), None) => number(&v)? + &half,
+                (None, Some(v)) => number(&v)?,
+                (Some(_), Some(v)) => {
+                    return Err(syntax(
+                        &v,
+                        format!("give {axis}llcorner or {axis}llcenter, not both"),
+                    ))
+                }
+                (None, None) => return Err(missing(&format!("{axis}llcorner or {axis}llcenter"))),
+            });
+        }
+        let nodata = match find("nodata_value") {
+            Some(v) => Some(number(&v)?),
+            None => None,
+        };
+        let expected = columns * rows;
+        if data.len() != expected {
+            return match data.get(expected) {
+                Some(extra) => Err(syntax(
+                    extra,
+                    format!(
+                        "{} values after the header, but ncols × nrows = {columns} × {rows} = {expected}",
+                        data.len()
+                    ),
+                )),
+                None => Err(HeightFieldError::Incomplete {
+                    file: file.to_string(),
+                    message: format!(
+                        "{} values after the header, but ncols × nrows = {columns} × {rows} = {expected}",
+                        data.len()
+                    ),
+                }),
+            };
+        }
+        // The file lists rows from the north; store them from the south.
+        let mut heights = vec![None; expected];
+        for (k, token) in data.iter().enumerate() {
+            let value = number(token)?;
+            let (row_from_top, column) = (k / columns, k % columns);
+            let row = rows - 1 - row_from_top;
+            heights[row * columns + column] = if nodata.as_ref() == Some(&value) {
+                None
+            } else {
+                Some(rational_to_f64(&value))
+            };
+        }
+        let [x, y]: [Rational; 2] = [origin[0].clone(), origin[1].clone()];
+        Ok(HeightField {
+            columns,
+            rows,
+            origin: [x, y],
+            cell,
+            heights,
+        })
+    }
+
+    /// Reads a plain whitespace grid from text; `file` names it in errors.
+    pub fn parse_plain(text: &str, file: &str) -> Result<HeightField, HeightFieldError> {
+        let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+        let mut lines: Vec<Vec<Token<'_>>> = Vec::new();
+        for (number, line) in text.lines().enumerate() {
+            let toks = tokens(line, number + 1, true);
+            if toks.is_empty() {
+                continue;
+            }
+            if let Some(first) = lines.first() {
+                if toks.len() != first.len() {
+                    let at = toks.get(first.len()).copied().unwrap_or(Token {
+                        text: "",
+                        line: number + 1,
+                        column: line.chars().count() + 1,
+                    });
+                    return Err(HeightFieldError::Syntax {
+                        file: file.to_string(),
+                        line: at.line,
+                        column: at.column,
+                        message: format!(
+                            "this row has {} values, the first row (line {}) has {}",
+                            toks.len(),
+                            first[0].line,
+                            first.len()
+                        ),
+                    });
+                }
+            }
+            lines.push(toks);
+        }
+        let columns = lines.first().map_or(0, Vec::len);
+        let rows = lines.len();
+        if columns < 2 || rows < 2 {
+            return Err(HeightFieldError::Incomplete {
+                file: file.to_string(),
+                message: format!(
+                    "a height field needs at least 2 rows of 2 values, found {rows} rows of {columns}"
+                ),
+            });
+        }
+        let mut heights = vec![None; rows * columns];
+        for (row_from_top, line) in lines.iter().enumerate() {
+            let row = rows - 1 - row_from_top;
+            for (column, token) in line.iter().enumerate() {
+                let value = parse_rational(token.text).map_err(|e| HeightFieldError::Syntax {
+                    file: file.to_string(),
+                    line: token.line,
+                    column: token.column + e.column - 1,
+                    message: format!("invalid height {:?}: {}", token.text, e.message),
+                })?;
+                heights[row * columns + column] = Some(rational_to_f64(&value));
+            }
+        }
+        Ok(HeightField {
+            columns,
+            rows,
+            origin: [Rational::zero(), Rational::zero()],
+            cell: Rational::from_integer(1.into()),
+            heights,
+        })
+    }
+
+    /// The exact position of the sample in `column` (from the west) and `row` (from the south).
+    pub fn position_exact(&self, column: usize, row: usize) -> [Rational; 2] {
+        let step = |k: usize| &self.cell * Rational::from_integer(k.into());
+        [&self.origin[0] + step(column), &self.origin[1] + step(row)]
+    }
+
+    /// The sample position rounded to `f64` (once, from the exact value).
+    pub fn position(&self, column: usize, row: usize) -> [f64; 2] {
+        self.position_exact(column, row)
+            .map(|c| rational_to_f64(&c))
+    }
+
+    /// Number of samples without data.
+    pub fn missing(&self) -> usize {
+        self.heights.iter().filter(|h| h.is_none()).count()
+    }
+
+    /// The terrain as a model: one vertex `(x, y, height)` per sample with data, numbered row by
+    /// row from the south-west, and two counter-clockwise triangles per grid cell (split by the
+    /// rising diagonal), leaving out triangles with a corner without data. A full
+    /// `n × m` grid gives `n·m` vertices and `2(n−1)(m−1)` triangles.
+    pub fn to_model(&self) -> Model {
+        let mut index = vec![usize::MAX; self.heights.len()];
+        let mut positions = Vec::with_capacity(self.heights.len());
+        // Exact positions per column and row, rounded once.
+        let xs: Vec<f64> = (0..self.columns).map(|c| self.position(c, 0)[0]).collect();
+        let ys: Vec<f64> = (0..self.rows).map(|r| self.position(0, r)[1]).collect();
+        for (row, y) in ys.iter().enumerate() {
+            for (column, x) in xs.iter().enumerate() {
+                let k = row * self.columns + column;
+                if let Some(h) = self.heights[k] {
+                    index[k] = positions.len();
+                    positions.push([*x, *y, h]);
+                }
+            }
+        }
+        let mut triangles = Vec::with_capacity(2 * (self.rows - 1) * (self.columns - 1));
+        let at = |column: usize, row: usize| index[row * self.columns + column];
+        for row in 0..self.rows - 1 {
+            for column in 0..self.columns - 1 {
+                let (sw, se) = (at(column, row), at(column + 1, row));
+                let (nw, ne) = (at(column, row + 1), at(column + 1, row + 1));
+                for tri in [[sw, se, ne], [sw, ne, nw]] {
+                    if tri.iter().all(|&v| v != usize::MAX) {
+                        triangles.push(tri);
+                    }
+                }
+            }
+        }
+        Model {
+            positions,
+            triangles,
+        }
+    }
+}
+
+/// True for a path with the extension `.asc` (any case).
+pub fn is_esri(path: &Path) -> bool {
+    path.extension()
+        .is_some_and(|e| e.to_string_lossy().eq_ignore_ascii_case("asc"))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn q(n: i64, d: i64) -> Rational {
+        Rational::new(n.into(), d.into())
+    }
+
+    const SMALL: &str = "ncols 3\nNROWS 2\nxllcorner -0.625\nyllcenter 10\ncellsize 1.25\n\
+                         NODATA_value -9999\n1 2 3\n4.5 -9999 0.1\n";
+
+    #[test]
+    fn reads_an_esri_grid_exactly() {
+        let field = HeightField::parse_esri(SMALL, "small.asc").expect("valid");
+        assert_eq!((field.columns, field.rows), (3, 2));
+        // xllcorner -0.625 + 1.25/2 = 0 exactly.
+        assert_eq!(field.origin, [q(0, 1), q(10, 1)]);
+        assert_eq!(field.cell, q(5, 4));
+        // Rows are stored from the south: the last line of the file is row 0.
+        assert_eq!(
+            field.heights,
+            vec![Some(4.5), None, Some(0.1), Some(1.0), Some(2.0), Some(3.0)]
+        );
+        assert_eq!(field.position(2, 1), [2.5, 11.25]);
+        assert_eq!(field.missing(), 1);
+        let model = field.to_model();
+        assert_eq!(model.positions.len(), 5);
+        // Of the 4 triangles of the 2 cells, the 3 touching the missing sample are left out.
+        assert_eq!(model.triangles.len(), 1);
+        assert_eq!(model.positions[0], [0.0, 10.0, 4.5]);
+    }
+
+    #[test]
+    fn a_full_grid_has_two_triangles_per_cell() {
+        let mut text =
+            String::from("ncols 33\nnrows 33\nxllcenter 0\nyllcenter 0\ncellsize 1.25\n");
+        for r in 0..33 {
+            let row: Vec<String> = (0..33).map(|c| format!("{}.5", r + c)).collect();
+            text.push_str(&row.join(" "));
+            text.push('\n');
+        }
+        let model = HeightField::parse_esri(&text, "t.asc")
+            .expect("valid")
+            .to_model();
+        assert_eq!(model.positions.len(), 1089);
+        assert_eq!(model.triangles.len(), 2048);
+        assert_eq!(model.positions[1088], [40.0, 40.0, 32.5]);
+    }
+
+    #[test]
+    fn reads_a_plain_grid() {
+        let field =
+            HeightField::parse_plain("# heights\n1 2\n\n3 4 # south row\n", "g.txt").expect("ok");
+        assert_eq!(
+            field.heights,
+            vec![Some(3.0), Some(4.0), Some(1.0), Some(2.0)]
+        );
+        assert_eq!(field.position(1, 1), [1.0, 1.0]);
+        assert_eq!(field.to_model().triangles, vec![[0, 1, 3], [0, 3, 2]]);
+    }
+
+    #[test]
+    fn malformed_grids_name_file_line_and_column() {
+        let header = "ncols 2\nnrows 2\nxllcorner 0\nyllcorner 0\ncellsize 1\n";
+        for (text, expected) in [
+            (
+                format!("{header}1 2\n3 4x\n"),
+                "bad.asc:7:4: invalid number \"4x\"",
+            ),
+            (
+                format!("{header}1 2\n3\n"),
+                "bad.asc: 3 values after the header, but ncols × nrows = 2 × 2 = 4",
+            ),
+            (format!("{header}1 2\n3 4 5\n"), "bad.asc:7:5: 5 values"),
+            (
+                format!("{header}1 2\ncellsize 2\n3 4\n"),
+                "bad.asc:7:1: header keyword \"cellsize\" after",
+            ),
+            (
+                header.replace("nrows 2", "nrows 1"),
+                "bad.asc:2:7: nrows must be an integer of at least 2",
+            ),
+            (
+                header.replace("cellsize 1", "cellsize -1"),
+                "bad.asc:5:10: cellsize must be positive",
+            ),
+            (
+                header.replace("cellsize 1", "cellsize"),
+                "bad.asc:5:1: header keyword \"cellsize\" has no value",
+            ),
+            (
+                header.replace("cellsize 1\n", ""),
+                "bad.asc: the header has no cellsize",
+            ),
+            (
+                header.replace("ncols 2", "ncols 2\nncols 3"),
+                "bad.asc:2:1: header keyword \"ncols\" given twice",
+            ),
+            (
+                header.replace("xllcorner 0", "xllcorner 0\nxllcenter 1"),
+                "bad.asc:4:11: give xllcorner or xllcenter",
+            ),
+            (
+                header.replace("yllcorner 0", "dy 1"),
+                "bad.asc:4:1: unknown header keyword \"dy\"",
+            ),
+            (
+                header.replace("yllcorner 0", ""),
+                "bad.asc: the header has no yllcorner or yllcenter",
+            ),
+            (
+                header.replace("xllcorner 0", "xllcorner 0 1"),
+                "bad.asc:3:13: unexpected \"1\"",
+            ),
+            (
+                header.replace("xllcorner 0", "xllcorner 1/0"),
+                "bad.asc:3:13: invalid number \"1/0\"",
+            ),
+        ] {
+            let error = HeightField::parse_esri(&text, "bad.asc").expect_err(&text);
+            assert!(
+                error.to_string().starts_with(expected),
+                "{error}\nexpected: {expected}"
+            );
+        }
+        for (text, expected) in [
+            (
+                "1 2\n3 4 5\n",
+                "bad.txt:2:5: this row has 3 values, the first row (line 1) has 2",
+            ),
+            ("1 2 3\n4 5\n", "bad.txt:2:4: this row has 2 values"),
+            ("1 2\n3 -\n", "bad.txt:2:4: invalid height \"-\""),
+            ("1 2\n3 1.5.2\n", "bad.txt:2:6: invalid height \"1.5.2\""),
+            ("1 2\n", "bad.txt: a height field needs at least 2 rows"),
+        ] {
+            let error = HeightField::parse_plain(text, "bad.txt").expect_err(text);
+            assert!(
+                error.to_string().starts_with(expected),
+                "{error}\nexpected: {expected}"
+            );
+        }
+        let missing = HeightField::read(Path::new("no/such/terrain.asc")).expect_err("missing");
+        assert!(
+            missing
+                .to_string()
+                .starts_with("no/such/terrain.asc: cannot read"),
+            "{missing}"
+        );
+        assert!(is_esri(Path::new("a/B.ASC")) && !is_esri(Path::new("a.txt")));
+    }
+}
