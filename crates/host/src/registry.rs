@@ -4,6 +4,7 @@ use api::ConstraintSource;
 use plugin_abi::{library_file_name, load, LoadError};
 use plugins_linear::LinearSource;
 use plugins_spline2d::plugin::Spline2dSource;
+use plugins_terrain::plugin::TerrainSource;
 use std::path::{Path, PathBuf};
 
 /// A built-in source kind with its constructor.
@@ -24,6 +25,10 @@ pub fn builtins() -> Vec<Builtin> {
         Builtin {
             kind: "spline2d",
             make: || Box::new(Spline2dSource::default()),
+        },
+        Builtin {
+            kind: "terrain",
+            make: || Box::new(TerrainSource::default()),
         },
     ]
 }
