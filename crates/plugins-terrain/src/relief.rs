@@ -3,8 +3,9 @@
 //! points) drawn over it.
 //!
 //! The model's triangles are rasterised into a height buffer (the highest surface wins, as seen
-//! from above); the shading uses the slope of that buffer (Horn's 3 × 3 estimate, as GIS
-//! hillshades do), so it shows the deformed surface itself. Several panels share one [`View`]
+//! from above) with normals interpolated from the vertex normals of the (deformed) surface
+//! (Phong shading: smooth light over a faceted mesh); point clouds are shaded from the slope of
+//! the height buffer (Horn's 3 × 3 estimate, as GIS hillshades do). Several panels share one [`View`]
 //! (the same window and the same height colours), so "before" and "after" pictures compare
 //! pixel for pixel. Everything is computed in `f64` with a fixed order of operations and
 //! encoded with fixed PNG settings: the same input gives the same bytes.
@@ -145,16 +146,48 @@ impl View {
     }
 }
 
-/// The highest surface per pixel (`NaN` where there is none).
-fn rasterise(model: &Model, view: &View) -> Vec<f64> {
+/// Unit normals per vertex: the area-weighted sum of the normals of the vertex's triangles,
+/// each turned to face up (a surface seen from above).
+fn vertex_normals(model: &Model) -> Vec<[f64; 3]> {
+    let mut normals = vec![[0.0f64; 3]; model.positions.len()];
+    for tri in &model.triangles {
+        let [a, b, c] = tri.map(|v| model.positions[v]);
+        let (u, v) = (
+            [0, 1, 2].map(|k| b[k] - a[k]),
+            [0, 1, 2].map(|k| c[k] - a[k]),
+        );
+        let mut n = [
+            u[1] * v[2] - u[2] * v[1],
+            u[2] * v[0] - u[0] * v[2],
+            u[0] * v[1] - u[1] * v[0],
+        ];
+        if n[2] < 0.0 {
+            n = n.map(|x| -x);
+        }
+        if n.iter().all(|x| x.is_finite()) {
+            for &vertex in tri {
+                for k in 0..3 {
+                    normals[vertex][k] += n[k];
+                }
+            }
+        }
+    }
+    normals
+}
+
+/// What is seen from above, per pixel.
+struct Raster {
+    /// Height of the highest surface (`NaN` where there is none).
+    heights: Vec<f64>,
+    /// Its normal, interpolated from the vertex normals (unnormalised); `None` for point
+    /// clouds, which are shaded from the slope of the height buffer.
+    normals: Option<Vec<[f64; 3]>>,
+}
+
+/// Rasterises a model seen from above: the highest surface per pixel wins.
+fn rasterise(model: &Model, view: &View) -> Raster {
     let (w, h) = (view.width as usize, view.height as usize);
     let mut heights = vec![f64::NAN; w * h];
-    let mut put = |i: usize, j: usize, z: f64| {
-        let cell = &mut heights[j * w + i];
-        if cell.is_nan() || z > *cell {
-            *cell = z;
-        }
-    };
     let pixel_range = |lo: f64, hi: f64, n: usize| -> Option<(usize, usize)> {
         // Pixel centres i + 0.5 within [lo, hi].
         let first = (lo - 0.5).ceil().max(0.0);
@@ -165,11 +198,19 @@ fn rasterise(model: &Model, view: &View) -> Vec<f64> {
         for p in &model.positions {
             let [x, y] = view.pixel_of([p[0], p[1]]);
             if x >= 0.0 && y >= 0.0 && x < w as f64 && y < h as f64 && p[2].is_finite() {
-                put(x as usize, y as usize, p[2]);
+                let cell = &mut heights[y as usize * w + x as usize];
+                if cell.is_nan() || p[2] > *cell {
+                    *cell = p[2];
+                }
             }
         }
-        return heights;
+        return Raster {
+            heights,
+            normals: None,
+        };
     }
+    let vertex_normals = vertex_normals(model);
+    let mut normals = vec![[0.0f64; 3]; w * h];
     for tri in &model.triangles {
         let corners = tri.map(|v| model.positions[v]);
         if corners.iter().flatten().any(|c| !c.is_finite()) {
@@ -186,6 +227,7 @@ fn rasterise(model: &Model, view: &View) -> Vec<f64> {
         let (Some((i0, i1)), Some((j0, j1))) = (xs, ys) else {
             continue;
         };
+        let corner_normals = tri.map(|v| vertex_normals[v]);
         for j in j0..=j1 {
             let y = j as f64 + 0.5;
             for i in i0..=i1 {
@@ -193,17 +235,26 @@ fn rasterise(model: &Model, view: &View) -> Vec<f64> {
                 let w0 = ((b[0] - x) * (c[1] - y) - (b[1] - y) * (c[0] - x)) / area;
                 let w1 = ((c[0] - x) * (a[1] - y) - (c[1] - y) * (a[0] - x)) / area;
                 let w2 = 1.0 - w0 - w1;
-                if w0 >= slack && w1 >= slack && w2 >= slack {
-                    put(
-                        i,
-                        j,
-                        w0 * corners[0][2] + w1 * corners[1][2] + w2 * corners[2][2],
-                    );
+                if w0 < slack || w1 < slack || w2 < slack {
+                    continue;
+                }
+                let z = w0 * corners[0][2] + w1 * corners[1][2] + w2 * corners[2][2];
+                let k = j * w + i;
+                if heights[k].is_nan() || z > heights[k] {
+                    heights[k] = z;
+                    normals[k] = [0, 1, 2].map(|axis| {
+                        w0 * corner_normals[0][axis]
+                            + w1 * corner_normals[1][axis]
+                            + w2 * corner_normals[2][axis]
+                    });
                 }
             }
         }
     }
-    heights
+    Raster {
+        heights,
+        normals: Some(normals),
+    }
 }
 
 /// The colour of a height `t ∈ [0, 1]` of the range.
@@ -219,46 +270,59 @@ fn tint(t: f64) -> [f64; 3] {
     TINTS[TINTS.len() - 1].1
 }
 
-/// Hillshade and height colours of a height buffer, as RGB.
-fn shade(heights: &[f64], view: &View) -> Vec<[f64; 3]> {
+/// The normal of the height buffer at pixel `(i, j)` from its slope (Horn's 3 × 3 estimate;
+/// missing neighbours count as the centre height), unnormalised.
+fn slope_normal(heights: &[f64], view: &View, i: usize, j: usize) -> [f64; 3] {
+    let (w, h) = (view.width as isize, view.height as isize);
+    let centre = heights[j * view.width as usize + i];
+    let z = |di: isize, dj: isize| -> f64 {
+        let (x, y) = (i as isize + di, j as isize + dj);
+        if x < 0 || y < 0 || x >= w || y >= h {
+            return centre;
+        }
+        let v = heights[(y * w + x) as usize];
+        if v.is_nan() {
+            centre
+        } else {
+            v
+        }
+    };
+    let east = (z(1, -1) + 2.0 * z(1, 0) + z(1, 1)) - (z(-1, -1) + 2.0 * z(-1, 0) + z(-1, 1));
+    // Rows grow southwards, so north is dj = −1.
+    let north = (z(-1, -1) + 2.0 * z(0, -1) + z(1, -1)) - (z(-1, 1) + 2.0 * z(0, 1) + z(1, 1));
+    let pixel = 1.0 / view.scale;
+    [-east / (8.0 * pixel), -north / (8.0 * pixel), 1.0]
+}
+
+/// Hillshade and height colours, as RGB.
+fn shade(raster: &Raster, view: &View) -> Vec<[f64; 3]> {
     let (w, h) = (view.width as usize, view.height as usize);
     let (az, alt) = (SUN_AZIMUTH.to_radians(), SUN_ALTITUDE.to_radians());
     let sun = [az.sin() * alt.cos(), az.cos() * alt.cos(), alt.sin()];
-    let pixel = 1.0 / view.scale;
     let range = view.high - view.low;
     let background = BACKGROUND.map(f64::from);
     let mut out = Vec::with_capacity(w * h);
     for j in 0..h {
         for i in 0..w {
-            let centre = heights[j * w + i];
-            if centre.is_nan() {
+            let k = j * w + i;
+            let height = raster.heights[k];
+            if height.is_nan() {
                 out.push(background);
                 continue;
             }
-            // Neighbour (di, dj), the centre where there is none.
-            let z = |di: isize, dj: isize| -> f64 {
-                let (x, y) = (i as isize + di, j as isize + dj);
-                if x < 0 || y < 0 || x >= w as isize || y >= h as isize {
-                    return centre;
-                }
-                let v = heights[y as usize * w + x as usize];
-                if v.is_nan() {
-                    centre
-                } else {
-                    v
-                }
+            let n = match &raster.normals {
+                Some(normals) => normals[k],
+                None => slope_normal(&raster.heights, view, i, j),
             };
-            let east =
-                (z(1, -1) + 2.0 * z(1, 0) + z(1, 1)) - (z(-1, -1) + 2.0 * z(-1, 0) + z(-1, 1));
-            // Rows grow southwards, so north is dj = −1.
-            let north =
-                (z(-1, -1) + 2.0 * z(0, -1) + z(1, -1)) - (z(-1, 1) + 2.0 * z(0, 1) + z(1, 1));
-            let (dx, dy) = (east / (8.0 * pixel), north / (8.0 * pixel));
-            let norm = (dx * dx + dy * dy + 1.0).sqrt();
-            let lit = ((-dx * sun[0] - dy * sun[1] + sun[2]) / norm).max(0.0);
+            let norm = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+            let lit = if norm > 0.0 {
+                ((n[0] * sun[0] + n[1] * sun[1] + n[2] * sun[2]) / norm).max(0.0)
+            } else {
+                sun[2]
+            };
             let brightness = AMBIENT + (1.0 - AMBIENT) * lit;
             let t = if range > 0.0 {
-                (centre - view.low) / range
+                (height - view.low) / range
             } else {
                 0.5
             };
@@ -311,8 +375,8 @@ fn blend(under: [f64; 3], over: [f64; 3], alpha: f64) -> [f64; 3] {
 /// Draws a panel as PNG bytes.
 pub fn render(panel: &Panel<'_>, view: &View) -> Result<Vec<u8>, ReliefError> {
     let (w, h) = (view.width as usize, view.height as usize);
-    let heights = rasterise(panel.model, view);
-    let mut rgb = shade(&heights, view);
+    let raster = rasterise(panel.model, view);
+    let mut rgb = shade(&raster, view);
     let line = LINE.map(f64::from);
     for (pixel, c) in rgb.iter_mut().zip(line_coverage(panel.lines, view)) {
         if c > 0.0 {
