@@ -785,6 +785,9 @@ mod tests {
 
     #[test]
     fn passes_the_conformance_checks() {
+        let dir = tempfile::tempdir().expect("temporary directory");
+        let terrain = dir.path().join("t.txt");
+        std::fs::write(&terrain, "0 1 2\n1 2 3\n2 3 4\n").expect("write");
         let mut earlier = ConstraintSystem::new();
         earlier.add_parameter("earlier", 1).expect("fresh name");
         let on_earlier = BuildRequest {
@@ -810,7 +813,13 @@ mod tests {
                 r#"(mode: "xy", anchors: ["v4"], translate: ("1", "0"))"#.into(),
                 r#"(mode: "z2", anchors: ["v4"], dz: "3")"#.into(),
             ],
-            outputs: vec![r#"(picture: "x.png")"#.into()],
+            outputs: vec![
+                r#"(picture: "x.png")"#.into(),
+                format!(
+                    r#"(model: {:?}, picture: "x.png", size: 32)"#,
+                    terrain.display().to_string()
+                ),
+            ],
         };
         let contributions =
             conformance::check_source(&mut || Box::new(TerrainSource::default()), &samples)
