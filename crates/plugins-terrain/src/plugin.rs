@@ -184,18 +184,15 @@ struct Built {
 }
 
 impl Built {
-    /// The surfaces' control values in `values`.
-    fn positions(&self, values: &Values) -> [Option<Vec<Vec<Rational>>>; 3] {
-        [
-            Some(self.bottom.positions(values)),
-            Some(self.top.positions(values)),
-            self.xy.as_ref().map(|p| p.positions(values)),
-        ]
+    /// The parameters of each surface, in [`SURFACES`] order (`None` for `φ` without `xy`).
+    fn surfaces(&self) -> [Option<&SplineParams>; 3] {
+        [Some(&self.bottom), Some(&self.top), self.xy.as_ref()]
     }
 
     /// `ψ` for the control values in `values`.
     fn psi(&self, values: &Values) -> Result<Psi, SourceError> {
-        let last = [Some(&self.bottom), Some(&self.top), self.xy.as_ref()]
+        let last = self
+            .surfaces()
             .iter()
             .flatten()
             .flat_map(|p| p.ids.last())
@@ -209,8 +206,9 @@ impl Built {
                 values.len()
             )));
         }
-        let [bottom, top, xy] = self.positions(values);
-        let (bottom, top) = (bottom.unwrap_or_default(), top.unwrap_or_default());
+        let bottom = self.bottom.positions(values);
+        let top = self.top.positions(values);
+        let xy = self.xy.as_ref().map(|p| p.positions(values));
         Psi::new(
             &self.spline,
             &self.layer,
@@ -223,9 +221,9 @@ impl Built {
         .map_err(|e| SourceError::new(format!("{}: {e}", self.name)))
     }
 
-    /// The surface and control point of a parameter of this source.
+    /// The surface ([`SURFACES`] index) and control point of a parameter of this source.
     fn point_of(&self, id: ParamId) -> Option<(usize, usize)> {
-        [Some(&self.bottom), Some(&self.top), self.xy.as_ref()]
+        self.surfaces()
             .iter()
             .enumerate()
             .find_map(|(s, params)| params.and_then(|p| p.point_of(id)).map(|point| (s, point)))
@@ -509,10 +507,12 @@ impl ConstraintSource for TerrainSource {
         };
         let picture_stem = match &config.picture {
             Some(name) => match name.strip_suffix(".png") {
-                Some(stem) if !stem.is_empty() => Some(stem.to_string()),
+                Some(stem) if !stem.is_empty() && !stem.contains(['/', '\\']) => {
+                    Some(stem.to_string())
+                }
                 _ => {
                     return Err(error(&format!(
-                        "picture must be a file name ending in .png, not {name:?}"
+                        "picture must be a file name (no directories) ending in .png, not {name:?}"
                     )))
                 }
             },
@@ -897,6 +897,7 @@ mod tests {
         };
         assert!(render("(picture: \"x.png\")").contains("give the model"));
         assert!(render("(model: \"t.asc\", picture: \"x.svg\")").contains("ending in .png"));
+        assert!(render("(model: \"t.asc\", picture: \"d/x.png\")").contains("no directories"));
         assert!(render("(model: \"no/such.asc\")").contains("no/such.asc: cannot read"));
         let message = TerrainSource::default()
             .render(&RenderRequest {
