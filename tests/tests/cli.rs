@@ -79,6 +79,50 @@ fn a_rejected_edit_exits_1_and_names_the_constraint() {
 }
 
 #[test]
+fn model_vertices_outside_the_mesh_are_reported() {
+    let (dir, run, out) = run_file(&format!(
+        r#"(
+            sources: [(name: "g", plugin: "spline2d", config: (mesh: {mesh:?}))],
+            edits: [Source(source: "g", operation: (anchors: ["v4"], neighborhood: 2, translate: ("3", "1")))],
+            outputs: [(source: "g", output: (model: "far.obj"))],
+        )"#,
+        mesh = root()
+            .join("examples/meshes/grid.obj")
+            .display()
+            .to_string()
+    ));
+    // Vertices 1 and 3 lie outside the 40 × 40 reference grid.
+    std::fs::write(
+        dir.path().join("far.obj"),
+        "v 10 10 0\nv 50 10 0\nv 30 30 1\nv -1 5 2\nf 1 2 3\n",
+    )
+    .expect("write model");
+    let o = ecles(&[
+        "run",
+        &run.display().to_string(),
+        "--out",
+        &out.display().to_string(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let note = "2 model vertices outside the reference mesh left in place (0-based): 1, 3";
+    let report = read_report(&out);
+    assert_eq!(
+        report["output_notes"],
+        serde_json::json!([{ "file": "far-deformed.obj", "note": note }])
+    );
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        stdout.contains(&format!("note: far-deformed.obj: {note}")),
+        "{stdout}"
+    );
+    let obj = std::fs::read_to_string(out.join("far-deformed.obj")).expect("model written");
+    assert!(
+        obj.contains("\nv 50 10 0\n") && obj.contains("\nv -1 5 2\n"),
+        "{obj}"
+    );
+}
+
+#[test]
 fn float_and_exact_disagree_on_the_near_degenerate_mesh() {
     let o = ecles(&["analyze", "examples/near-degenerate.ron", "--json"]);
     assert!(o.status.success(), "{}", stderr(&o));

@@ -176,6 +176,19 @@ pub enum ConformanceError {
         /// The file name.
         file: String,
     },
+    /// Render attached a note that is blank or spans several lines (the host prints each note
+    /// on one line of its summary).
+    #[error("render of {name:?} for {output:?} attached the note {note:?} to {file:?}; notes must be one non-blank line")]
+    BadNote {
+        /// The instance name.
+        name: String,
+        /// The output text.
+        output: String,
+        /// The file name.
+        file: String,
+        /// The note.
+        note: String,
+    },
 }
 
 /// Sample inputs for [`check_source`].
@@ -432,6 +445,18 @@ pub fn check_plan_and_render(
                             file: file.name,
                         });
                     }
+                    if let Some(note) = file
+                        .notes
+                        .iter()
+                        .find(|n| n.trim().is_empty() || n.contains(['\n', '\r']))
+                    {
+                        return Err(ConformanceError::BadNote {
+                            name: name.to_string(),
+                            output: output.clone(),
+                            file: file.name.clone(),
+                            note: note.clone(),
+                        });
+                    }
                 }
             }
             Err(e) => check_message(&call, None, &e.message)?,
@@ -659,14 +684,11 @@ mod tests {
         }
         fn render(&self, request: &RenderRequest) -> Result<Vec<OutputFile>, SourceError> {
             match request.output.as_str() {
-                "escape" => Ok(vec![OutputFile {
-                    name: "../x.svg".into(),
-                    bytes: vec![],
-                }]),
-                _ => Ok(vec![OutputFile {
-                    name: "x.svg".into(),
-                    bytes: vec![],
-                }]),
+                "escape" => Ok(vec![OutputFile::new("../x.svg", vec![])]),
+                "note" => Ok(vec![
+                    OutputFile::new("x.svg", vec![]).with_note("two\nlines")
+                ]),
+                _ => Ok(vec![OutputFile::new("x.svg", vec![]).with_note("fine")]),
             }
         }
     }
@@ -723,6 +745,7 @@ mod tests {
             ("panic", "x", "plan of \"f\" for \"panic\" panicked"),
             ("dangling", "x", "parameter #9 does not exist"),
             ("x", "escape", "\"../x.svg\""),
+            ("x", "note", "notes must be one non-blank line"),
         ] {
             let error = check_plan_and_render(
                 &source,

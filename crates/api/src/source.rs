@@ -189,6 +189,29 @@ pub struct OutputFile {
     pub name: String,
     /// Contents.
     pub bytes: Vec<u8>,
+    /// What a person should know about the file that its contents alone do not make obvious
+    /// (model vertices left in place because they lie outside the deformed region, say). The
+    /// host puts them in the run report and prints them. Optional in the JSON exchanged with
+    /// dynamic plugins, so plugins built before the field existed still load.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub notes: Vec<String>,
+}
+
+impl OutputFile {
+    /// A file without notes.
+    pub fn new(name: impl Into<String>, bytes: Vec<u8>) -> Self {
+        OutputFile {
+            name: name.into(),
+            bytes,
+            notes: Vec::new(),
+        }
+    }
+
+    /// The same file with one more note.
+    pub fn with_note(mut self, note: impl Into<String>) -> Self {
+        self.notes.push(note.into());
+        self
+    }
 }
 
 /// Why a source refused a request.

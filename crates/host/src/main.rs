@@ -209,6 +209,15 @@ fn run_command(run: &Path, out: Option<PathBuf>, quiet: bool, strict: bool) -> R
             .map(|e| e.disagreements.len())
             .sum::<usize>();
     report.outputs = files.iter().map(|f| f.name.clone()).collect();
+    report.output_notes = files
+        .iter()
+        .flat_map(|f| {
+            f.notes.iter().map(|note| report::OutputNote {
+                file: f.name.clone(),
+                note: note.clone(),
+            })
+        })
+        .collect();
 
     let out_dir = out.unwrap_or_else(|| default_out_dir(run));
     std::fs::create_dir_all(&out_dir)
@@ -276,6 +285,9 @@ fn run_command(run: &Path, out: Option<PathBuf>, quiet: bool, strict: bool) -> R
                 )
             }
         );
+        for n in &report.output_notes {
+            println!("note: {}: {}", n.file, n.note);
+        }
     }
     let failed = report.summary.failed > 0 || (strict && report.summary.disagreements > 0);
     Ok(if failed {

@@ -39,8 +39,20 @@ pub struct Report {
     pub edits: Vec<EditReport>,
     /// Files written by outputs.
     pub outputs: Vec<String>,
+    /// What the sources said about the files they wrote (model vertices a deformation left
+    /// in place, say), in output order.
+    pub output_notes: Vec<OutputNote>,
     /// Totals.
     pub summary: Summary,
+}
+
+/// A source's note on one of the files it wrote.
+#[derive(Debug, Clone, Serialize)]
+pub struct OutputNote {
+    /// The file name.
+    pub file: String,
+    /// The note (one line).
+    pub note: String,
 }
 
 /// A row that depends on the independent rows.

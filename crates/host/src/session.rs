@@ -169,6 +169,7 @@ impl Session {
             structure: a.structure,
             edits: Vec::new(),
             outputs: Vec::new(),
+            output_notes: Vec::new(),
             summary: Summary::default(),
         }
     }

@@ -240,6 +240,36 @@ pub fn deform_model(
     })
 }
 
+/// How many vertex numbers [`left_in_place_note`] lists before it summarises the rest.
+const NOTE_LISTS: usize = 20;
+
+/// A one-line note for the run report about model vertices a deformation left in place
+/// (`where_` says why: "outside the reference mesh"). Vertex numbers are 0-based, as in the
+/// reports; the first twenty are listed, the deformed OBJ's header lists them all.
+pub fn left_in_place_note(vertices: &[usize], where_: &str) -> String {
+    let listed: Vec<String> = vertices
+        .iter()
+        .take(NOTE_LISTS)
+        .map(|v| v.to_string())
+        .collect();
+    let more = vertices.len().saturating_sub(NOTE_LISTS);
+    let tail = if more > 0 {
+        format!(" and {more} more")
+    } else {
+        String::new()
+    };
+    let noun = if vertices.len() == 1 {
+        "vertex"
+    } else {
+        "vertices"
+    };
+    format!(
+        "{} model {noun} {where_} left in place (0-based): {}{tail}",
+        vertices.len(),
+        listed.join(", ")
+    )
+}
+
 /// Formats a coordinate for OBJ output: the shortest decimal that reads back to the same
 /// `f64` (Rust's `Display`), never in exponent form, with `-0` written as `0`. Deterministic.
 fn number(out: &mut String, x: f64) {
@@ -359,6 +389,23 @@ mod tests {
             let e = parse_model(text, "bad.obj").expect_err(text);
             assert!(e.to_string().starts_with(needle), "{e}");
         }
+    }
+
+    #[test]
+    fn notes_on_vertices_left_in_place() {
+        assert_eq!(
+            left_in_place_note(&[1], "outside the reference mesh"),
+            "1 model vertex outside the reference mesh left in place (0-based): 1"
+        );
+        let many: Vec<usize> = (0..23).collect();
+        let note = left_in_place_note(&many, "outside the reference mesh");
+        assert!(note.starts_with("23 model vertices outside"), "{note}");
+        assert!(
+            note.ends_with(
+                ": 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19 and 3 more"
+            ),
+            "{note}"
+        );
     }
 
     #[test]

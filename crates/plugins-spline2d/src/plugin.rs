@@ -443,10 +443,14 @@ impl ConstraintSource for Spline2dSource {
                 );
             }
             write_obj(&deformed.model, &mut bytes).map_err(|e| error(&e))?;
-            files.push(OutputFile {
-                name: format!("{stem}-deformed.obj"),
-                bytes,
-            });
+            let mut file = OutputFile::new(format!("{stem}-deformed.obj"), bytes);
+            if !deformed.outside.is_empty() {
+                file = file.with_note(crate::model::left_in_place_note(
+                    &deformed.outside,
+                    "outside the reference mesh",
+                ));
+            }
+            files.push(file);
         }
         if let Some(name) = &config.picture {
             let highlight = request.highlight.clone().unwrap_or_default();
@@ -510,10 +514,7 @@ impl ConstraintSource for Spline2dSource {
                 after_picture = after_picture.model(&deformed.model, false, true);
             }
             let svg = before_after(&before_picture, &after_picture).map_err(|e| error(&e))?;
-            files.push(OutputFile {
-                name: name.clone(),
-                bytes: svg.into_bytes(),
-            });
+            files.push(OutputFile::new(name.clone(), svg.into_bytes()));
         }
         if files.is_empty() {
             return Err(SourceError::new(format!(

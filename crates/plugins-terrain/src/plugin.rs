@@ -526,10 +526,17 @@ impl ConstraintSource for TerrainSource {
             .file_stem()
             .map(|s| s.to_string_lossy().into_owned())
             .unwrap_or_else(|| "model".into());
-        let mut files = vec![OutputFile {
-            name: format!("{stem}-deformed.obj"),
-            bytes: deformed_obj(built, &deformed).map_err(|e| error(&e))?,
-        }];
+        let mut model_file = OutputFile::new(
+            format!("{stem}-deformed.obj"),
+            deformed_obj(built, &deformed).map_err(|e| error(&e))?,
+        );
+        for (list, place) in outside_lists(&deformed) {
+            if !list.is_empty() {
+                model_file =
+                    model_file.with_note(plugins_spline2d::model::left_in_place_note(list, place));
+            }
+        }
+        let mut files = vec![model_file];
         if let Some(picture) = picture_stem {
             let initial = before.deform(&model).model;
             let lines = |psi: &Psi| {
@@ -563,10 +570,10 @@ impl ConstraintSource for TerrainSource {
             ];
             let view = View::fit(&panels, config.size).map_err(|e| error(&e))?;
             for (panel, when) in panels.iter().zip(["before", "after"]) {
-                files.push(OutputFile {
-                    name: format!("{picture}-{when}.png"),
-                    bytes: relief::render(panel, &view).map_err(|e| error(&e))?,
-                });
+                files.push(OutputFile::new(
+                    format!("{picture}-{when}.png"),
+                    relief::render(panel, &view).map_err(|e| error(&e))?,
+                ));
             }
         }
         Ok(files)
@@ -582,10 +589,7 @@ fn deformed_obj(built: &Built, deformed: &DeformedModel) -> std::io::Result<Vec<
         api::format_rational(built.layer.top())
     )
     .into_bytes();
-    for (list, place) in [
-        (&deformed.outside_mesh, "outside the reference mesh"),
-        (&deformed.outside_layer, "below the bottom or above the top"),
-    ] {
+    for (list, place) in outside_lists(deformed) {
         if !list.is_empty() {
             // 0-based vertex numbers, as in the reports.
             bytes.extend(
@@ -599,6 +603,14 @@ fn deformed_obj(built: &Built, deformed: &DeformedModel) -> std::io::Result<Vec<
     }
     write_obj(&deformed.model, &mut bytes)?;
     Ok(bytes)
+}
+
+/// The model vertices `ψ` left in place, with where they lie.
+fn outside_lists(deformed: &DeformedModel) -> [(&[usize], &'static str); 2] {
+    [
+        (&deformed.outside_mesh, "outside the reference mesh"),
+        (&deformed.outside_layer, "below the bottom or above the top"),
+    ]
 }
 
 /// The edges of the reference mesh mapped by `φ`, as polylines.
@@ -1097,6 +1109,11 @@ mod tests {
             ),
             "{obj}"
         );
+        assert_eq!(
+            files[0].notes,
+            ["1 model vertex below the bottom or above the top left in place (0-based): 72"]
+        );
+        assert!(files[1..].iter().all(|f| f.notes.is_empty()));
         assert!(obj.contains("81 vertices, 128 triangles"));
         assert!(files[1..].iter().all(|f| f.bytes.starts_with(b"\x89PNG")));
         assert_ne!(files[1].bytes, files[2].bytes);
@@ -1112,6 +1129,10 @@ mod tests {
                 "# 1 vertices outside the reference mesh were left in place (0-based): [1]"
             ),
             "{obj}"
+        );
+        assert_eq!(
+            files[0].notes,
+            ["1 model vertex outside the reference mesh left in place (0-based): 1"]
         );
         assert!(obj.contains("\nv 50 1 0\n"));
     }
