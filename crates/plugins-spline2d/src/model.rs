@@ -245,8 +245,12 @@ const NOTE_LISTS: usize = 20;
 
 /// A one-line note for the run report about model vertices a deformation left in place
 /// (`where_` says why: "outside the reference mesh"). Vertex numbers are 0-based, as in the
-/// reports; the first twenty are listed, the deformed OBJ's header lists them all.
-pub fn left_in_place_note(vertices: &[usize], where_: &str) -> String {
+/// reports; the first twenty are listed, the deformed OBJ's header lists them all. `None` when
+/// no vertex was left in place.
+pub fn left_in_place_note(vertices: &[usize], where_: &str) -> Option<String> {
+    if vertices.is_empty() {
+        return None;
+    }
     let listed: Vec<String> = vertices
         .iter()
         .take(NOTE_LISTS)
@@ -263,11 +267,11 @@ pub fn left_in_place_note(vertices: &[usize], where_: &str) -> String {
     } else {
         "vertices"
     };
-    format!(
+    Some(format!(
         "{} model {noun} {where_} left in place (0-based): {}{tail}",
         vertices.len(),
         listed.join(", ")
-    )
+    ))
 }
 
 /// Formats a coordinate for OBJ output: the shortest decimal that reads back to the same
@@ -393,12 +397,13 @@ mod tests {
 
     #[test]
     fn notes_on_vertices_left_in_place() {
+        assert_eq!(left_in_place_note(&[], "outside the reference mesh"), None);
         assert_eq!(
-            left_in_place_note(&[1], "outside the reference mesh"),
-            "1 model vertex outside the reference mesh left in place (0-based): 1"
+            left_in_place_note(&[1], "outside the reference mesh").as_deref(),
+            Some("1 model vertex outside the reference mesh left in place (0-based): 1")
         );
         let many: Vec<usize> = (0..23).collect();
-        let note = left_in_place_note(&many, "outside the reference mesh");
+        let note = left_in_place_note(&many, "outside the reference mesh").expect("a note");
         assert!(note.starts_with("23 model vertices outside"), "{note}");
         assert!(
             note.ends_with(

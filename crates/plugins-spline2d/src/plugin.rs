@@ -444,12 +444,10 @@ impl ConstraintSource for Spline2dSource {
             }
             write_obj(&deformed.model, &mut bytes).map_err(|e| error(&e))?;
             let mut file = OutputFile::new(format!("{stem}-deformed.obj"), bytes);
-            if !deformed.outside.is_empty() {
-                file = file.with_note(crate::model::left_in_place_note(
-                    &deformed.outside,
-                    "outside the reference mesh",
-                ));
-            }
+            file.notes.extend(crate::model::left_in_place_note(
+                &deformed.outside,
+                "outside the reference mesh",
+            ));
             files.push(file);
         }
         if let Some(name) = &config.picture {

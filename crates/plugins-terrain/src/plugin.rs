@@ -530,12 +530,13 @@ impl ConstraintSource for TerrainSource {
             format!("{stem}-deformed.obj"),
             deformed_obj(built, &deformed).map_err(|e| error(&e))?,
         );
-        for (list, place) in outside_lists(&deformed) {
-            if !list.is_empty() {
-                model_file =
-                    model_file.with_note(plugins_spline2d::model::left_in_place_note(list, place));
-            }
-        }
+        model_file.notes.extend(
+            outside_lists(&deformed)
+                .into_iter()
+                .filter_map(|(list, place)| {
+                    plugins_spline2d::model::left_in_place_note(list, place)
+                }),
+        );
         let mut files = vec![model_file];
         if let Some(picture) = picture_stem {
             let initial = before.deform(&model).model;
