@@ -14,9 +14,10 @@
 //! * **names are prefixed by the instance name**: new parameters are `{name}.…`, row labels
 //!   start with `{name}:` and row origins name the instance;
 //! * **summary keys are stable `snake_case`** (`control_points`), each given once;
-//! * **plan and render answer or refuse gracefully**: an answer is well formed (anchors and
-//!   derived parameters exist, one weight per derived parameter, step sizes match), a refusal
-//!   has a message, and neither panics.
+//! * **checks, plan and render answer or refuse gracefully**: an answer is well formed
+//!   ([`OperationPlan::validate`]: anchors and derived parameters exist, one positive weight per
+//!   derived parameter, step sizes match; rendered files are the ones the output's check
+//!   announced), a refusal has a message, and nothing panics.
 //!
 //! [`check_source`] runs everything on a set of [`Samples`]; the single checks are public for
 //! tests that need only one.
@@ -24,8 +25,9 @@
 //! ```
 //! use api::conformance::{self, Samples};
 //! use api::{
-//!     BuildRequest, ConstraintSource, Contribution, NewParameter, OperationPlan, OutputFile,
-//!     PlanRequest, RenderRequest, SourceError, SummaryItem,
+//!     BuildRequest, ConstraintSource, Contribution, NewParameter, OperationCheckRequest,
+//!     OperationPlan, OutputCheck, OutputCheckRequest, OutputFile, PlanRequest, RenderRequest,
+//!     SourceError, SummaryItem,
 //! };
 //!
 //! /// Declares one scalar parameter `{name}.x = 0`; its configuration must be `()`.
@@ -54,6 +56,12 @@
 //!     fn render(&self, _: &RenderRequest) -> Result<Vec<OutputFile>, SourceError> {
 //!         Err(SourceError::new("zero: no outputs"))
 //!     }
+//!     fn check_operation(&self, _: &OperationCheckRequest) -> Result<(), SourceError> {
+//!         Err(SourceError::new("zero: no operations"))
+//!     }
+//!     fn check_output(&self, _: &OutputCheckRequest) -> Result<OutputCheck, SourceError> {
+//!         Err(SourceError::new("zero: no outputs"))
+//!     }
 //! }
 //!
 //! let samples = Samples {
@@ -67,7 +75,8 @@
 //! ```
 
 use crate::source::{
-    BuildRequest, ConstraintSource, Contribution, OperationPlan, PlanRequest, RenderRequest,
+    BuildRequest, ConstraintSource, Contribution, OperationCheckRequest, OperationPlan,
+    OutputCheckRequest, PlanRequest, RenderRequest,
 };
 use crate::system::{ConstraintSystem, SystemError, Values};
 use std::collections::BTreeSet;
@@ -176,6 +185,18 @@ pub enum ConformanceError {
         /// The file name.
         file: String,
     },
+    /// Render wrote other files than the output's check announced.
+    #[error("render of {name:?} for {output:?} wrote {rendered:?}, but its check announced {announced:?}")]
+    UnannouncedFiles {
+        /// The instance name.
+        name: String,
+        /// The output text.
+        output: String,
+        /// The names the check announced.
+        announced: Vec<String>,
+        /// The names render produced.
+        rendered: Vec<String>,
+    },
     /// Render attached a note that is blank or spans several lines (the host prints each note
     /// on one line of its summary).
     #[error("render of {name:?} for {output:?} attached the note {note:?} to {file:?}; notes must be one non-blank line")]
@@ -214,6 +235,7 @@ pub fn request(name: &str, config: &str) -> BuildRequest {
         system: ConstraintSystem::new(),
         values: Values::default(),
         sources: Vec::new(),
+        input_limit: crate::input::DEFAULT_MAX_INPUT_BYTES,
     }
 }
 
@@ -410,6 +432,13 @@ pub fn check_plan_and_render(
     outputs: &[String],
 ) -> Result<(), ConformanceError> {
     for operation in operations {
+        let call = format!("check of {name:?} for the operation {operation:?}");
+        let check = OperationCheckRequest {
+            operation: operation.clone(),
+        };
+        if let Err(e) = no_panic(call.clone(), || source.check_operation(&check))? {
+            check_message(&call, None, &e.message)?;
+        }
         let call = format!("plan of {name:?} for {operation:?}");
         let request = PlanRequest {
             operation: operation.clone(),
@@ -422,6 +451,19 @@ pub fn check_plan_and_render(
         }
     }
     for output in outputs {
+        let call = format!("check of {name:?} for the output {output:?}");
+        let check = OutputCheckRequest {
+            output: output.clone(),
+            base_dir: ".".into(),
+            input_limit: crate::input::DEFAULT_MAX_INPUT_BYTES,
+        };
+        let announced = match no_panic(call.clone(), || source.check_output(&check))? {
+            Ok(check) => check.checked.then_some(check.files),
+            Err(e) => {
+                check_message(&call, None, &e.message)?;
+                None
+            }
+        };
         let call = format!("render of {name:?} for {output:?}");
         let request = RenderRequest {
             output: output.clone(),
@@ -431,9 +473,11 @@ pub fn check_plan_and_render(
             values: values.clone(),
             highlight: None,
             structure: None,
+            input_limit: crate::input::DEFAULT_MAX_INPUT_BYTES,
         };
         match no_panic(call.clone(), || source.render(&request))? {
             Ok(files) => {
+                let names: Vec<String> = files.iter().map(|f| f.name.clone()).collect();
                 for file in files {
                     if file.name.is_empty()
                         || file.name.contains(['/', '\\'])
@@ -458,6 +502,14 @@ pub fn check_plan_and_render(
                         });
                     }
                 }
+                if let Some(announced) = announced.filter(|a| *a != names) {
+                    return Err(ConformanceError::UnannouncedFiles {
+                        name: name.to_string(),
+                        output: output.clone(),
+                        announced,
+                        rendered: names,
+                    });
+                }
             }
             Err(e) => check_message(&call, None, &e.message)?,
         }
@@ -471,41 +523,12 @@ fn check_plan(
     system: &ConstraintSystem,
     plan: &OperationPlan,
 ) -> Result<(), ConformanceError> {
-    let bad = |problem: String| ConformanceError::BadPlan {
-        name: name.to_string(),
-        operation: operation.to_string(),
-        problem,
-    };
-    let dims = |ids: &[crate::system::ParamId]| -> Result<Vec<usize>, ConformanceError> {
-        ids.iter()
-            .map(|id| {
-                system
-                    .param(*id)
-                    .map(|p| p.dim)
-                    .ok_or_else(|| bad(format!("parameter {id} does not exist")))
-            })
-            .collect()
-    };
-    let anchor_dims = dims(&plan.anchors)?;
-    let derived_dims = dims(&plan.derived)?;
-    if plan.weights.len() != plan.derived.len() {
-        return Err(bad(format!(
-            "{} weights for {} derived parameters",
-            plan.weights.len(),
-            plan.derived.len()
-        )));
-    }
-    for (k, step) in plan.steps.iter().enumerate() {
-        let sizes = |values: &[Vec<crate::exact::Rational>]| -> Vec<usize> {
-            values.iter().map(Vec::len).collect()
-        };
-        if sizes(&step.anchors) != anchor_dims || sizes(&step.hints) != derived_dims {
-            return Err(bad(format!(
-                "step {k} does not give one value of the right dimension per anchor and derived parameter"
-            )));
-        }
-    }
-    Ok(())
+    plan.validate(system)
+        .map_err(|problem| ConformanceError::BadPlan {
+            name: name.to_string(),
+            operation: operation.to_string(),
+            problem,
+        })
 }
 
 /// Runs every check on the samples, with fresh instances from `make`:
@@ -583,7 +606,7 @@ pub fn check_source(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::source::{NewParameter, OutputFile, SourceError, SummaryItem};
+    use crate::source::{NewParameter, OutputCheck, OutputFile, SourceError, SummaryItem};
     use crate::system::{ConstraintRow, Origin, ParamId, RowBody};
 
     /// A source whose misbehaviour is chosen by its configuration text.
@@ -624,7 +647,7 @@ mod tests {
                     key: "rows".into(),
                     value: 1,
                 }],
-                warnings: vec![],
+                ..Contribution::default()
             };
             match request.config.as_str() {
                 "good" => Ok(good),
@@ -688,8 +711,18 @@ mod tests {
                 "note" => Ok(vec![
                     OutputFile::new("x.svg", vec![]).with_note("two\nlines")
                 ]),
+                "other" => Ok(vec![OutputFile::new("y.svg", vec![])]),
                 _ => Ok(vec![OutputFile::new("x.svg", vec![]).with_note("fine")]),
             }
+        }
+        fn check_operation(&self, request: &OperationCheckRequest) -> Result<(), SourceError> {
+            match request.operation.as_str() {
+                "check panics" => panic!("check panics"),
+                _ => Err(SourceError::new("fixture: no operations")),
+            }
+        }
+        fn check_output(&self, _: &OutputCheckRequest) -> Result<OutputCheck, SourceError> {
+            Ok(OutputCheck::new(vec!["x.svg".into()], vec![]))
         }
     }
 
@@ -743,7 +776,13 @@ mod tests {
                 .expect("applies");
         for (operation, output, needle) in [
             ("panic", "x", "plan of \"f\" for \"panic\" panicked"),
-            ("dangling", "x", "parameter #9 does not exist"),
+            ("dangling", "x", "which does not exist"),
+            (
+                "check panics",
+                "x",
+                "check of \"f\" for the operation \"check panics\" panicked",
+            ),
+            ("x", "other", "but its check announced [\"x.svg\"]"),
             ("x", "escape", "\"../x.svg\""),
             ("x", "note", "notes must be one non-blank line"),
         ] {

@@ -6,6 +6,8 @@
 //! * [`system`]: parameters (scalar or vector), sparse integer constraint rows `Σ c_j p_j = q`
 //!   with a label and an origin, and the merged [`ConstraintSystem`];
 //! * [`matrix`]: the sparse integer matrix handed to a backend;
+//! * [`config`]: reading the RON fragments a host forwards to sources, with positions;
+//! * [`input`]: reading input files (meshes, models, height fields) as bounded regular files;
 //! * [`source`]: the [`ConstraintSource`] trait constraint plugins implement;
 //! * [`conformance`]: checks every plugin's tests can run on a source, static or dynamic
 //!   (deterministic builds, clean contributions, prefixed names, graceful refusals);
@@ -15,8 +17,10 @@
 //! The crate depends on no backend; backends and the ECLES editor depend on it.
 
 pub mod backend;
+pub mod config;
 pub mod conformance;
 pub mod exact;
+pub mod input;
 pub mod matrix;
 pub mod source;
 pub mod system;
@@ -28,9 +32,9 @@ pub use backend::{
 pub use exact::{format_rational, parse_rational, Integer, ParseRationalError, Rational};
 pub use matrix::{IntMatrix, MatrixError};
 pub use source::{
-    BuildRequest, ConstraintSource, Contribution, Highlight, NewParameter, OperationPlan,
-    OutputFile, PlanRequest, PlannedStep, RenderRequest, SourceError, SourceInfo, StructureParts,
-    SummaryItem,
+    BuildRequest, ConstraintSource, Contribution, Highlight, NewParameter, OperationCheckRequest,
+    OperationPlan, OutputCheck, OutputCheckRequest, OutputFile, PlanRequest, PlannedStep,
+    RenderRequest, SourceError, SourceInfo, StructureParts, SummaryItem,
 };
 pub use system::{
     ConstraintRow, ConstraintSystem, Coord, Origin, ParamId, Parameter, RowBody, RowId,

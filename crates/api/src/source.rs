@@ -10,6 +10,7 @@
 //! Every request and answer is plain serialisable data, so the same trait works in process and
 //! across the C ABI of dynamic plugins (which exchange these types as JSON).
 
+use crate::config::TextPosition;
 use crate::exact::Rational;
 use crate::system::{ConstraintRow, ConstraintSystem, ParamId, Values};
 use serde::{Deserialize, Serialize};
@@ -41,6 +42,13 @@ pub struct BuildRequest {
     pub values: Values,
     /// The earlier sources.
     pub sources: Vec<SourceInfo>,
+    /// Largest input file the source may read, in bytes (see [`crate::input`]).
+    #[serde(default = "default_input_limit")]
+    pub input_limit: u64,
+}
+
+fn default_input_limit() -> u64 {
+    crate::input::DEFAULT_MAX_INPUT_BYTES
 }
 
 /// A new parameter with its initial value (its dimension is the value's length).
@@ -76,6 +84,10 @@ pub struct Contribution {
     pub summary: Vec<SummaryItem>,
     /// Non-fatal remarks (an unused mesh vertex, a flipped triangle), for the report.
     pub warnings: Vec<String>,
+    /// The files the source read (meshes, say), so the host never lets an output overwrite
+    /// them. Optional in the JSON exchanged with dynamic plugins.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub inputs: Vec<PathBuf>,
 }
 
 impl Contribution {
@@ -138,6 +150,65 @@ pub struct OperationPlan {
     pub summary: Vec<SummaryItem>,
 }
 
+impl OperationPlan {
+    /// Checks the plan against `system` before the host uses it: at least one anchor, every id
+    /// a parameter of `system`, no parameter twice (nor both anchor and derived), one positive
+    /// weight per derived parameter, at least one step, and every step giving one value of the
+    /// right dimension per anchor and one hint per derived parameter. A plugin's answer is
+    /// data from outside the host: nothing indexes with its ids before this passes.
+    pub fn validate(&self, system: &ConstraintSystem) -> Result<(), String> {
+        if self.anchors.is_empty() {
+            return Err("the plan has no anchors".into());
+        }
+        let mut seen = std::collections::BTreeSet::new();
+        let mut dims = |ids: &[ParamId]| -> Result<Vec<usize>, String> {
+            ids.iter()
+                .map(|id| {
+                    let param = system.param(*id).ok_or_else(|| {
+                        format!("the plan names parameter {id}, which does not exist")
+                    })?;
+                    if !seen.insert(*id) {
+                        return Err(format!("the plan names {:?} twice", param.name));
+                    }
+                    Ok(param.dim)
+                })
+                .collect()
+        };
+        let anchor_dims = dims(&self.anchors)?;
+        let derived_dims = dims(&self.derived)?;
+        if self.weights.len() != self.derived.len() {
+            return Err(format!(
+                "{} weights for {} derived parameters",
+                self.weights.len(),
+                self.derived.len()
+            ));
+        }
+        if let Some(w) = self
+            .weights
+            .iter()
+            .find(|w| **w <= Rational::from_integer(0.into()))
+        {
+            return Err(format!(
+                "weight {} is not positive",
+                crate::exact::format_rational(w)
+            ));
+        }
+        if self.steps.is_empty() {
+            return Err("the plan has no steps".into());
+        }
+        for (k, step) in self.steps.iter().enumerate() {
+            let sizes =
+                |values: &[Vec<Rational>]| -> Vec<usize> { values.iter().map(Vec::len).collect() };
+            if sizes(&step.anchors) != anchor_dims || sizes(&step.hints) != derived_dims {
+                return Err(format!(
+                    "step {k} does not give one value of the right dimension per anchor and derived parameter"
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
 /// Outputs to render for the current state.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct RenderRequest {
@@ -155,6 +226,57 @@ pub struct RenderRequest {
     pub highlight: Option<Highlight>,
     /// The Dulmage–Mendelsohn parts of the whole system, for pictures coloured by part.
     pub structure: Option<StructureParts>,
+    /// Largest input file the source may read, in bytes (see [`crate::input`]).
+    #[serde(default = "default_input_limit")]
+    pub input_limit: u64,
+}
+
+/// An operation to check before the first edit of a run runs: everything about it that does
+/// not depend on the values at its turn (its schema, the anchors it names, its numbers and
+/// their limits).
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct OperationCheckRequest {
+    /// The operation, as RON text in the source's own schema.
+    pub operation: String,
+}
+
+/// An output to check before the first edit of a run runs: its schema, and the files it
+/// reads (which are read and validated now) and writes.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct OutputCheckRequest {
+    /// What to render, as RON text in the source's own schema.
+    pub output: String,
+    /// Directory relative paths in the request are resolved against.
+    pub base_dir: PathBuf,
+    /// Largest input file the source may read, in bytes (see [`crate::input`]).
+    #[serde(default = "default_input_limit")]
+    pub input_limit: u64,
+}
+
+/// What a checked output will do.
+#[derive(Debug, Clone, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub struct OutputCheck {
+    /// Whether the source checked the output. `false` only from plugins built before checks
+    /// existed (their outputs are checked when rendered); then the lists are empty.
+    #[serde(default)]
+    pub checked: bool,
+    /// Names of the files rendering will produce, in order.
+    #[serde(default)]
+    pub files: Vec<String>,
+    /// Input files rendering will read (resolved against the base directory).
+    #[serde(default)]
+    pub inputs: Vec<PathBuf>,
+}
+
+impl OutputCheck {
+    /// A checked output writing `files` and reading `inputs`.
+    pub fn new(files: Vec<String>, inputs: Vec<PathBuf>) -> Self {
+        OutputCheck {
+            checked: true,
+            files,
+            inputs,
+        }
+    }
 }
 
 /// Parameters and rows by Dulmage–Mendelsohn part (a parameter is in the part of any of its
@@ -220,14 +342,26 @@ impl OutputFile {
 pub struct SourceError {
     /// What went wrong, naming the file (and line/column) or the item.
     pub message: String,
+    /// Where in the request's RON text (configuration, operation or output) the error is, when
+    /// the source knows: the host turns it into a run-file position. Optional in the JSON
+    /// exchanged with dynamic plugins, so plugins built before the field existed still load.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub at: Option<TextPosition>,
 }
 
 impl SourceError {
-    /// An error with a message.
+    /// An error with a message and no position.
     pub fn new(message: impl Into<String>) -> Self {
         SourceError {
             message: message.into(),
+            at: None,
         }
+    }
+
+    /// The same error at a position of the request's text.
+    pub fn with_position(mut self, at: TextPosition) -> Self {
+        self.at = Some(at);
+        self
     }
 }
 
@@ -242,7 +376,17 @@ pub trait ConstraintSource {
     /// Plans a source-specific edit. Sources without operations refuse every request.
     fn plan(&self, request: &PlanRequest) -> Result<OperationPlan, SourceError>;
     /// Renders outputs for the current state. Sources without outputs refuse every request.
+    /// The files are the ones [`ConstraintSource::check_output`] announced, in that order.
     fn render(&self, request: &RenderRequest) -> Result<Vec<OutputFile>, SourceError>;
+    /// Checks an operation before the first edit of the run: `Ok` means [`plan`] will not
+    /// refuse its schema, names or numbers (it may still find the edit unsolvable at its turn).
+    /// Sources without operations refuse every request.
+    ///
+    /// [`plan`]: ConstraintSource::plan
+    fn check_operation(&self, request: &OperationCheckRequest) -> Result<(), SourceError>;
+    /// Checks an output before the first edit of the run, reading and validating the files it
+    /// needs, and says which files it will write. Sources without outputs refuse every request.
+    fn check_output(&self, request: &OutputCheckRequest) -> Result<OutputCheck, SourceError>;
 }
 
 #[cfg(test)]

@@ -138,6 +138,7 @@ fn terrain_source() -> (TerrainSource, ConstraintSystem, Values) {
     let mut source = TerrainSource::default();
     let contribution = source
         .build(&BuildRequest {
+            input_limit: api::input::DEFAULT_MAX_INPUT_BYTES,
             name: "t".into(),
             config,
             base_dir: ".".into(),

@@ -1,6 +1,7 @@
 //! The RON run file: which sources to load, which backend settings, which edits to run and
-//! which outputs to write. Unknown fields are errors; every error names the file and the line
-//! and column.
+//! which outputs to write. Unknown fields and duplicate keys are errors at every level; every
+//! error names the file and the line and column *of the run file*, also for errors a source
+//! finds in its own fragment (see [`Fragment`]).
 //!
 //! ```ron
 //! (
@@ -18,37 +19,89 @@
 //!     outputs: [(source: "phi", output: (picture: "worm.svg"))],
 //! )
 //! ```
+//!
+//! Reading happens in two passes over one text: the file is parsed with every source entry,
+//! edit and output kept as a borrowed [`RawValue`] slice of the text, then each of those is
+//! parsed on its own. A slice's offset in the text gives its position, so errors inside it,
+//! and errors a source reports inside its configuration, operation or output fragment, are
+//! translated into run-file coordinates.
 
+use api::config::{from_ron, ron_options, unique_map, TextPosition};
 use api::exact::Exact;
+use api::input::{read_text_file, InputFileError};
+use api::SourceError;
 use ron::value::RawValue;
 use serde::Deserialize;
 use std::collections::BTreeMap;
 use std::path::Path;
 
+/// Most edits a run file may hold (each is validated and run in turn).
+pub const MAX_EDITS: usize = 100_000;
+
+/// Most outputs a run file may hold.
+pub const MAX_OUTPUTS: usize = 1_000;
+
+/// Most sources a run file may hold.
+pub const MAX_SOURCES: usize = 1_000;
+
+/// A piece of the run file forwarded to a source as written (a configuration, an operation,
+/// an output request), with where it is.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Fragment {
+    /// The RON text, exactly as in the run file (leading whitespace and comments included).
+    text: String,
+    /// Position of the text's first character in the run file.
+    origin: TextPosition,
+}
+
+impl Fragment {
+    /// A fragment starting at `origin` of its file.
+    pub fn new(text: impl Into<String>, origin: TextPosition) -> Self {
+        Fragment {
+            text: text.into(),
+            origin,
+        }
+    }
+
+    /// The RON text forwarded to the source.
+    pub fn text(&self) -> &str {
+        &self.text
+    }
+
+    /// Where the fragment's value begins in the run file (after leading whitespace).
+    pub fn start(&self) -> TextPosition {
+        let skipped = self.text.len() - self.text.trim_start().len();
+        TextPosition::after(&self.text[..skipped]).within(self.origin)
+    }
+
+    /// A position inside the fragment's text as a run-file position; the fragment's start
+    /// when the source gave none.
+    pub fn locate(&self, inner: Option<TextPosition>) -> TextPosition {
+        match inner {
+            Some(at) => at.within(self.origin),
+            None => self.start(),
+        }
+    }
+}
+
 /// A whole run file.
-#[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[derive(Debug, Clone)]
 pub struct RunFile {
     /// Constraint sources, built in this order (a later source may constrain an earlier one's
     /// parameters).
     pub sources: Vec<SourceEntry>,
     /// Exact backend settings.
-    #[serde(default)]
     pub backend: BackendConfig,
     /// Float cross-check settings; `None` turns it off.
-    #[serde(default = "default_cross_check")]
     pub cross_check: Option<CrossCheckConfig>,
     /// Edits, run in order.
-    #[serde(default)]
     pub edits: Vec<EditEntry>,
     /// Outputs rendered by sources after the edits.
-    #[serde(default)]
     pub outputs: Vec<OutputEntry>,
 }
 
 /// One constraint source.
-#[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[derive(Debug, Clone)]
 pub struct SourceEntry {
     /// Instance name, unique in the run: prefix of its parameter names and row labels.
     pub name: String,
@@ -56,13 +109,10 @@ pub struct SourceEntry {
     /// (relative to the run file; without an extension, the platform's library file name,
     /// see [`crate::registry::library_path`]).
     pub plugin: String,
-    /// The plugin's configuration (its own schema), kept as the text written in the run file.
-    #[serde(default = "empty_config")]
-    pub config: Box<RawValue>,
-}
-
-fn empty_config() -> Box<RawValue> {
-    RawValue::from_boxed_ron("()".into()).unwrap_or_else(|_| unreachable!("\"()\" is RON"))
+    /// The plugin's configuration (its own schema), as written (`()` when absent).
+    pub config: Fragment,
+    /// Where the entry starts.
+    pub at: TextPosition,
 }
 
 /// Simplification method of the exact factoring.
@@ -88,11 +138,34 @@ pub struct BackendConfig {
 
 /// Float cross-check settings.
 #[derive(Debug, Clone, Copy, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(deny_unknown_fields, try_from = "RawCrossCheck")]
 pub struct CrossCheckConfig {
-    /// Relative tolerance of the float backend's rank decisions and of value comparisons.
-    #[serde(default = "default_tolerance")]
+    /// Relative tolerance of the float backend's rank decisions and of value comparisons, in
+    /// (0, 1).
     pub tolerance: f64,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawCrossCheck {
+    #[serde(default = "default_tolerance")]
+    tolerance: f64,
+}
+
+impl TryFrom<RawCrossCheck> for CrossCheckConfig {
+    type Error = String;
+    fn try_from(raw: RawCrossCheck) -> Result<Self, String> {
+        if raw.tolerance > 0.0 && raw.tolerance < 1.0 {
+            Ok(CrossCheckConfig {
+                tolerance: raw.tolerance,
+            })
+        } else {
+            Err(format!(
+                "cross_check tolerance {} must be between 0 and 1",
+                raw.tolerance
+            ))
+        }
+    }
 }
 
 fn default_tolerance() -> f64 {
@@ -137,6 +210,16 @@ impl<'de> Deserialize<'de> for ValueText {
                     v.into(),
                 ))))
             }
+            fn visit_i128<E: serde::de::Error>(self, v: i128) -> Result<ValueText, E> {
+                Ok(ValueText::Scalar(Exact(api::Rational::from_integer(
+                    v.into(),
+                ))))
+            }
+            fn visit_u128<E: serde::de::Error>(self, v: u128) -> Result<ValueText, E> {
+                Ok(ValueText::Scalar(Exact(api::Rational::from_integer(
+                    v.into(),
+                ))))
+            }
             fn visit_f64<E: serde::de::Error>(self, v: f64) -> Result<ValueText, E> {
                 Err(E::custom(format!(
                     "{v} is a floating-point literal; write exact numbers as strings, e.g. \"{v}\""
@@ -167,149 +250,320 @@ impl ValueText {
     }
 }
 
-/// An edit.
-#[derive(Debug, Clone, Deserialize)]
-pub enum EditEntry {
+/// A generic ECLES edit on named parameters.
+#[derive(Debug, Clone)]
+pub struct GenericEdit {
+    /// Anchors and their required new values.
+    pub anchors: BTreeMap<String, ValueText>,
+    /// Derived parameters.
+    pub derived: Vec<String>,
+    /// Hints for derived parameters (default: their current values).
+    pub hints: BTreeMap<String, ValueText>,
+    /// Weights of derived parameters (default 1).
+    pub weights: BTreeMap<String, Exact>,
+    /// Check strong solvability at initialisation.
+    pub strong: bool,
+}
+
+/// What an edit does.
+#[derive(Debug, Clone)]
+pub enum EditKind {
     /// A generic ECLES edit on named parameters.
-    Ecles {
-        /// Anchors and their required new values.
-        anchors: BTreeMap<String, ValueText>,
-        /// Derived parameters.
-        #[serde(default)]
-        derived: Vec<String>,
-        /// Hints for derived parameters (default: their current values).
-        #[serde(default)]
-        hints: BTreeMap<String, ValueText>,
-        /// Weights of derived parameters (default 1).
-        #[serde(default)]
-        weights: BTreeMap<String, Exact>,
-        /// Check strong solvability at initialisation.
-        #[serde(default)]
-        strong: bool,
-    },
+    Ecles(GenericEdit),
     /// An operation planned by a source (a spline's soft translation, ...).
     Source {
         /// The source instance.
         source: String,
-        /// The operation, in the source's own schema (text as written).
-        operation: Box<RawValue>,
+        /// The operation, in the source's own schema.
+        operation: Fragment,
     },
+}
+
+/// An edit and where it is written.
+#[derive(Debug, Clone)]
+pub struct EditEntry {
+    /// What it does.
+    pub kind: EditKind,
+    /// Where it starts in the run file.
+    pub at: TextPosition,
 }
 
 /// An output rendered by a source.
-#[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[derive(Debug, Clone)]
 pub struct OutputEntry {
     /// The source instance.
     pub source: String,
-    /// What to render, in the source's own schema (text as written).
-    pub output: Box<RawValue>,
+    /// What to render, in the source's own schema.
+    pub output: Fragment,
+    /// Where the entry starts.
+    pub at: TextPosition,
 }
 
 /// Why a run file could not be read.
-#[derive(Debug, thiserror::Error)]
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum RunFileError {
-    /// The file could not be read.
-    #[error("{path}: cannot read the run file: {message}")]
-    Io {
+    /// The file could not be read (missing, not a regular file, too large, binary).
+    #[error("{0}")]
+    Input(#[from] InputFileError),
+    /// A syntax, schema or consistency error at a position of the file.
+    #[error("{path}:{at}: {message}")]
+    At {
         /// The file.
         path: String,
-        /// The I/O error.
-        message: String,
-    },
-    /// RON syntax or schema error with its position.
-    #[error("{path}:{line}:{column}: {message}")]
-    Syntax {
-        /// The file.
-        path: String,
-        /// 1-based line.
-        line: usize,
-        /// 1-based column.
-        column: usize,
-        /// The parser's message.
-        message: String,
-    },
-    /// The file parsed but is inconsistent (duplicate source name, unknown source...).
-    #[error("{path}: {message}")]
-    Invalid {
-        /// The file.
-        path: String,
+        /// Where.
+        at: TextPosition,
         /// What is wrong.
         message: String,
     },
 }
 
-/// RON options for run files: `Some(..)` may be omitted around present optional values.
-fn ron_options() -> ron::Options {
-    ron::Options::default().with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME)
+/// The top level, with every entry kept as a slice of the text.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawRunFile<'a> {
+    #[serde(borrow)]
+    sources: Vec<&'a RawValue>,
+    #[serde(default)]
+    backend: BackendConfig,
+    #[serde(default = "default_cross_check")]
+    cross_check: Option<CrossCheckConfig>,
+    #[serde(borrow, default)]
+    edits: Vec<&'a RawValue>,
+    #[serde(borrow, default)]
+    outputs: Vec<&'a RawValue>,
 }
 
-/// Reads and checks a run file.
-pub fn read(path: &Path) -> Result<RunFile, RunFileError> {
-    let text = std::fs::read_to_string(path).map_err(|e| RunFileError::Io {
-        path: path.display().to_string(),
-        message: e.to_string(),
-    })?;
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawSource<'a> {
+    name: String,
+    plugin: String,
+    #[serde(borrow, default)]
+    config: Option<&'a RawValue>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+enum RawEdit<'a> {
+    Ecles {
+        #[serde(deserialize_with = "unique_map")]
+        anchors: BTreeMap<String, ValueText>,
+        #[serde(default)]
+        derived: Vec<String>,
+        #[serde(default, deserialize_with = "unique_map")]
+        hints: BTreeMap<String, ValueText>,
+        #[serde(default, deserialize_with = "unique_map")]
+        weights: BTreeMap<String, Exact>,
+        #[serde(default)]
+        strong: bool,
+    },
+    Source {
+        source: String,
+        #[serde(borrow)]
+        operation: &'a RawValue,
+    },
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawOutput<'a> {
+    source: String,
+    #[serde(borrow)]
+    output: &'a RawValue,
+}
+
+/// Reads and checks a run file of at most `limit` bytes.
+pub fn read(path: &Path, limit: u64) -> Result<RunFile, RunFileError> {
+    let text = read_text_file(path, "run file", limit)?;
     parse(&text, &path.display().to_string())
 }
 
-/// Parses and checks run-file text (`name` is used in messages).
+/// Parses and checks run-file text (`name` is used in messages). A UTF-8 byte order mark is
+/// ignored.
 pub fn parse(text: &str, name: &str) -> Result<RunFile, RunFileError> {
-    let run: RunFile = ron_options()
-        .from_str(text)
-        .map_err(|e| RunFileError::Syntax {
-            path: name.to_string(),
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    let reader = Reader { text, name };
+    let raw: RawRunFile = ron_options().from_str(text).map_err(|e| RunFileError::At {
+        path: name.to_string(),
+        at: TextPosition {
             line: e.position.line,
             column: e.position.col,
-            message: e.code.to_string(),
-        })?;
-    let invalid = |message: String| RunFileError::Invalid {
-        path: name.to_string(),
-        message,
-    };
-    let mut seen = std::collections::BTreeSet::new();
-    for s in &run.sources {
-        if s.name.is_empty() || s.name.contains(char::is_whitespace) {
-            return Err(invalid(format!(
-                "source name {:?} must be non-empty and without spaces",
-                s.name
-            )));
-        }
-        if !seen.insert(s.name.clone()) {
-            return Err(invalid(format!("two sources are named {:?}", s.name)));
+        },
+        message: e.code.to_string(),
+    })?;
+    for (what, count, max) in [
+        ("sources", raw.sources.len(), MAX_SOURCES),
+        ("edits", raw.edits.len(), MAX_EDITS),
+        ("outputs", raw.outputs.len(), MAX_OUTPUTS),
+    ] {
+        if count > max {
+            return Err(reader.error(
+                TextPosition::START,
+                format!("{count} {what}, more than the limit of {max}"),
+            ));
         }
     }
-    let known = |source: &str| seen.contains(source);
-    for (i, edit) in run.edits.iter().enumerate() {
-        if let EditEntry::Source { source, .. } = edit {
-            if !known(source) {
-                return Err(invalid(format!("edit {i} names unknown source {source:?}")));
+    let mut sources: Vec<SourceEntry> = Vec::with_capacity(raw.sources.len());
+    for value in &raw.sources {
+        let entry: RawSource = reader.element(value)?;
+        let at = reader.fragment(value).start();
+        if entry.name.is_empty()
+            || !entry
+                .name
+                .chars()
+                .all(|c| c.is_alphanumeric() || "_-".contains(c))
+        {
+            return Err(reader.error(
+                at,
+                format!(
+                    "source name {:?} must be non-empty and made of letters, digits, '_' and '-'",
+                    entry.name
+                ),
+            ));
+        }
+        if sources.iter().any(|s| s.name == entry.name) {
+            return Err(reader.error(at, format!("two sources are named {:?}", entry.name)));
+        }
+        let config = match entry.config {
+            Some(config) => reader.fragment(config),
+            None => Fragment::new("()", at),
+        };
+        sources.push(SourceEntry {
+            name: entry.name,
+            plugin: entry.plugin,
+            config,
+            at,
+        });
+    }
+    let known = |source: &str| sources.iter().any(|s| s.name == source);
+    let mut edits = Vec::with_capacity(raw.edits.len());
+    for (i, value) in raw.edits.iter().enumerate() {
+        let at = reader.fragment(value).start();
+        let kind = match reader.element::<RawEdit>(value)? {
+            RawEdit::Ecles {
+                anchors,
+                derived,
+                hints,
+                weights,
+                strong,
+            } => EditKind::Ecles(GenericEdit {
+                anchors,
+                derived,
+                hints,
+                weights,
+                strong,
+            }),
+            RawEdit::Source { source, operation } => {
+                if !known(&source) {
+                    return Err(
+                        reader.error(at, format!("edit {i} names unknown source {source:?}"))
+                    );
+                }
+                EditKind::Source {
+                    source,
+                    operation: reader.fragment(operation),
+                }
             }
-        }
+        };
+        edits.push(EditEntry { kind, at });
     }
-    for (i, out) in run.outputs.iter().enumerate() {
-        if !known(&out.source) {
-            return Err(invalid(format!(
-                "output {i} names unknown source {:?}",
-                out.source
-            )));
+    let mut outputs = Vec::with_capacity(raw.outputs.len());
+    for (i, value) in raw.outputs.iter().enumerate() {
+        let at = reader.fragment(value).start();
+        let entry: RawOutput = reader.element(value)?;
+        if !known(&entry.source) {
+            return Err(reader.error(
+                at,
+                format!("output {i} names unknown source {:?}", entry.source),
+            ));
         }
+        outputs.push(OutputEntry {
+            source: entry.source,
+            output: reader.fragment(entry.output),
+            at,
+        });
     }
-    if let Some(cc) = &run.cross_check {
-        if !(cc.tolerance > 0.0 && cc.tolerance < 1.0) {
-            return Err(invalid(format!(
-                "cross_check tolerance {} must be between 0 and 1",
-                cc.tolerance
-            )));
-        }
-    }
-    Ok(run)
+    Ok(RunFile {
+        sources,
+        backend: raw.backend,
+        cross_check: raw.cross_check,
+        edits,
+        outputs,
+    })
 }
 
-/// The RON text of a plugin configuration, operation or output, as written in the run file:
-/// sources parse it with their own schema.
-pub fn to_ron_text(value: &RawValue) -> String {
-    value.trim().get_ron().to_string()
+/// The text being read, for positions of its slices.
+struct Reader<'t> {
+    text: &'t str,
+    name: &'t str,
+}
+
+impl<'t> Reader<'t> {
+    /// `value` (a slice of the text) as a fragment with its position.
+    fn fragment(&self, value: &RawValue) -> Fragment {
+        let part = value.get_ron();
+        let base = self.text.as_ptr() as usize;
+        let start = part.as_ptr() as usize;
+        // Every RawValue here borrows from `self.text`; a slice from anywhere else (which the
+        // deserializer never produces) is placed at the start rather than mis-indexed.
+        let origin = match start.checked_sub(base) {
+            Some(offset) if offset + part.len() <= self.text.len() => {
+                TextPosition::after(&self.text[..offset])
+            }
+            _ => TextPosition::START,
+        };
+        Fragment::new(part, origin)
+    }
+
+    /// Parses one element (a source entry, an edit, an output) with run-file positions.
+    fn element<T: Deserialize<'t>>(&self, value: &'t RawValue) -> Result<T, RunFileError> {
+        let fragment = self.fragment(value);
+        ron_options()
+            .from_str(value.get_ron())
+            .map_err(|e| RunFileError::At {
+                path: self.name.to_string(),
+                at: fragment.locate(Some(TextPosition {
+                    line: e.position.line,
+                    column: e.position.col,
+                })),
+                message: e.code.to_string(),
+            })
+    }
+
+    fn error(&self, at: TextPosition, message: String) -> RunFileError {
+        RunFileError::At {
+            path: self.name.to_string(),
+            at,
+            message,
+        }
+    }
+}
+
+/// A source's refusal of one of its fragments, as a run-file error message:
+/// `run.ron:LINE:COL: {context}: {message}` at the position the source gave, or at the
+/// fragment's start.
+pub fn located_source_error(
+    run: &str,
+    fragment: &Fragment,
+    context: &str,
+    error: &SourceError,
+) -> String {
+    format!(
+        "{run}:{}: {context}: {}",
+        fragment.locate(error.at),
+        error.message
+    )
+}
+
+/// Parses a fragment's text into `T` with errors in run-file coordinates (for host-side
+/// schemas inside fragments).
+pub fn parse_fragment<T: serde::de::DeserializeOwned>(
+    run: &str,
+    fragment: &Fragment,
+    context: &str,
+) -> Result<T, String> {
+    from_ron(fragment.text(), context)
+        .map_err(|e| format!("{run}:{}: {}", fragment.locate(e.at), e.message))
 }
 
 #[cfg(test)]
@@ -335,35 +589,109 @@ mod tests {
         assert_eq!(run.backend.simplify, Simplify::Turner);
         assert_eq!(run.cross_check.map(|c| c.tolerance), Some(1e-8));
         assert_eq!(run.edits.len(), 2);
+        assert_eq!(
+            run.edits[1].at,
+            TextPosition {
+                line: 7,
+                column: 21
+            }
+        );
+        let EditKind::Source { operation, .. } = &run.edits[1].kind else {
+            panic!("a source edit");
+        };
+        assert_eq!(operation.text(), " (anything: 1)");
+        assert_eq!(
+            operation.start(),
+            TextPosition {
+                line: 7,
+                column: 53
+            }
+        );
         let off = parse(r#"(sources: [], cross_check: None)"#, "run.ron").expect("valid");
         assert!(off.cross_check.is_none());
         let default = parse(r#"(sources: [])"#, "run.ron").expect("valid");
         assert!(default.cross_check.is_some());
     }
 
+    fn error(text: &str) -> String {
+        parse(text, "r.ron").expect_err(text).to_string()
+    }
+
     #[test]
     fn errors_name_the_position() {
-        let err = parse("(\n  sources: [],\n  edist: [],\n)", "run.ron").expect_err("typo");
-        let text = err.to_string();
-        assert!(text.starts_with("run.ron:3:"), "{text}");
+        let text = error("(\n  sources: [],\n  edist: [],\n)");
+        assert!(text.starts_with("r.ron:3:"), "{text}");
         assert!(text.contains("edist"), "{text}");
-        let err = parse(
-            "(sources: [(name: \"a\", plugin: \"linear\"), (name: \"a\", plugin: \"linear\")])",
+        let text = error(
+            "(sources: [(name: \"a\", plugin: \"linear\"),\n (name: \"a\", plugin: \"linear\")])",
+        );
+        assert!(text.starts_with("r.ron:2:2: two sources"), "{text}");
+        let text = error("(sources: [], edits: [Source(source: \"zz\", operation: ())])");
+        assert!(text.contains("zz"), "{text}");
+        let text = error("(sources: [], edits: [Ecles(anchors: {\"a\": 0.1})])");
+        assert!(text.starts_with("r.ron:1:"), "{text}");
+        let text = error("(sources: [], cross_check: (tolerance: 2.0))");
+        assert!(text.contains("between 0 and 1"), "{text}");
+    }
+
+    #[test]
+    fn unknown_fields_and_duplicate_keys_are_errors_at_every_level() {
+        let text =
+            error("(sources: [],\n edits: [\n  Ecles(anchors: {\"a\": \"1\"}, wieghts: {})])");
+        assert!(text.starts_with("r.ron:3:"), "{text}");
+        assert!(text.contains("wieghts"), "{text}");
+        let text = error(
+            "(sources: [(name: \"s\", plugin: \"linear\")],\n edits: [Source(source: \"s\", operation: (), extra: 3)])",
+        );
+        assert!(text.starts_with("r.ron:2:"), "{text}");
+        assert!(text.contains("extra"), "{text}");
+        let text = error(
+            "(sources: [],\n edits: [Ecles(anchors: {\"eq.a\": \"5\",\n  \"eq.a\": \"6\"})])",
+        );
+        assert!(text.starts_with("r.ron:3:"), "{text}");
+        assert!(text.contains("\"eq.a\" is given twice"), "{text}");
+        let text = error("(sources: [(name: \"s\", plugin: \"linear\", colour: 1)])");
+        assert!(text.contains("colour"), "{text}");
+        let text = error("(sources: [(name: \"s\", plugin: \"linear\")], outputs: [(source: \"s\", output: (), x: 1)])");
+        assert!(text.contains("`x`"), "{text}");
+    }
+
+    #[test]
+    fn a_byte_order_mark_is_ignored() {
+        let run = parse("\u{feff}(sources: [])", "r.ron").expect("BOM");
+        assert!(run.sources.is_empty());
+    }
+
+    #[test]
+    fn source_positions_translate_into_the_run_file() {
+        let run = parse(
+            "(sources: [\n  (name: \"phi\", plugin: \"spline2d\",\n   config: (\n     degree: 5,\n     degre: 4))])",
             "r.ron",
         )
-        .expect_err("duplicate");
-        assert!(err.to_string().contains("two sources"), "{err}");
-        let err = parse(
-            "(sources: [], edits: [Source(source: \"zz\", operation: ())])",
+        .expect("valid");
+        let config = &run.sources[0].config;
+        let err = from_ron::<BTreeMap<String, u32>>("{\"a\": x}", "c").expect_err("x");
+        let inner = err.at.expect("position");
+        assert_eq!(inner.line, 1);
+        // A position on the fragment's third line keeps its column.
+        let third = TextPosition { line: 3, column: 6 };
+        assert_eq!(
+            config.locate(Some(third)),
+            TextPosition { line: 5, column: 6 }
+        );
+        assert_eq!(
+            config.start(),
+            TextPosition {
+                line: 3,
+                column: 12
+            }
+        );
+        let message = located_source_error(
             "r.ron",
-        )
-        .expect_err("unknown source");
-        assert!(err.to_string().contains("zz"), "{err}");
-        let err = parse(
-            "(sources: [], edits: [Ecles(anchors: {\"a\": 0.1})])",
-            "r.ron",
-        )
-        .expect_err("float value");
-        assert!(err.to_string().contains("r.ron:1:"), "{err}");
+            config,
+            "source \"phi\"",
+            &SourceError::new("no mesh").with_position(third),
+        );
+        assert_eq!(message, "r.ron:5:6: source \"phi\": no mesh");
     }
 }

@@ -1,26 +1,24 @@
-//! A run: sources built into one system, edits executed with the exact backend and checked
-//! against the float backend, outputs rendered.
+//! A run: sources built into one system, every edit and output checked before the first edit
+//! runs, edits executed with the exact backend and checked against the float backend, outputs
+//! rendered.
 
 use crate::analysis::{self, label, max_residual};
+use crate::error::RunError;
 use crate::registry::{self, Origin};
 use crate::report::{EditReport, Report, SourceReport, Summary, ValueReport};
-use crate::runfile::{self, EditEntry, RunFile, Simplify};
+use crate::runfile::{self, located_source_error, EditKind, GenericEdit, RunFile, Simplify};
+use api::config::TextPosition;
 use api::{
     format_rational, BuildRequest, ConstraintSource, ConstraintSystem, Factorization, Highlight,
-    LinearBackend, OutputFile, ParamId, PlanRequest, PlannedStep, Rational, RenderRequest,
-    SourceInfo, Value, Values,
+    LinearBackend, OperationCheckRequest, OutputCheckRequest, OutputFile, ParamId, PlanRequest,
+    PlannedStep, Rational, RenderRequest, SourceInfo, Value, Values,
 };
 use ecles::{Edit, EditError, EditSpec, UpdateResult};
 use exact_ldu::{ExactLdu, Simplification};
 use float_qr::FloatQr;
-use num_traits::One;
-use std::collections::BTreeMap;
+use num_traits::{One, Zero};
+use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
-
-/// Bad input: the run cannot start or continue (exit code 2).
-#[derive(Debug, thiserror::Error)]
-#[error("{0}")]
-pub struct InputError(pub String);
 
 /// A built source.
 struct Loaded {
@@ -42,13 +40,31 @@ pub struct Session {
     values: Values,
     exact: ExactLdu,
     tolerance: Option<f64>,
+    input_limit: u64,
+    /// Every file the run reads: the run file, source inputs, plugin libraries.
+    inputs: Vec<PathBuf>,
     last_highlight: BTreeMap<String, Highlight>,
 }
 
+/// What the outputs of a run will write and read, known before the first edit.
+#[derive(Debug, Clone, Default)]
+pub struct OutputsPlan {
+    /// File names, in output order.
+    pub files: Vec<String>,
+    /// Every input of the run: the run file, the sources' inputs, the outputs' models, the
+    /// plugin libraries.
+    pub inputs: Vec<PathBuf>,
+    /// Per output, the files its check announced (`None` from plugins built before checks
+    /// existed: their files are checked when rendered).
+    pub announced: Vec<Option<Vec<String>>>,
+}
+
 impl Session {
-    /// Reads the run file and builds every source, in order.
-    pub fn build(run_path: &Path) -> Result<Session, InputError> {
-        let run = runfile::read(run_path).map_err(|e| InputError(e.to_string()))?;
+    /// Reads the run file (at most `input_limit` bytes, the limit every source's inputs get
+    /// too) and builds every source, in order.
+    pub fn build(run_path: &Path, input_limit: u64) -> Result<Session, RunError> {
+        let run =
+            runfile::read(run_path, input_limit).map_err(|e| RunError::input(e.to_string()))?;
         let base_dir = run_path
             .parent()
             .map(Path::to_path_buf)
@@ -68,6 +84,8 @@ impl Session {
             initial: Values::default(),
             values: Values::default(),
             exact: ExactLdu::new(method),
+            input_limit,
+            inputs: vec![run_path.to_path_buf()],
             last_highlight: BTreeMap::new(),
         };
         let entries = session.run.sources.clone();
@@ -78,19 +96,22 @@ impl Session {
         Ok(session)
     }
 
-    fn build_source(&mut self, entry: &runfile::SourceEntry) -> Result<(), InputError> {
-        let (mut source, origin) =
-            registry::instantiate(&entry.plugin, &self.base_dir).map_err(|e| {
-                InputError(format!(
-                    "{}: source {:?}: {e}",
-                    self.run_path.display(),
-                    entry.name
-                ))
-            })?;
-        let config = runfile::to_ron_text(&entry.config);
+    /// The run file's name in messages.
+    fn run_name(&self) -> String {
+        self.run_path.display().to_string()
+    }
+
+    /// `run.ron:LINE:COL: message`.
+    fn at(&self, at: TextPosition, message: impl std::fmt::Display) -> RunError {
+        RunError::input(format!("{}:{at}: {message}", self.run_name()))
+    }
+
+    fn build_source(&mut self, entry: &runfile::SourceEntry) -> Result<(), RunError> {
+        let (mut source, origin) = registry::instantiate(&entry.plugin, &self.base_dir)
+            .map_err(|e| self.at(entry.at, format!("source {:?}: {e}", entry.name)))?;
         let request = BuildRequest {
             name: entry.name.clone(),
-            config,
+            config: entry.config.text().to_string(),
             base_dir: self.base_dir.clone(),
             system: self.system.clone(),
             values: self.values.clone(),
@@ -101,36 +122,34 @@ impl Session {
                 .map(|(s, e)| SourceInfo {
                     name: s.name.clone(),
                     kind: s.kind.clone(),
-                    config: runfile::to_ron_text(&e.config),
+                    config: e.config.text().to_string(),
                 })
                 .collect(),
+            input_limit: self.input_limit,
         };
+        let context = format!("source {:?} (plugin {})", entry.name, entry.plugin);
         let contribution = source.build(&request).map_err(|e| {
-            InputError(format!(
-                "{}: source {:?} (plugin {}): {}",
-                self.run_path.display(),
-                entry.name,
-                entry.plugin,
-                e.message
+            RunError::input(located_source_error(
+                &self.run_name(),
+                &entry.config,
+                &context,
+                &e,
             ))
         })?;
         contribution
             .apply_to(&mut self.system, &mut self.values)
-            .map_err(|e| {
-                InputError(format!(
-                    "{}: source {:?} (plugin {}) contributed invalid data: {e}",
-                    self.run_path.display(),
-                    entry.name,
-                    entry.plugin
-                ))
-            })?;
+            .map_err(|e| self.at(entry.at, format!("{context} contributed invalid data: {e}")))?;
+        self.inputs.extend(contribution.inputs.iter().cloned());
         let report = SourceReport {
             name: entry.name.clone(),
             plugin: source.kind().to_string(),
             version: source.version().to_string(),
             loaded_from: match origin {
                 Origin::Builtin => "builtin".to_string(),
-                Origin::Library(path) => path,
+                Origin::Library(path) => {
+                    self.inputs.push(PathBuf::from(&path));
+                    path
+                }
             },
             parameters: contribution.parameters.len(),
             rows: contribution.rows.len(),
@@ -174,11 +193,45 @@ impl Session {
         }
     }
 
-    /// Why the parameter (or coordinate `name[k]`) is fixed, limited or free, in lines of text;
-    /// `None` when no such parameter exists.
-    pub fn explain(&self, name: &str) -> Option<Vec<String>> {
+    /// Why the parameter (or coordinate `name[k]`) is fixed, limited or free, in lines of
+    /// text. An unknown parameter, or a coordinate beyond the parameter's dimension, is bad
+    /// input.
+    pub fn explain(&self, name: &str) -> Result<Vec<String>, RunError> {
+        let (base, coordinate) = split_coordinate(name);
+        let id = self.system.param_id(base).ok_or_else(|| {
+            RunError::input(format!(
+                "{}: no parameter named {base:?} (parameters are named source.name, e.g. \"worm.v3\"; one coordinate is name[k])",
+                self.run_name()
+            ))
+        })?;
+        let dim = self.system.params()[id.index()].dim;
+        if let Some(k) = coordinate {
+            if k >= dim {
+                return Err(RunError::input(format!(
+                    "{}: {name:?}: coordinate {k} is out of range, {base:?} has {dim} coordinate{} (0{})",
+                    self.run_name(),
+                    if dim == 1 { "" } else { "s" },
+                    if dim == 1 { String::new() } else { format!(" to {}", dim - 1) }
+                )));
+            }
+        }
         let shape = analysis::shape(&self.system);
-        crate::structural::explain_parameter(&shape, name)
+        let mut lines = Vec::new();
+        let column = match coordinate {
+            // Every row holds per coordinate: the matrix has one column per parameter, and each
+            // coordinate is constrained exactly as the whole parameter.
+            Some(k) if shape.copies > 1 => {
+                lines.push(format!(
+                    "every row of this system holds coordinate by coordinate, so {base}[{k}] is constrained as {base} is:"
+                ));
+                base.to_string()
+            }
+            Some(_) if dim == 1 => base.to_string(),
+            Some(k) => format!("{base}[{k}]"),
+            None => base.to_string(),
+        };
+        lines.extend(crate::structural::explain_parameter(&shape, &column).unwrap_or_default());
+        Ok(lines)
     }
 
     /// Number of edits in the run file.
@@ -186,41 +239,143 @@ impl Session {
         self.run.edits.len()
     }
 
-    /// Checks every name used by generic edits before anything runs.
-    pub fn validate_edits(&self) -> Result<(), InputError> {
+    /// Checks every edit and every output before the first edit runs: generic edits here
+    /// (names, dimensions, weights, overlaps), source operations and outputs by their sources
+    /// (schemas, names, numbers and limits; outputs read and validate their models). Returns
+    /// what the outputs will write and read.
+    pub fn check(&self) -> Result<OutputsPlan, RunError> {
         for (i, edit) in self.run.edits.iter().enumerate() {
-            if let EditEntry::Ecles {
-                anchors,
-                derived,
-                hints,
-                weights,
-                ..
-            } = edit
-            {
-                for name in anchors
-                    .keys()
-                    .chain(derived)
-                    .chain(hints.keys())
-                    .chain(weights.keys())
-                {
-                    self.param(i, name)?;
+            match &edit.kind {
+                EditKind::Ecles(generic) => self
+                    .check_generic(generic)
+                    .map_err(|message| self.at(edit.at, format!("edit {i}: {message}")))?,
+                EditKind::Source { source, operation } => {
+                    let loaded = self.loaded(source)?;
+                    loaded
+                        .source
+                        .check_operation(&OperationCheckRequest {
+                            operation: operation.text().to_string(),
+                        })
+                        .map_err(|e| {
+                            RunError::input(located_source_error(
+                                &self.run_name(),
+                                operation,
+                                &format!("edit {i} (source {source:?})"),
+                                &e,
+                            ))
+                        })?;
                 }
-                for name in hints.keys().chain(weights.keys()) {
-                    if !derived.contains(name) {
-                        return Err(InputError(format!(
-                            "edit {i}: {name:?} has a hint or weight but is not derived"
-                        )));
-                    }
+            }
+        }
+        let mut plan = OutputsPlan {
+            files: Vec::new(),
+            inputs: self.inputs.clone(),
+            announced: Vec::new(),
+        };
+        for (i, out) in self.run.outputs.iter().enumerate() {
+            let loaded = self.loaded(&out.source)?;
+            let context = format!("output {i} (source {:?})", out.source);
+            let check = loaded
+                .source
+                .check_output(&OutputCheckRequest {
+                    output: out.output.text().to_string(),
+                    base_dir: self.base_dir.clone(),
+                    input_limit: self.input_limit,
+                })
+                .map_err(|e| {
+                    RunError::input(located_source_error(
+                        &self.run_name(),
+                        &out.output,
+                        &context,
+                        &e,
+                    ))
+                })?;
+            for name in &check.files {
+                check_file_name(name)
+                    .map_err(|m| self.at(out.at, format!("{context} would write {name:?}: {m}")))?;
+                if plan.files.contains(name) {
+                    return Err(self.at(out.at, format!("{context}: two outputs write {name:?}")));
                 }
+                plan.files.push(name.clone());
+            }
+            plan.announced
+                .push(check.checked.then(|| check.files.clone()));
+            plan.inputs.extend(check.inputs);
+        }
+        Ok(plan)
+    }
+
+    /// Checks a generic edit: at least one anchor; every name a parameter; values of the right
+    /// dimension; derived parameters distinct and not anchors; hints and weights only for
+    /// derived parameters, weights positive.
+    fn check_generic(&self, edit: &GenericEdit) -> Result<(), String> {
+        if edit.anchors.is_empty() {
+            return Err("anchors is empty: an edit needs at least one anchor".into());
+        }
+        let param = |name: &str, role: &str| -> Result<ParamId, String> {
+            self.system.param_id(name).ok_or_else(|| {
+                format!("{role} {name:?} is not a parameter of the run (parameters are named source.name, e.g. \"worm.v3\")")
+            })
+        };
+        let dimension = |name: &str, id: ParamId, role: &str, value: &runfile::ValueText| {
+            let dim = self.system.params()[id.index()].dim;
+            let given = value.coordinates().len();
+            if given == dim {
+                Ok(())
+            } else {
+                Err(format!(
+                    "the {role} of {name:?} has {given} coordinates, but the parameter has {dim}"
+                ))
+            }
+        };
+        for (name, value) in &edit.anchors {
+            let id = param(name, "anchor")?;
+            dimension(name, id, "value", value)?;
+        }
+        let mut derived = BTreeSet::new();
+        for name in &edit.derived {
+            param(name, "derived parameter")?;
+            if edit.anchors.contains_key(name) {
+                return Err(format!("{name:?} is both an anchor and derived"));
+            }
+            if !derived.insert(name.as_str()) {
+                return Err(format!("{name:?} is listed twice in derived"));
+            }
+        }
+        for (name, value) in &edit.hints {
+            let id = param(name, "hinted parameter")?;
+            if !derived.contains(name.as_str()) {
+                return Err(format!("{name:?} has a hint but is not derived"));
+            }
+            dimension(name, id, "hint", value)?;
+        }
+        for (name, weight) in &edit.weights {
+            param(name, "weighted parameter")?;
+            if !derived.contains(name.as_str()) {
+                return Err(format!("{name:?} has a weight but is not derived"));
+            }
+            if weight.0 <= Rational::zero() {
+                return Err(format!(
+                    "the weight of {name:?} is {}; weights must be positive",
+                    format_rational(&weight.0)
+                ));
             }
         }
         Ok(())
     }
 
-    fn param(&self, edit: usize, name: &str) -> Result<ParamId, InputError> {
+    /// The built source named `name`.
+    fn loaded(&self, name: &str) -> Result<&Loaded, RunError> {
+        self.sources
+            .iter()
+            .find(|s| s.name == name)
+            .ok_or_else(|| RunError::input(format!("{}: unknown source {name:?}", self.run_name())))
+    }
+
+    fn param(&self, name: &str) -> Result<ParamId, RunError> {
         self.system
             .param_id(name)
-            .ok_or_else(|| InputError(format!("edit {edit}: unknown parameter {name:?}")))
+            .ok_or_else(|| RunError::input(format!("unknown parameter {name:?}")))
     }
 
     fn name(&self, id: ParamId) -> String {
@@ -229,38 +384,39 @@ impl Session {
 
     /// Runs edit `index`; the report says whether it was solvable. Values change only when
     /// every step succeeded.
-    pub fn run_edit(&mut self, index: usize) -> Result<EditReport, InputError> {
+    pub fn run_edit(&mut self, index: usize) -> Result<EditReport, RunError> {
         let entry = self.run.edits[index].clone();
         let mut report = EditReport {
             index,
             ..EditReport::default()
         };
-        let (spec, steps) = match &entry {
-            EditEntry::Ecles {
-                anchors,
-                derived,
-                hints,
-                weights,
-                strong,
-            } => {
+        let (spec, steps) = match &entry.kind {
+            EditKind::Ecles(generic) => {
                 report.kind = "ecles".into();
-                self.generic_plan(index, anchors, derived, hints, weights, *strong)?
+                self.generic_plan(generic)
+                    .map_err(|e| self.at(entry.at, format!("edit {index}: {e}")))?
             }
-            EditEntry::Source { source, operation } => {
+            EditKind::Source { source, operation } => {
                 report.kind = "source".into();
                 report.source = Some(source.clone());
-                let Some(loaded) = self.sources.iter().find(|s| &s.name == source) else {
-                    return Err(InputError(format!(
-                        "edit {index}: unknown source {source:?}"
-                    )));
-                };
+                let loaded = self.loaded(source)?;
                 let request = PlanRequest {
-                    operation: runfile::to_ron_text(operation),
+                    operation: operation.text().to_string(),
                     system: self.system.clone(),
                     values: self.values.clone(),
                 };
                 match loaded.source.plan(&request) {
                     Ok(plan) => {
+                        // A plugin's answer is outside data: nothing indexes with its ids
+                        // before they are checked.
+                        plan.validate(&self.system).map_err(|problem| {
+                            self.at(
+                                operation.start(),
+                                format!(
+                                    "edit {index}: source {source:?} planned an edit that cannot run: {problem}"
+                                ),
+                            )
+                        })?;
                         report.plan = plan
                             .summary
                             .iter()
@@ -319,7 +475,7 @@ impl Session {
                         .collect();
                     self.values.replace_all(updates);
                 }
-                if let EditEntry::Source { source, .. } = &entry {
+                if let EditKind::Source { source, .. } = &entry.kind {
                     self.last_highlight.insert(
                         source.clone(),
                         Highlight {
@@ -413,38 +569,35 @@ impl Session {
         lines
     }
 
-    fn generic_plan(
-        &self,
-        index: usize,
-        anchors: &BTreeMap<String, runfile::ValueText>,
-        derived: &[String],
-        hints: &BTreeMap<String, runfile::ValueText>,
-        weights: &BTreeMap<String, api::exact::Exact>,
-        strong: bool,
-    ) -> Result<(EditSpec, Vec<PlannedStep>), InputError> {
-        let anchor_ids: Vec<ParamId> = anchors
+    fn generic_plan(&self, edit: &GenericEdit) -> Result<(EditSpec, Vec<PlannedStep>), RunError> {
+        let anchor_ids: Vec<ParamId> = edit
+            .anchors
             .keys()
-            .map(|n| self.param(index, n))
+            .map(|n| self.param(n))
             .collect::<Result<_, _>>()?;
-        let derived_ids: Vec<ParamId> = derived
+        let derived_ids: Vec<ParamId> = edit
+            .derived
             .iter()
-            .map(|n| self.param(index, n))
+            .map(|n| self.param(n))
             .collect::<Result<_, _>>()?;
-        let anchor_values: Vec<Vec<Rational>> = anchors.values().map(|v| v.coordinates()).collect();
-        let hint_values: Vec<Vec<Rational>> = derived
+        let anchor_values: Vec<Vec<Rational>> =
+            edit.anchors.values().map(|v| v.coordinates()).collect();
+        let hint_values: Vec<Vec<Rational>> = edit
+            .derived
             .iter()
             .zip(&derived_ids)
             .map(|(n, id)| {
-                hints
+                edit.hints
                     .get(n)
                     .map(|v| v.coordinates())
                     .unwrap_or_else(|| self.values.get(*id).to_vec())
             })
             .collect();
-        let weight_values: Vec<Rational> = derived
+        let weight_values: Vec<Rational> = edit
+            .derived
             .iter()
             .map(|n| {
-                weights
+                edit.weights
                     .get(n)
                     .map(|w| w.0.clone())
                     .unwrap_or_else(Rational::one)
@@ -455,7 +608,7 @@ impl Session {
                 anchors: anchor_ids,
                 derived: derived_ids,
                 weights: Some(weight_values),
-                strong,
+                strong: edit.strong,
             },
             vec![PlannedStep {
                 anchors: anchor_values,
@@ -520,8 +673,9 @@ impl Session {
         report.float_agrees = Some(report.disagreements.is_empty());
     }
 
-    /// Renders every output; nothing is written here.
-    pub fn render_outputs(&self) -> Result<Vec<OutputFile>, InputError> {
+    /// Renders every output; nothing is written here. Each output must produce exactly the
+    /// files its check announced (`plan`, from [`Session::check`]).
+    pub fn render_outputs(&self, plan: &OutputsPlan) -> Result<Vec<OutputFile>, RunError> {
         let mut files: Vec<OutputFile> = Vec::new();
         let parts = if self.run.outputs.is_empty() {
             None
@@ -532,48 +686,75 @@ impl Session {
             ))
         };
         for (i, out) in self.run.outputs.iter().enumerate() {
-            let Some(loaded) = self.sources.iter().find(|s| s.name == out.source) else {
-                return Err(InputError(format!(
-                    "output {i}: unknown source {:?}",
-                    out.source
-                )));
-            };
+            let loaded = self.loaded(&out.source)?;
+            let context = format!("output {i} (source {:?})", out.source);
             let request = RenderRequest {
-                output: runfile::to_ron_text(&out.output),
+                output: out.output.text().to_string(),
                 base_dir: self.base_dir.clone(),
                 system: self.system.clone(),
                 initial: self.initial.clone(),
                 values: self.values.clone(),
                 highlight: self.last_highlight.get(&out.source).cloned(),
                 structure: parts.clone(),
+                input_limit: self.input_limit,
             };
             let rendered = loaded.source.render(&request).map_err(|e| {
-                InputError(format!(
-                    "output {i} (source {:?}): {}",
-                    out.source, e.message
+                RunError::input(located_source_error(
+                    &self.run_name(),
+                    &out.output,
+                    &context,
+                    &e,
                 ))
             })?;
-            for file in rendered {
-                if file.name.is_empty()
-                    || file.name.contains(['/', '\\'])
-                    || file.name == "report.json"
-                    || file.name.starts_with('.')
-                {
-                    return Err(InputError(format!(
-                        "output {i}: source {:?} produced an invalid file name {:?}",
-                        out.source, file.name
-                    )));
+            let names: Vec<String> = rendered.iter().map(|f| f.name.clone()).collect();
+            if let Some(Some(announced)) = plan.announced.get(i) {
+                if *announced != names {
+                    return Err(self.at(
+                        out.at,
+                        format!("{context} wrote {names:?}, but its check announced {announced:?}"),
+                    ));
                 }
+            }
+            for file in rendered {
+                check_file_name(&file.name).map_err(|m| {
+                    self.at(
+                        out.at,
+                        format!("{context} produced the file {:?}: {m}", file.name),
+                    )
+                })?;
                 if files.iter().any(|f| f.name == file.name) {
-                    return Err(InputError(format!(
-                        "output {i}: two outputs write {:?}",
-                        file.name
-                    )));
+                    return Err(self.at(
+                        out.at,
+                        format!("{context}: two outputs write {:?}", file.name),
+                    ));
                 }
                 files.push(file);
             }
         }
         Ok(files)
+    }
+}
+
+/// `"name[k]"` as `("name", Some(k))`; any other text as `(text, None)`.
+fn split_coordinate(name: &str) -> (&str, Option<usize>) {
+    if let Some(inner) = name.strip_suffix(']') {
+        if let Some((base, k)) = inner.rsplit_once('[') {
+            if let Ok(k) = k.parse::<usize>() {
+                return (base, Some(k));
+            }
+        }
+    }
+    (name, None)
+}
+
+/// A file name an output may write: plain (no directories), not hidden, not the report.
+fn check_file_name(name: &str) -> Result<(), &'static str> {
+    if name.is_empty() || name.contains(['/', '\\']) || name.starts_with('.') {
+        Err("not a plain file name")
+    } else if name == crate::outputs::REPORT {
+        Err("the run report's name")
+    } else {
+        Ok(())
     }
 }
 

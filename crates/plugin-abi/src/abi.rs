@@ -3,7 +3,10 @@
 //! Everything in this module is part of the frozen contract described in the crate
 //! documentation. Changing the layout of any struct, a function signature, a method number or a
 //! status code requires a new [`ABI_VERSION`] and a new entry symbol (`ecles_plugin_entry_v2`);
-//! the probe symbol [`PROBE_SYMBOL`] never changes.
+//! the probe symbol [`PROBE_SYMBOL`] never changes. New method numbers may be added within a
+//! version when hosts can do without them: a plugin answers an unknown method with
+//! [`STATUS_BAD_INPUT`] and the text "unknown method N", which hosts take as "not supported"
+//! (methods 4 and 5, the checks, were added this way).
 
 use std::ffi::{c_char, c_void};
 
@@ -33,6 +36,18 @@ pub const METHOD_PLAN: u32 = 2;
 /// [`PluginVTable::call`] method: render. Input is a JSON `api::RenderRequest`, output on
 /// success a JSON array of `api::OutputFile`.
 pub const METHOD_RENDER: u32 = 3;
+
+/// [`PluginVTable::call`] method: check an operation before any edit runs. Input is a JSON
+/// `api::OperationCheckRequest`, output on success JSON `null`.
+///
+/// Added within ABI version 1: plugins built before it answer [`STATUS_BAD_INPUT`] with
+/// "unknown method 4", which hosts must take as "cannot check in advance", not as an error.
+pub const METHOD_CHECK_OPERATION: u32 = 4;
+/// [`PluginVTable::call`] method: check an output before any edit runs. Input is a JSON
+/// `api::OutputCheckRequest`, output on success a JSON `api::OutputCheck`.
+///
+/// Added within ABI version 1, like [`METHOD_CHECK_OPERATION`].
+pub const METHOD_CHECK_OUTPUT: u32 = 5;
 
 /// [`PluginVTable::call`] status: success; the output holds the JSON answer.
 pub const STATUS_OK: i32 = 0;

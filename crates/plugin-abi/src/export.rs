@@ -6,10 +6,13 @@
 
 use crate::abi::{
     ByteBuffer, CreateFn, PluginHeader, PluginVTable, ABI_VERSION, MAGIC, METHOD_BUILD,
-    METHOD_PLAN, METHOD_RENDER, STATUS_BAD_INPUT, STATUS_OK, STATUS_PANIC, STATUS_SOURCE_ERROR,
-    VTABLE_SIZE,
+    METHOD_CHECK_OPERATION, METHOD_CHECK_OUTPUT, METHOD_PLAN, METHOD_RENDER, STATUS_BAD_INPUT,
+    STATUS_OK, STATUS_PANIC, STATUS_SOURCE_ERROR, VTABLE_SIZE,
 };
-use api::{BuildRequest, ConstraintSource, PlanRequest, RenderRequest, SourceError};
+use api::{
+    BuildRequest, ConstraintSource, OperationCheckRequest, OutputCheckRequest, PlanRequest,
+    RenderRequest, SourceError,
+};
 use serde::de::DeserializeOwned;
 use serde::Serialize;
 use std::any::Any;
@@ -29,8 +32,8 @@ pub use api::ConstraintSource as Source;
 ///
 /// ```no_run
 /// use api::{
-///     BuildRequest, ConstraintSource, Contribution, OperationPlan, OutputFile, PlanRequest,
-///     RenderRequest, SourceError,
+///     BuildRequest, ConstraintSource, Contribution, OperationCheckRequest, OperationPlan,
+///     OutputCheck, OutputCheckRequest, OutputFile, PlanRequest, RenderRequest, SourceError,
 /// };
 ///
 /// #[derive(Default)]
@@ -50,6 +53,12 @@ pub use api::ConstraintSource as Source;
 ///         Err(SourceError::new("no operations"))
 ///     }
 ///     fn render(&self, _: &RenderRequest) -> Result<Vec<OutputFile>, SourceError> {
+///         Err(SourceError::new("no outputs"))
+///     }
+///     fn check_operation(&self, _: &OperationCheckRequest) -> Result<(), SourceError> {
+///         Err(SourceError::new("no operations"))
+///     }
+///     fn check_output(&self, _: &OutputCheckRequest) -> Result<OutputCheck, SourceError> {
 ///         Err(SourceError::new("no outputs"))
 ///     }
 /// }
@@ -293,12 +302,22 @@ fn bad_input(message: impl Into<String>) -> (i32, Vec<u8>) {
     (STATUS_BAD_INPUT, message.into().into_bytes())
 }
 
-/// Runs one method on a source: JSON in, status and bytes out.
-fn dispatch(source: &mut dyn ConstraintSource, method: u32, input: &[u8]) -> (i32, Vec<u8>) {
+/// Runs one method on a source: JSON in, status and bytes out, exactly as a plugin's `call`
+/// does (without the panic guard). Every byte sequence is answered with a status; public so
+/// that the decoding of requests can be fuzzed.
+pub fn dispatch(source: &mut dyn ConstraintSource, method: u32, input: &[u8]) -> (i32, Vec<u8>) {
     match method {
         METHOD_BUILD => run(input, "BuildRequest", |r: BuildRequest| source.build(&r)),
         METHOD_PLAN => run(input, "PlanRequest", |r: PlanRequest| source.plan(&r)),
         METHOD_RENDER => run(input, "RenderRequest", |r: RenderRequest| source.render(&r)),
+        METHOD_CHECK_OPERATION => run(
+            input,
+            "OperationCheckRequest",
+            |r: OperationCheckRequest| source.check_operation(&r),
+        ),
+        METHOD_CHECK_OUTPUT => run(input, "OutputCheckRequest", |r: OutputCheckRequest| {
+            source.check_output(&r)
+        }),
         other => bad_input(format!("unknown method {other}")),
     }
 }
@@ -358,6 +377,48 @@ mod tests {
         fn render(&self, _: &RenderRequest) -> Result<Vec<OutputFile>, SourceError> {
             std::panic::panic_any(42_u32)
         }
+        fn check_operation(&self, request: &OperationCheckRequest) -> Result<(), SourceError> {
+            match request.operation.as_str() {
+                "ok" => Ok(()),
+                _ => Err(SourceError::new("no operations")),
+            }
+        }
+        fn check_output(&self, _: &OutputCheckRequest) -> Result<api::OutputCheck, SourceError> {
+            Ok(api::OutputCheck::new(vec!["x.svg".into()], vec![]))
+        }
+    }
+
+    #[test]
+    fn checks_answer_through_the_abi() {
+        let ok = serde_json::to_vec(&OperationCheckRequest {
+            operation: "ok".into(),
+        })
+        .expect("serialise");
+        assert_eq!(
+            invoke(METHOD_CHECK_OPERATION, &ok),
+            (STATUS_OK, "null".into())
+        );
+        let no = serde_json::to_vec(&OperationCheckRequest {
+            operation: "turn".into(),
+        })
+        .expect("serialise");
+        let (status, text) = invoke(METHOD_CHECK_OPERATION, &no);
+        assert_eq!(status, STATUS_SOURCE_ERROR);
+        assert!(text.contains("no operations"), "{text}");
+        let output = serde_json::to_vec(&OutputCheckRequest {
+            output: "()".into(),
+            base_dir: ".".into(),
+            input_limit: 1,
+        })
+        .expect("serialise");
+        let (status, text) = invoke(METHOD_CHECK_OUTPUT, &output);
+        assert_eq!(status, STATUS_OK);
+        let check: api::OutputCheck = serde_json::from_str(&text).expect("an OutputCheck");
+        assert!(check.checked);
+        assert_eq!(check.files, ["x.svg"]);
+        let (status, text) = invoke(99, b"{}");
+        assert_eq!(status, STATUS_BAD_INPUT);
+        assert!(text.starts_with("unknown method"), "{text}");
     }
 
     fn construct() -> Box<dyn ConstraintSource> {
@@ -366,6 +427,7 @@ mod tests {
 
     fn request(name: &str) -> Vec<u8> {
         let request = BuildRequest {
+            input_limit: api::input::DEFAULT_MAX_INPUT_BYTES,
             name: name.into(),
             config: String::new(),
             base_dir: ".".into(),
@@ -476,6 +538,7 @@ mod tests {
     #[test]
     fn a_non_string_panic_payload_is_described() {
         let input = serde_json::to_vec(&RenderRequest {
+            input_limit: api::input::DEFAULT_MAX_INPUT_BYTES,
             output: String::new(),
             base_dir: ".".into(),
             system: Default::default(),

@@ -2,12 +2,13 @@
 
 use crate::abi::{
     AbiVersionFn, ByteBuffer, CallFn, CreateFn, DestroyFn, EntryFnV1, FreeBufferFn, PluginHeader,
-    PluginVTable, ABI_VERSION, ENTRY_SYMBOL_V1, MAGIC, METHOD_BUILD, METHOD_PLAN, METHOD_RENDER,
-    PROBE_SYMBOL, STATUS_BAD_INPUT, STATUS_OK, STATUS_PANIC, STATUS_SOURCE_ERROR, VTABLE_SIZE,
+    PluginVTable, ABI_VERSION, ENTRY_SYMBOL_V1, MAGIC, METHOD_BUILD, METHOD_CHECK_OPERATION,
+    METHOD_CHECK_OUTPUT, METHOD_PLAN, METHOD_RENDER, PROBE_SYMBOL, STATUS_BAD_INPUT, STATUS_OK,
+    STATUS_PANIC, STATUS_SOURCE_ERROR, VTABLE_SIZE,
 };
 use api::{
-    BuildRequest, ConstraintSource, Contribution, OperationPlan, OutputFile, PlanRequest,
-    RenderRequest, SourceError,
+    BuildRequest, ConstraintSource, Contribution, OperationCheckRequest, OperationPlan,
+    OutputCheck, OutputCheckRequest, OutputFile, PlanRequest, RenderRequest, SourceError,
 };
 use serde::de::DeserializeOwned;
 use serde::Serialize;
@@ -326,6 +327,23 @@ impl DynamicSource {
         name: &str,
         request: &Req,
     ) -> Result<Ans, SourceError> {
+        self.call(method, name, request)?.ok_or_else(|| {
+            SourceError::new(format!(
+                "{}: {name} {}",
+                self.describe(),
+                AnswerError::UnknownMethod
+            ))
+        })
+    }
+
+    /// Runs `method` with `request` and decodes the answer; `None` when the plugin does not
+    /// know the method.
+    fn call<Req: Serialize, Ans: DeserializeOwned>(
+        &self,
+        method: u32,
+        name: &str,
+        request: &Req,
+    ) -> Result<Option<Ans>, SourceError> {
         let fail = |what: String| SourceError::new(format!("{}: {name} {what}", self.describe()));
         if self.handle.is_null() {
             return Err(fail(
@@ -356,25 +374,12 @@ impl DynamicSource {
                  nonzero length)"
             ))
         })?;
-        match status {
-            STATUS_OK => serde_json::from_slice(&bytes)
-                .map_err(|e| fail(format!("returned an answer that is not valid JSON: {e}"))),
-            STATUS_SOURCE_ERROR => match serde_json::from_slice::<SourceError>(&bytes) {
-                // The source's own refusal passes through unchanged, as in process.
-                Ok(error) => Err(error),
-                Err(e) => Err(fail(format!(
-                    "failed with an error that is not valid JSON: {e}"
-                ))),
-            },
-            STATUS_PANIC => Err(fail(format!(
-                "panicked: {}",
-                String::from_utf8_lossy(&bytes)
-            ))),
-            STATUS_BAD_INPUT => Err(fail(format!(
-                "rejected the request as bad input: {}",
-                String::from_utf8_lossy(&bytes)
-            ))),
-            other => Err(fail(format!("returned unknown status {other}"))),
+        match decode_answer(status, &bytes) {
+            Ok(answer) => Ok(Some(answer)),
+            Err(AnswerError::UnknownMethod) => Ok(None),
+            // The source's own refusal passes through unchanged, as in process.
+            Err(AnswerError::Refused(error)) => Err(error),
+            Err(other) => Err(fail(other.to_string())),
         }
     }
 
@@ -389,6 +394,49 @@ impl DynamicSource {
         // SAFETY: returned unchanged to the plugin that allocated it, once.
         unsafe { (self.functions.free_buffer)(buffer) };
         Some(bytes)
+    }
+}
+
+/// What was wrong with a plugin's answer (see [`decode_answer`]).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum AnswerError {
+    /// The source refused the request ([`STATUS_SOURCE_ERROR`] with a valid error).
+    #[error("refused: {0}")]
+    Refused(SourceError),
+    /// The plugin does not know the method: it was built before the method existed.
+    #[error("does not know this method (built against an older plugin-abi)")]
+    UnknownMethod,
+    /// Anything else: a panic, an answer that is not the expected JSON, an unknown status.
+    #[error("{0}")]
+    Malformed(String),
+}
+
+/// Decodes the answer of a plugin's `call` (its status code and output bytes) into the
+/// expected JSON type. Every byte sequence gives an answer or an [`AnswerError`]; nothing in
+/// it can make the host panic or allocate beyond what the JSON itself describes.
+pub fn decode_answer<Ans: DeserializeOwned>(status: i32, bytes: &[u8]) -> Result<Ans, AnswerError> {
+    match status {
+        STATUS_OK => serde_json::from_slice(bytes).map_err(|e| {
+            AnswerError::Malformed(format!("returned an answer that is not valid JSON: {e}"))
+        }),
+        STATUS_SOURCE_ERROR => match serde_json::from_slice::<SourceError>(bytes) {
+            Ok(error) => Err(AnswerError::Refused(error)),
+            Err(e) => Err(AnswerError::Malformed(format!(
+                "failed with an error that is not valid JSON: {e}"
+            ))),
+        },
+        STATUS_PANIC => Err(AnswerError::Malformed(format!(
+            "panicked: {}",
+            String::from_utf8_lossy(bytes)
+        ))),
+        STATUS_BAD_INPUT if bytes.starts_with(b"unknown method") => Err(AnswerError::UnknownMethod),
+        STATUS_BAD_INPUT => Err(AnswerError::Malformed(format!(
+            "rejected the request as bad input: {}",
+            String::from_utf8_lossy(bytes)
+        ))),
+        other => Err(AnswerError::Malformed(format!(
+            "returned unknown status {other}"
+        ))),
     }
 }
 
@@ -421,6 +469,22 @@ impl ConstraintSource for DynamicSource {
 
     fn render(&self, request: &RenderRequest) -> Result<Vec<OutputFile>, SourceError> {
         self.invoke(METHOD_RENDER, "render", request)
+    }
+
+    /// A plugin built before checks existed cannot check an operation in advance: it is
+    /// accepted here and checked by `plan` at its turn.
+    fn check_operation(&self, request: &OperationCheckRequest) -> Result<(), SourceError> {
+        match self.call(METHOD_CHECK_OPERATION, "check_operation", request)? {
+            Some(()) | None => Ok(()),
+        }
+    }
+
+    /// A plugin built before checks existed answers an unchecked [`OutputCheck`]: the host
+    /// then checks the files when they are rendered.
+    fn check_output(&self, request: &OutputCheckRequest) -> Result<OutputCheck, SourceError> {
+        Ok(self
+            .call(METHOD_CHECK_OUTPUT, "check_output", request)?
+            .unwrap_or_default())
     }
 }
 
@@ -549,6 +613,7 @@ mod tests {
 
     fn build(source: &mut DynamicSource, config: &str) -> Result<Contribution, SourceError> {
         source.build(&BuildRequest {
+            input_limit: api::input::DEFAULT_MAX_INPUT_BYTES,
             name: "f".into(),
             config: config.into(),
             base_dir: ".".into(),

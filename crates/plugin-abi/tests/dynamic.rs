@@ -141,6 +141,7 @@ fn build_request(config: &str) -> BuildRequest {
     let mut system = ConstraintSystem::new();
     system.add_parameter("earlier", 2).expect("fresh name");
     BuildRequest {
+        input_limit: api::input::DEFAULT_MAX_INPUT_BYTES,
         name: "ex".into(),
         config: config.into(),
         base_dir: "/some/run/dir".into(),
@@ -232,6 +233,7 @@ fn refusals_cross_the_boundary_unchanged() {
         values: good.values.clone(),
     };
     let render = RenderRequest {
+        input_limit: api::input::DEFAULT_MAX_INPUT_BYTES,
         output: "(svg: true)".into(),
         base_dir: ".".into(),
         system: good.system.clone(),

@@ -18,8 +18,8 @@
 
 use api::{
     parse_rational, BuildRequest, ConstraintRow, ConstraintSource, Contribution, NewParameter,
-    OperationPlan, Origin, OutputFile, ParamId, PlanRequest, RenderRequest, RowBody, SourceError,
-    SummaryItem,
+    OperationCheckRequest, OperationPlan, Origin, OutputCheck, OutputCheckRequest, OutputFile,
+    ParamId, PlanRequest, RenderRequest, RowBody, SourceError, SummaryItem,
 };
 use serde::Deserialize;
 
@@ -59,8 +59,8 @@ impl ConstraintSource for ExampleSource {
 
     fn build(&mut self, request: &BuildRequest) -> Result<Contribution, SourceError> {
         let name = &request.name;
-        let config: Config = ron::from_str(&request.config)
-            .map_err(|e| SourceError::new(format!("{name} config: {e}")))?;
+        // Positioned errors: the host shows them at the right line of the run file.
+        let config: Config = api::config::from_ron(&request.config, &format!("{name} config"))?;
         if config.test_panic {
             panic!("{name}: test_panic is set, panicking on purpose");
         }
@@ -92,6 +92,7 @@ impl ConstraintSource for ExampleSource {
         };
         self.name = Some(name.clone());
         Ok(Contribution {
+            inputs: Vec::new(),
             parameters: vec![NewParameter {
                 name: x_name,
                 value: vec![value],
@@ -120,6 +121,24 @@ impl ConstraintSource for ExampleSource {
             request.output
         )))
     }
+
+    // The checks run before the first edit of a run; a source without operations or outputs
+    // refuses them there, so a run file asking for one fails before any work is done.
+    fn check_operation(&self, request: &OperationCheckRequest) -> Result<(), SourceError> {
+        Err(SourceError::new(format!(
+            "{}: example sources have no operations (asked for {:?})",
+            self.name(),
+            request.operation
+        )))
+    }
+
+    fn check_output(&self, request: &OutputCheckRequest) -> Result<OutputCheck, SourceError> {
+        Err(SourceError::new(format!(
+            "{}: example sources have no outputs (asked for {:?})",
+            self.name(),
+            request.output
+        )))
+    }
 }
 
 // The C ABI: `ecles_plugin_abi_version`, `ecles_plugin_entry_v1`, header and vtable.
@@ -134,6 +153,7 @@ mod tests {
         let mut system = ConstraintSystem::new();
         system.add_parameter("earlier", 1).expect("fresh name");
         ExampleSource::default().build(&BuildRequest {
+            input_limit: api::input::DEFAULT_MAX_INPUT_BYTES,
             name: "ex".into(),
             config: config.into(),
             base_dir: ".".into(),

@@ -41,8 +41,8 @@
 use api::exact::{format_rational, Exact};
 use api::{
     BuildRequest, ConstraintRow, ConstraintSource, ConstraintSystem, Contribution, Coord, Integer,
-    OperationPlan, Origin, OutputFile, ParamId, PlanRequest, Rational, RenderRequest, RowBody,
-    SourceError, SummaryItem,
+    OperationCheckRequest, OperationPlan, Origin, OutputCheck, OutputCheckRequest, OutputFile,
+    ParamId, PlanRequest, Rational, RenderRequest, RowBody, SourceError, SummaryItem,
 };
 use num_integer::Integer as _;
 use num_traits::{One, Signed, Zero};
@@ -128,8 +128,10 @@ pub enum AlignError {
     Config {
         /// Instance name.
         name: String,
-        /// The parser's message, with line and column.
+        /// The parser's message.
         message: String,
+        /// Where in the configuration text.
+        at: Option<api::config::TextPosition>,
     },
     /// A point that is not a parameter of the system.
     #[error("{name}: constraint {index} ({kind}): no parameter named {param:?} (points are named by source and point, e.g. \"phi.v3\")")]
@@ -195,15 +197,27 @@ pub enum AlignError {
 
 impl From<AlignError> for SourceError {
     fn from(e: AlignError) -> Self {
-        SourceError::new(e.to_string())
+        let at = match &e {
+            AlignError::Config { at, .. } => *at,
+            _ => None,
+        };
+        SourceError {
+            message: e.to_string(),
+            at,
+        }
     }
 }
 
 /// Parses a configuration (RON, struct and enum syntax as in the module documentation).
 pub fn parse_config(name: &str, text: &str) -> Result<AlignConfig, AlignError> {
-    ron::from_str(text).map_err(|e| AlignError::Config {
+    api::config::from_ron(text, "config").map_err(|e| AlignError::Config {
         name: name.to_string(),
-        message: e.to_string(),
+        message: e
+            .message
+            .strip_prefix("config: ")
+            .unwrap_or(&e.message)
+            .to_string(),
+        at: e.at,
     })
 }
 
@@ -449,6 +463,7 @@ impl ConstraintSource for AlignSource {
         };
         self.built = Some(Built { name: name.clone() });
         Ok(Contribution {
+            inputs: Vec::new(),
             parameters: Vec::new(),
             rows,
             summary: summary
@@ -471,6 +486,22 @@ impl ConstraintSource for AlignSource {
     }
 
     fn render(&self, request: &RenderRequest) -> Result<Vec<OutputFile>, SourceError> {
+        Err(SourceError::new(format!(
+            "{}: align sources have no outputs (asked for {:?})",
+            self.name(),
+            request.output
+        )))
+    }
+
+    fn check_operation(&self, request: &OperationCheckRequest) -> Result<(), SourceError> {
+        Err(SourceError::new(format!(
+            "{}: align sources have no operations; edit the points through their own source or a generic edit (asked for {:?})",
+            self.name(),
+            request.operation
+        )))
+    }
+
+    fn check_output(&self, request: &OutputCheckRequest) -> Result<OutputCheck, SourceError> {
         Err(SourceError::new(format!(
             "{}: align sources have no outputs (asked for {:?})",
             self.name(),

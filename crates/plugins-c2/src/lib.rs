@@ -32,10 +32,11 @@
 //! ```
 
 use api::{
-    BuildRequest, ConstraintRow, ConstraintSource, Contribution, Integer, OperationPlan, Origin,
-    OutputFile, ParamId, PlanRequest, RenderRequest, RowBody, SourceError, SummaryItem,
+    BuildRequest, ConstraintRow, ConstraintSource, Contribution, Integer, OperationCheckRequest,
+    OperationPlan, Origin, OutputCheck, OutputCheckRequest, OutputFile, ParamId, PlanRequest,
+    RenderRequest, RowBody, SourceError, SummaryItem,
 };
-use plugins_spline2d::plugin::spline_from_config;
+use plugins_spline2d::plugin::spline_from_config_text;
 use plugins_spline2d::spline::Spline;
 use serde::Deserialize;
 use std::collections::HashMap;
@@ -71,6 +72,8 @@ pub enum C2Error {
         name: String,
         /// The parser's message.
         message: String,
+        /// Where in the configuration text.
+        at: Option<api::config::TextPosition>,
     },
     /// No earlier source has the configured name.
     #[error("{name}: no source named {spline:?} is built before this one (earlier sources: {earlier}); put the spline2d source first")]
@@ -144,18 +147,28 @@ pub enum C2Error {
 
 impl From<C2Error> for SourceError {
     fn from(e: C2Error) -> Self {
-        SourceError::new(e.to_string())
+        let at = match &e {
+            C2Error::Config { at, .. } => *at,
+            _ => None,
+        };
+        SourceError {
+            message: e.to_string(),
+            at,
+        }
     }
 }
 
-/// Parses a configuration (struct syntax `(spline: "phi")` or map syntax `{"spline": "phi"}`).
+/// Parses a configuration (`(spline: "phi")`); errors carry their position in `text`.
 pub fn parse_config(name: &str, text: &str) -> Result<C2Config, C2Error> {
-    let error = |message: String| C2Error::Config {
+    api::config::from_ron(text, "config").map_err(|e| C2Error::Config {
         name: name.to_string(),
-        message,
-    };
-    let value: ron::Value = ron::from_str(text).map_err(|e| error(e.to_string()))?;
-    value.into_rust().map_err(|e| error(e.to_string()))
+        message: e
+            .message
+            .strip_prefix("config: ")
+            .unwrap_or(&e.message)
+            .to_string(),
+        at: e.at,
+    })
 }
 
 /// What a built source keeps, for messages.
@@ -213,8 +226,14 @@ impl C2Source {
             spline: spline_name.clone(),
             message,
         };
-        let (c1, _) = spline_from_config(&info.name, &info.config, &request.base_dir)
-            .map_err(|e| spline_error(e.message))?;
+        let c1 = spline_from_config_text(
+            &info.name,
+            &info.config,
+            &request.base_dir,
+            request.input_limit,
+        )
+        .map_err(|e| spline_error(e.message))?
+        .spline;
         let degree = c1.degree();
         if c1.smoothness() == 0 {
             return Err(C2Error::NotC1 {
@@ -309,6 +328,7 @@ impl C2Source {
         ];
         Ok((
             Contribution {
+                inputs: Vec::new(),
                 parameters: Vec::new(),
                 rows,
                 summary,
@@ -346,6 +366,22 @@ impl ConstraintSource for C2Source {
     }
 
     fn render(&self, request: &RenderRequest) -> Result<Vec<OutputFile>, SourceError> {
+        Err(SourceError::new(format!(
+            "{}: c2 sources have no outputs; render the spline through its own source (asked for {:?})",
+            self.describe(),
+            request.output
+        )))
+    }
+
+    fn check_operation(&self, request: &OperationCheckRequest) -> Result<(), SourceError> {
+        Err(SourceError::new(format!(
+            "{}: c2 sources have no operations; edit the spline through its own source (asked for {:?})",
+            self.describe(),
+            request.operation
+        )))
+    }
+
+    fn check_output(&self, request: &OutputCheckRequest) -> Result<OutputCheck, SourceError> {
         Err(SourceError::new(format!(
             "{}: c2 sources have no outputs; render the spline through its own source (asked for {:?})",
             self.describe(),

@@ -180,12 +180,14 @@ fn rows_are_labelled_and_counted() {
     assert_eq!(count("degree"), Some(9));
     assert_eq!(count("interior_edges"), Some(4));
     assert!(c.warnings.is_empty());
-    // Map syntax (as some hosts forward configurations) is read too.
+    // The configuration is a struct: anything else is refused with its position.
     let map = BuildRequest {
         config: "{\"spline\": \"phi\"}".into(),
         ..request
     };
-    assert_eq!(C2Source::default().build(&map).expect("map syntax"), c);
+    let e = C2Source::default().build(&map).expect_err("map syntax");
+    assert!(e.message.starts_with("smooth config: "), "{}", e.message);
+    assert_eq!(e.at.map(|p| p.line), Some(1));
 }
 
 #[test]

@@ -190,12 +190,7 @@ fn check_name(name: &str, what: &str) -> Result<(), SourceError> {
 
 /// Reads and validates the RON text of a configuration.
 pub(crate) fn parse_config(text: &str) -> Result<Config, SourceError> {
-    let raw: LinearConfig = ron::from_str(text).map_err(|e| {
-        SourceError::new(format!(
-            "config {}:{}: {}",
-            e.position.line, e.position.col, e.code
-        ))
-    })?;
+    let raw: LinearConfig = api::config::from_ron(text, "config")?;
     let matrix_form =
         raw.matrix.is_some() || raw.rhs.is_some() || raw.names.is_some() || raw.values.is_some();
     let equations_form = raw.parameters.is_some() || raw.equations.is_some();
@@ -463,16 +458,21 @@ mod tests {
 
     #[test]
     fn reports_ron_errors_with_their_position() {
-        let message = err("(\n  parameters: { \"p1\": \"1\" },\n  equatoins: [],\n)");
-        assert!(message.starts_with("config 3:"), "{message}");
+        let at = |text: &str| {
+            let e = parse_config(text).expect_err(text);
+            (e.at.map(|p| p.line), e.message)
+        };
+        let (line, message) = at("(\n  parameters: { \"p1\": \"1\" },\n  equatoins: [],\n)");
+        assert_eq!(line, Some(3), "{message}");
+        assert!(message.starts_with("config: "), "{message}");
         assert!(message.contains("equatoins"), "{message}");
-        let message = err("(\n  parameters: { \"p1\": \"1\", \"p1\": \"2\" },\n)");
-        assert!(message.starts_with("config 2:"), "{message}");
+        let (line, message) = at("(\n  parameters: { \"p1\": \"1\", \"p1\": \"2\" },\n)");
+        assert_eq!(line, Some(2), "{message}");
         assert!(message.contains("\"p1\" is declared twice"), "{message}");
-        let message = err("(parameters: { \"p1\": true })");
-        assert!(message.starts_with("config 1:"), "{message}");
+        let (line, message) = at("(parameters: { \"p1\": true })");
+        assert_eq!(line, Some(1), "{message}");
         assert!(message.contains("an integer or a string"), "{message}");
-        let message = err("(equations: [\"a = 1\"");
-        assert!(message.starts_with("config 1:"), "{message}");
+        let (line, _) = at("(equations: [\"a = 1\"");
+        assert_eq!(line, Some(1));
     }
 }

@@ -94,6 +94,7 @@
 //!     system: ConstraintSystem::new(),
 //!     values: Values::default(),
 //!     sources: vec![],
+//!     input_limit: api::input::DEFAULT_MAX_INPUT_BYTES,
 //! };
 //! let contribution = LinearSource::new().build(&request).unwrap();
 //! let (mut system, mut values) = (ConstraintSystem::new(), Values::default());
@@ -108,8 +109,8 @@ mod equation;
 
 use api::{
     BuildRequest, ConstraintRow, ConstraintSource, Contribution, Coord, Integer, NewParameter,
-    OperationPlan, Origin, OutputFile, ParamId, PlanRequest, Rational, RenderRequest, RowBody,
-    SourceError, SummaryItem,
+    OperationCheckRequest, OperationPlan, Origin, OutputCheck, OutputCheckRequest, OutputFile,
+    ParamId, PlanRequest, Rational, RenderRequest, RowBody, SourceError, SummaryItem,
 };
 use config::{parse_config, Config};
 use equation::parse_equation;
@@ -377,6 +378,14 @@ impl ConstraintSource for LinearSource {
     }
 
     fn render(&self, _request: &RenderRequest) -> Result<Vec<OutputFile>, SourceError> {
+        Err(SourceError::new("the linear source has no outputs"))
+    }
+
+    fn check_operation(&self, _request: &OperationCheckRequest) -> Result<(), SourceError> {
+        Err(SourceError::new("the linear source has no operations"))
+    }
+
+    fn check_output(&self, _request: &OutputCheckRequest) -> Result<OutputCheck, SourceError> {
         Err(SourceError::new("the linear source has no outputs"))
     }
 }

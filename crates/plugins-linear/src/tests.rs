@@ -6,6 +6,7 @@ use api::{ConstraintSystem, RowId, Values};
 fn request(name: &str, config: &str, system: ConstraintSystem) -> BuildRequest {
     let values = Values::zeros(&system);
     BuildRequest {
+        input_limit: api::input::DEFAULT_MAX_INPUT_BYTES,
         name: name.into(),
         config: config.into(),
         base_dir: ".".into(),
@@ -364,7 +365,8 @@ fn ron_errors_carry_their_position() {
         ConstraintSystem::new(),
     )
     .expect_err("unknown field");
-    assert!(e.message.starts_with("config 3:"), "{}", e.message);
+    assert_eq!(e.at.map(|p| p.line), Some(3), "{}", e.message);
+    assert!(e.message.starts_with("config: "), "{}", e.message);
     assert!(e.message.contains("equatoins"), "{}", e.message);
 }
 
@@ -385,6 +387,7 @@ fn plan_and_render_are_refused() {
     assert_eq!(e.message, "the linear source has no operations");
     let e = source
         .render(&RenderRequest {
+            input_limit: api::input::DEFAULT_MAX_INPUT_BYTES,
             output: "()".into(),
             base_dir: ".".into(),
             system,

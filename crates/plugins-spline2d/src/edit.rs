@@ -97,6 +97,33 @@ pub enum Operation {
     },
 }
 
+impl Operation {
+    /// Checks the operation for a spline whose values have `dim` coordinates: a translation of
+    /// `dim` coordinates; rotations and scalings only of planar splines, with a positive
+    /// precision, and a positive scale factor.
+    pub fn validate(&self, dim: usize) -> Result<(), SelectError> {
+        match self {
+            Operation::Translate { by } if by.len() != dim => {
+                Err(SelectError::InvalidOperation(format!(
+                    "translation has {} coordinates, the spline has {dim}",
+                    by.len()
+                )))
+            }
+            Operation::Rotate { precision, .. } | Operation::Scale { precision, .. }
+                if dim != 2 || *precision == 0 =>
+            {
+                Err(SelectError::InvalidOperation(
+                    "rotation and scaling need a planar spline and a positive precision".into(),
+                ))
+            }
+            Operation::Scale { factor, .. } if *factor <= Rational::zero() => Err(
+                SelectError::InvalidOperation("the scale factor must be positive".into()),
+            ),
+            _ => Ok(()),
+        }
+    }
+}
+
 /// Anchor values and hints of one step of an operation.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Step {
@@ -299,28 +326,7 @@ impl SplineEditor<'_> {
                 "steps must be at least 1".into(),
             ));
         }
-        let dim = self.params.dim;
-        match operation {
-            Operation::Translate { by } if by.len() != dim => {
-                return Err(SelectError::InvalidOperation(format!(
-                    "translation has {} coordinates, the spline has {dim}",
-                    by.len()
-                )))
-            }
-            Operation::Rotate { precision, .. } | Operation::Scale { precision, .. }
-                if dim != 2 || *precision == 0 =>
-            {
-                return Err(SelectError::InvalidOperation(
-                    "rotation and scaling need a planar spline and a positive precision".into(),
-                ))
-            }
-            Operation::Scale { factor, .. } if *factor <= Rational::zero() => {
-                return Err(SelectError::InvalidOperation(
-                    "the scale factor must be positive".into(),
-                ))
-            }
-            _ => {}
-        }
+        operation.validate(self.params.dim)?;
         let position = |p: usize| values.get(self.params.ids[p]).to_vec();
         let steps_out = (1..=steps)
             .map(|k| {

@@ -22,6 +22,7 @@ pub mod mesh;
 pub mod mesh_io;
 pub mod model;
 pub mod net;
+pub mod operation;
 pub mod plugin;
 pub mod source;
 pub mod spline;

@@ -159,8 +159,8 @@ impl std::error::Error for MeshError {}
 /// reported with [`MeshError::element`] set (the message completes the sentence).
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum MeshErrorKind {
-    /// The file could not be read.
-    #[error("cannot read the file: {0}")]
+    /// The file could not be read (missing, not a regular file, too large).
+    #[error("{0}")]
     Io(String),
     /// Text that is not the expected OBJ syntax (or not UTF-8).
     #[error("{0}")]
@@ -363,36 +363,26 @@ fn coordinate_name(k: usize) -> String {
     }
 }
 
-/// Reads an OBJ file (see [`parse_obj`] for the accepted subset). I/O errors and text that is not
-/// UTF-8 are reported as [`MeshError`]s naming the file.
-pub fn read_obj(path: &Path, options: &MeshOptions) -> Result<MeshRead, MeshError> {
+/// Reads an OBJ file of at most `limit` bytes (see [`parse_obj`] for the accepted subset). A
+/// file that is not a regular file, too large or binary, and I/O errors, are reported as
+/// [`MeshError`]s naming the file; bytes that are not UTF-8 are refused where a number or a
+/// keyword belongs, with their line and column, and accepted in comments.
+pub fn read_obj(path: &Path, options: &MeshOptions, limit: u64) -> Result<MeshRead, MeshError> {
     let name = path.display().to_string();
-    let bytes = std::fs::read(path).map_err(|e| MeshError {
-        source: name.clone(),
-        line: None,
-        column: None,
-        element: None,
-        kind: MeshErrorKind::Io(e.to_string()),
-    })?;
-    let text = match std::str::from_utf8(&bytes) {
-        Ok(text) => text,
-        Err(e) => {
-            let valid = &bytes[..e.valid_up_to()];
-            let line = valid.iter().filter(|b| **b == b'\n').count() + 1;
-            let line_start = valid.iter().rposition(|b| *b == b'\n').map_or(0, |p| p + 1);
-            // The prefix is valid UTF-8 by construction.
-            let column =
-                std::str::from_utf8(&valid[line_start..]).map_or(1, |s| s.chars().count() + 1);
-            return Err(MeshError {
-                source: name,
-                line: Some(line),
-                column: Some(column),
-                element: None,
-                kind: MeshErrorKind::Syntax("the file is not valid UTF-8 text".into()),
-            });
+    let text = api::input::read_text_file(path, "mesh", limit).map_err(|e| {
+        let (line, column) = e.position().unzip();
+        MeshError {
+            source: name.clone(),
+            line,
+            column,
+            element: None,
+            kind: match e.position() {
+                Some(_) => MeshErrorKind::Syntax(format!("the mesh {}", e.reason())),
+                None => MeshErrorKind::Io(format!("the mesh {}", e.reason())),
+            },
         }
-    };
-    parse_obj(text, &name, options)
+    })?;
+    parse_obj(&text, &name, options)
 }
 
 /// Whitespace-separated tokens of a line with their 1-based character columns.
@@ -1249,11 +1239,24 @@ mod tests {
     #[test]
     fn read_obj_reports_io_errors_with_the_file_name() {
         let path = Path::new("/nonexistent/dir/worm.obj");
-        let e = err(read_obj(path, &MeshOptions::default()));
+        let e = err(read_obj(
+            path,
+            &MeshOptions::default(),
+            api::input::DEFAULT_MAX_INPUT_BYTES,
+        ));
         assert!(matches!(e.kind, MeshErrorKind::Io(_)));
         assert!(e
             .to_string()
-            .starts_with("/nonexistent/dir/worm.obj: cannot read the file:"));
+            .starts_with("/nonexistent/dir/worm.obj: the mesh cannot be read:"));
+        let dir = err(read_obj(
+            Path::new("/"),
+            &MeshOptions::default(),
+            api::input::DEFAULT_MAX_INPUT_BYTES,
+        ));
+        assert_eq!(
+            dir.to_string(),
+            "/: the mesh must be a regular file, but this is a directory"
+        );
     }
 
     #[test]

@@ -36,13 +36,19 @@ pub struct Deformed {
 /// Why a model could not be read or deformed. Errors about files name the file.
 #[derive(Debug, thiserror::Error)]
 pub enum ModelError {
-    /// The file could not be read.
-    #[error("{path}: cannot read model: {source}")]
-    Io {
+    /// The file could not be read: missing, not a regular file, or too large.
+    #[error("{path}: the model {reason}")]
+    Input {
         /// The file.
         path: PathBuf,
-        /// The underlying error.
-        source: io::Error,
+        /// Why it was not read.
+        reason: String,
+    },
+    /// The file has no vertices: it is not a model.
+    #[error("{file}: the model has no vertices (no `v` lines)")]
+    Empty {
+        /// The file (or the name given to [`parse_model`]).
+        file: String,
     },
     /// The OBJ text is malformed.
     #[error("{file}:{line}: {message}")]
@@ -72,15 +78,33 @@ pub enum ModelError {
     },
 }
 
-/// Reads a model from an OBJ file (see [`parse_model`] for what is understood).
-pub fn load_model(path: &Path) -> Result<Model, ModelError> {
-    let bytes = std::fs::read(path).map_err(|source| ModelError::Io {
-        path: path.to_path_buf(),
-        source,
-    })?;
-    let text = String::from_utf8_lossy(&bytes);
+/// Reads a model from an OBJ file of at most `limit` bytes (see [`parse_model`] for what is
+/// understood). Only regular text files are read (see [`api::input`]).
+pub fn load_model(path: &Path, limit: u64) -> Result<Model, ModelError> {
+    let text =
+        api::input::read_text_file(path, "model", limit).map_err(|e| match e.position() {
+            Some((line, column)) => ModelError::Parse {
+                file: path.display().to_string(),
+                line,
+                message: format!("column {column}: the model {}", e.reason()),
+            },
+            None => ModelError::Input {
+                path: path.to_path_buf(),
+                reason: e.reason(),
+            },
+        })?;
     parse_model(&text, &path.display().to_string())
 }
+
+/// Statements of the OBJ format that [`parse_model`] accepts without using them: the rest of
+/// the format (texture coordinates, normals, groups, materials, free-form geometry). Any other
+/// first word is an error, so that a file that is not OBJ at all (a run file, `/etc/passwd`)
+/// is refused instead of read as an empty model.
+const IGNORED_STATEMENTS: [&str; 31] = [
+    "vt", "vn", "vp", "l", "p", "o", "g", "s", "mg", "mtllib", "usemtl", "maplib", "usemap",
+    "cstype", "deg", "bmat", "step", "curv", "curv2", "surf", "parm", "trim", "hole", "scrv", "sp",
+    "end", "con", "lod", "bevel", "c_interp", "d_interp",
+];
 
 /// Reads a model from OBJ text; `file` names the source in errors.
 ///
@@ -91,8 +115,10 @@ pub fn load_model(path: &Path) -> Result<Model, ModelError> {
 ///   1-based, negative meaning relative to the vertices defined so far. Faces with more than
 ///   three corners are fan-triangulated from their first corner. Indices may refer to vertices
 ///   defined later in the file and are checked at the end.
-/// * Everything else (`vt`, `vn`, `o`, `g`, `s`, `usemtl`, `mtllib`, `l`, `p`, comments) is
-///   ignored, so a file with vertices only is a point cloud.
+/// * The other statements of the format (`vt`, `vn`, `o`, `g`, `s`, `usemtl`, `mtllib`, `l`,
+///   `p`, free-form geometry, see [`IGNORED_STATEMENTS`]) and comments are ignored, so a file
+///   with vertices only is a point cloud. Any other statement is an error naming its line and
+///   column, and so is a file without vertices.
 pub fn parse_model(text: &str, file: &str) -> Result<Model, ModelError> {
     let error = |line: usize, message: String| ModelError::Parse {
         file: file.to_string(),
@@ -171,8 +197,26 @@ pub fn parse_model(text: &str, file: &str) -> Result<Model, ModelError> {
                 }
                 faces.push((line, corners));
             }
-            _ => {}
+            Some(keyword) if IGNORED_STATEMENTS.contains(&keyword) => {}
+            Some(keyword) => {
+                let column = content
+                    .find(keyword)
+                    .map_or(1, |at| content[..at].chars().count() + 1);
+                let shown: String = keyword.chars().take(40).collect();
+                return Err(error(
+                    line,
+                    format!(
+                        "column {column}: {shown:?} is not an OBJ statement (this does not look like an OBJ model)"
+                    ),
+                ));
+            }
+            None => {}
         }
+    }
+    if positions.is_empty() {
+        return Err(ModelError::Empty {
+            file: file.to_string(),
+        });
     }
     let count = positions.len();
     let mut triangles = Vec::new();

@@ -38,46 +38,99 @@
 use crate::edit::{Neighborhood, Operation, SelectError, SplineEditor};
 use crate::eval::{FloatSpline, Locator};
 use crate::mesh_io::{self, MeshOptions, OrientationPolicy};
-use crate::model::{deform_model, load_model, write_obj};
+use crate::model::{deform_model, load_model, write_obj, Model};
 use crate::net::ControlNet;
+use crate::operation::{
+    checked_steps, default_steps, find_anchors, motion, ExactList, NeighborhoodConfig,
+    RotateConfig, ScaleConfig,
+};
 use crate::source::SplineParams;
 use crate::spline::Spline;
 use crate::svg::{before_after, Picture};
+use api::config::from_ron;
 use api::exact::Exact;
 use api::{
-    BuildRequest, ConstraintSource, Contribution, OperationPlan, OutputFile, PlanRequest,
-    PlannedStep, Rational, RenderRequest, SourceError, SummaryItem,
+    BuildRequest, ConstraintSource, Contribution, OperationCheckRequest, OperationPlan,
+    OutputCheck, OutputCheckRequest, OutputFile, PlanRequest, PlannedStep, Rational, RenderRequest,
+    SourceError, SummaryItem,
 };
 use num_traits::One;
-use serde::{Deserialize, Deserializer};
-use std::path::Path;
+use serde::de::{self, Deserializer, MapAccess, Visitor};
+use serde::Deserialize;
+use std::fmt;
+use std::path::{Path, PathBuf};
 
 /// Vertices and triangles written in the configuration.
-#[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct InlineMesh {
-    vertices: Vec<(Exact, Exact)>,
-    triangles: Vec<[usize; 3]>,
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct InlineMesh {
+    /// Exact vertex coordinates.
+    pub vertices: Vec<(Exact, Exact)>,
+    /// Triangles as 0-based vertex indices.
+    pub triangles: Vec<[usize; 3]>,
 }
 
-/// Deserialises a present field as `Some` (RON values carry no `Some(..)` wrapper here).
-fn some<'de, D: Deserializer<'de>, T: Deserialize<'de>>(d: D) -> Result<Option<T>, D::Error> {
-    T::deserialize(d).map(Some)
+/// Where the reference mesh comes from: an OBJ file (relative to the run file) or
+/// `(vertices: [...], triangles: [...])` written inline.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum MeshSpec {
+    /// An OBJ file.
+    File(String),
+    /// Inline data.
+    Inline(InlineMesh),
 }
 
-#[derive(Debug, Clone, Deserialize)]
+impl<'de> Deserialize<'de> for MeshSpec {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct MeshVisitor;
+        impl<'de> Visitor<'de> for MeshVisitor {
+            type Value = MeshSpec;
+            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                f.write_str("an OBJ path or (vertices: [...], triangles: [...])")
+            }
+            fn visit_str<E: de::Error>(self, v: &str) -> Result<MeshSpec, E> {
+                Ok(MeshSpec::File(v.to_string()))
+            }
+            fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<MeshSpec, A::Error> {
+                const FIELDS: &[&str] = &["vertices", "triangles"];
+                let (mut vertices, mut triangles) = (None, None);
+                while let Some(key) = map.next_key::<String>()? {
+                    match key.as_str() {
+                        "vertices" if vertices.is_none() => vertices = Some(map.next_value()?),
+                        "triangles" if triangles.is_none() => triangles = Some(map.next_value()?),
+                        "vertices" | "triangles" => {
+                            return Err(de::Error::custom(format!("{key} is given twice")))
+                        }
+                        other => return Err(de::Error::unknown_field(other, FIELDS)),
+                    }
+                }
+                Ok(MeshSpec::Inline(InlineMesh {
+                    vertices: vertices.ok_or_else(|| de::Error::missing_field("vertices"))?,
+                    triangles: triangles.ok_or_else(|| de::Error::missing_field("triangles"))?,
+                }))
+            }
+        }
+        deserializer.deserialize_any(MeshVisitor)
+    }
+}
+
+/// The configuration of a `spline2d` source (and of the reference spline of a terrain).
+#[derive(Debug, Clone, PartialEq, Eq, Deserialize)]
 #[serde(deny_unknown_fields)]
-struct Config {
-    /// A path (string) or an inline mesh; told apart after parsing for precise errors.
-    mesh: ron::Value,
+pub struct SplineConfig {
+    /// The reference mesh.
+    pub mesh: MeshSpec,
+    /// Degree `d` (default 5; at most [`crate::spline::MAX_DEGREE`]).
     #[serde(default = "default_degree")]
-    degree: usize,
+    pub degree: usize,
+    /// Smoothness `C^r` (default 1; below the degree).
     #[serde(default = "default_smoothness")]
-    smoothness: usize,
-    #[serde(default, deserialize_with = "some")]
-    snap: Option<Exact>,
-    #[serde(default, deserialize_with = "some")]
-    orientation: Option<String>,
+    pub smoothness: usize,
+    /// Round coordinates to this grid.
+    #[serde(default)]
+    pub snap: Option<Exact>,
+    /// `"fix"` (default) flips clockwise triangles, `"reject"` refuses them.
+    #[serde(default)]
+    pub orientation: Option<String>,
 }
 
 fn default_degree() -> usize {
@@ -88,60 +141,29 @@ fn default_smoothness() -> usize {
     1
 }
 
-#[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RotateConfig {
-    center: (Exact, Exact),
-    degrees: Exact,
-    #[serde(default = "default_precision")]
-    precision: u64,
-}
-
-#[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct ScaleConfig {
-    center: (Exact, Exact),
-    factor: Exact,
-    #[serde(default = "default_precision")]
-    precision: u64,
-}
-
-fn default_precision() -> u64 {
-    1_000_000
-}
-
+/// A `spline2d` operation as written.
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct OperationConfig {
     anchors: Vec<String>,
-    /// `3` or `"all"`.
-    #[serde(default, deserialize_with = "some")]
-    neighborhood: Option<ron::Value>,
-    #[serde(default, deserialize_with = "some")]
-    translate: Option<Vec<Exact>>,
-    #[serde(default, deserialize_with = "some")]
+    #[serde(default)]
+    neighborhood: Option<NeighborhoodConfig>,
+    #[serde(default)]
+    translate: Option<ExactList>,
+    #[serde(default)]
     rotate: Option<RotateConfig>,
-    #[serde(default, deserialize_with = "some")]
+    #[serde(default)]
     scale: Option<ScaleConfig>,
     #[serde(default = "default_steps")]
+    steps: u64,
+}
+
+/// An operation checked against the built spline.
+struct CheckedOperation {
+    anchors: Vec<usize>,
+    neighborhood: Neighborhood,
+    operation: Operation,
     steps: usize,
-}
-
-fn default_steps() -> usize {
-    1
-}
-
-/// Parses RON text into `T` through `ron::Value`, so both struct syntax `(a: 1)` and the map
-/// syntax the host forwards (`{"a": 1}`) are accepted.
-pub(crate) fn from_ron<T: serde::de::DeserializeOwned>(
-    text: &str,
-    what: &str,
-) -> Result<T, SourceError> {
-    let value: ron::Value =
-        ron::from_str(text).map_err(|e| SourceError::new(format!("{what}: {e}")))?;
-    value
-        .into_rust()
-        .map_err(|e| SourceError::new(format!("{what}: {e}")))
 }
 
 /// What a built source keeps.
@@ -160,10 +182,10 @@ struct Built {
 #[serde(deny_unknown_fields)]
 struct OutputConfig {
     /// Before/after picture file name (`.svg`).
-    #[serde(default, deserialize_with = "some")]
+    #[serde(default)]
     picture: Option<String>,
     /// A model to deform (OBJ, relative to the run file); written as `<stem>-deformed.obj`.
-    #[serde(default, deserialize_with = "some")]
+    #[serde(default)]
     model: Option<String>,
     /// Draw the control net (default true).
     #[serde(default = "default_true")]
@@ -176,6 +198,58 @@ struct OutputConfig {
 
 fn default_true() -> bool {
     true
+}
+
+/// An output checked: the files it writes, in render order, and the model it reads.
+struct CheckedOutput {
+    config: OutputConfig,
+    /// `<stem>-deformed.obj` with the model's full path.
+    model: Option<(String, PathBuf)>,
+    picture: Option<String>,
+}
+
+impl CheckedOutput {
+    fn files(&self) -> Vec<String> {
+        self.model
+            .iter()
+            .map(|(name, _)| name.clone())
+            .chain(self.picture.clone())
+            .collect()
+    }
+}
+
+/// Checks that `name` is a plain file name (no directories, not hidden) ending in `.{ext}`.
+pub fn check_file_name(name: &str, field: &str, ext: &str) -> Result<(), String> {
+    let plain = !name.is_empty()
+        && !name.starts_with('.')
+        && !name.contains(['/', '\\'])
+        && Path::new(name).file_name().is_some_and(|f| f == name);
+    if !plain {
+        return Err(format!(
+            "{field} {name:?} must be a plain file name (no directories), written to the output directory"
+        ));
+    }
+    let has_ext = Path::new(name)
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case(ext));
+    let stem_ok = Path::new(name).file_stem().is_some_and(|s| !s.is_empty());
+    if !has_ext || !stem_ok {
+        return Err(format!(
+            "{field} {name:?} must end in .{ext} (the file is written as {})",
+            ext.to_uppercase()
+        ));
+    }
+    Ok(())
+}
+
+/// The output file of a deformed model: `<stem>-deformed.obj` for the model at `path`.
+pub fn deformed_name(path: &str) -> String {
+    let stem = Path::new(path)
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .filter(|s| !s.is_empty() && !s.starts_with('.'))
+        .unwrap_or_else(|| "model".into());
+    format!("{stem}-deformed.obj")
 }
 
 /// The `spline2d` source.
@@ -195,13 +269,79 @@ impl Spline2dSource {
             .as_ref()
             .ok_or_else(|| SourceError::new("spline2d: the source has not been built"))
     }
+
+    /// Parses and checks an operation: schema, anchors, neighbourhood, move and steps.
+    fn check(&self, text: &str) -> Result<CheckedOperation, SourceError> {
+        let built = self.built()?;
+        let what = format!("{} operation", built.name);
+        let op: OperationConfig = from_ron(text, &what)?;
+        let error = |message: String| SourceError::new(format!("{what}: {message}"));
+        let anchors = find_anchors(&built.spline, &op.anchors).map_err(error)?;
+        let operation = motion(
+            op.translate.as_ref(),
+            op.rotate.as_ref(),
+            op.scale.as_ref(),
+            built.params.dim,
+        )
+        .map_err(error)?;
+        let steps = checked_steps(op.steps, built.spline.points().len()).map_err(error)?;
+        Ok(CheckedOperation {
+            anchors,
+            neighborhood: op.neighborhood.map_or(Neighborhood::Radius(3), |n| n.0),
+            operation,
+            steps,
+        })
+    }
+
+    /// Parses and checks an output; the model file must be a model.
+    fn check_output_text(
+        &self,
+        text: &str,
+        base_dir: &Path,
+        limit: u64,
+    ) -> Result<(CheckedOutput, Option<Model>), SourceError> {
+        let built = self.built()?;
+        let what = format!("{} output", built.name);
+        let config: OutputConfig = from_ron(text, &what)?;
+        let error = |message: String| SourceError::new(format!("{what}: {message}"));
+        if let Some(name) = &config.picture {
+            check_file_name(name, "picture", "svg").map_err(error)?;
+        }
+        let (model, loaded) = match &config.model {
+            Some(path) => {
+                let full = base_dir.join(path);
+                let model = load_model(&full, limit).map_err(|e| error(e.to_string()))?;
+                (Some((deformed_name(path), full)), Some(model))
+            }
+            None => (None, None),
+        };
+        if config.picture.is_none() && model.is_none() {
+            return Err(error("nothing to render; give picture and/or model".into()));
+        }
+        let checked = CheckedOutput {
+            picture: config.picture.clone(),
+            config,
+            model,
+        };
+        if let [first, second] = checked.files().as_slice() {
+            if first == second {
+                return Err(error(format!(
+                    "picture and deformed model are both named {first:?}"
+                )));
+            }
+        }
+        Ok((checked, loaded))
+    }
 }
 
+/// Reads the mesh of a configuration (an OBJ path is resolved against `base_dir` and read
+/// with at most `limit` bytes); returns it with the file read, if any.
 fn read_mesh(
-    config: &Config,
+    config: &SplineConfig,
     name: &str,
     base_dir: &Path,
-) -> Result<mesh_io::MeshRead, SourceError> {
+    limit: u64,
+) -> Result<(mesh_io::MeshRead, Option<PathBuf>), SourceError> {
     let orientation = match config.orientation.as_deref() {
         None | Some("fix") => OrientationPolicy::Fix,
         Some("reject") => OrientationPolicy::Reject,
@@ -215,46 +355,70 @@ fn read_mesh(
         snap: config.snap.as_ref().map(|s| s.0.clone()),
         orientation,
     };
-    let read = match &config.mesh {
-        ron::Value::String(path) => mesh_io::read_obj(&base_dir.join(path), &options),
-        other => {
-            let inline: InlineMesh = other.clone().into_rust().map_err(|e| {
-                SourceError::new(format!(
-                    "{name}: mesh must be an OBJ path or (vertices: [...], triangles: [...]): {e}"
-                ))
-            })?;
+    let (read, file) = match &config.mesh {
+        MeshSpec::File(path) => {
+            let full = base_dir.join(path);
+            (mesh_io::read_obj(&full, &options, limit), Some(full))
+        }
+        MeshSpec::Inline(inline) => (
             mesh_io::from_points(
                 inline
                     .vertices
                     .iter()
                     .map(|(x, y)| [x.0.clone(), y.0.clone()])
                     .collect(),
-                inline.triangles,
+                inline.triangles.clone(),
                 &options,
-            )
-        }
+            ),
+            None,
+        ),
     };
-    read.map_err(|e| SourceError::new(format!("{name}: {e}")))
+    let read = read.map_err(|e| SourceError::new(format!("{name}: {e}")))?;
+    Ok((read, file))
 }
 
-/// Reads a `spline2d` configuration exactly as [`Spline2dSource::build`] does: parses the RON
-/// text, reads the mesh (an OBJ path is resolved against `base_dir`) and builds the spline of
-/// the configured degree and smoothness. Errors are prefixed with `name` as the source's own
-/// errors are.
-///
-/// For plugins that build on a `spline2d` source of the same run: its name and configuration
-/// text are in [`api::BuildRequest::sources`], and its control points are the parameters
-/// `{name}.{point name}` (see [`crate::spline::ControlPoint::name`]).
+/// A spline as a configuration describes it, with the mesh warnings and the mesh file read.
+#[derive(Debug, Clone)]
+pub struct SplineRead {
+    /// The spline.
+    pub spline: Spline,
+    /// What the mesh reader repaired or found odd.
+    pub warnings: Vec<mesh_io::MeshWarning>,
+    /// The OBJ file read, if the mesh is not inline.
+    pub file: Option<PathBuf>,
+}
+
+/// Builds the spline a `spline2d` configuration describes, as [`Spline2dSource::build`] does:
+/// reads the mesh (an OBJ path is resolved against `base_dir`, at most `limit` bytes) and builds
+/// the spline of the configured degree and smoothness. Errors are prefixed with `name`.
 pub fn spline_from_config(
+    name: &str,
+    config: &SplineConfig,
+    base_dir: &Path,
+    limit: u64,
+) -> Result<SplineRead, SourceError> {
+    let (read, file) = read_mesh(config, name, base_dir, limit)?;
+    let spline = Spline::new(read.mesh, config.degree, config.smoothness)
+        .map_err(|e| SourceError::new(format!("{name}: {e}")))?;
+    Ok(SplineRead {
+        spline,
+        warnings: read.warnings,
+        file,
+    })
+}
+
+/// [`spline_from_config`] from the configuration's RON text, for plugins that build on a
+/// `spline2d` source of the same run: its name and configuration text are in
+/// [`api::BuildRequest::sources`], and its control points are the parameters
+/// `{name}.{point name}` (see [`crate::spline::ControlPoint::name`]).
+pub fn spline_from_config_text(
     name: &str,
     config: &str,
     base_dir: &Path,
-) -> Result<(Spline, Vec<mesh_io::MeshWarning>), SourceError> {
-    let config: Config = from_ron(config, &format!("{name} config"))?;
-    let read = read_mesh(&config, name, base_dir)?;
-    let spline = Spline::new(read.mesh, config.degree, config.smoothness)
-        .map_err(|e| SourceError::new(format!("{name}: {e}")))?;
-    Ok((spline, read.warnings))
+    limit: u64,
+) -> Result<SplineRead, SourceError> {
+    let config: SplineConfig = from_ron(config, &format!("{name} config"))?;
+    spline_from_config(name, &config, base_dir, limit)
 }
 
 impl ConstraintSource for Spline2dSource {
@@ -267,8 +431,16 @@ impl ConstraintSource for Spline2dSource {
     }
 
     fn build(&mut self, request: &BuildRequest) -> Result<Contribution, SourceError> {
-        let (spline, warnings) =
-            spline_from_config(&request.name, &request.config, &request.base_dir)?;
+        let SplineRead {
+            spline,
+            warnings,
+            file,
+        } = spline_from_config_text(
+            &request.name,
+            &request.config,
+            &request.base_dir,
+            request.input_limit,
+        )?;
         let (mut contribution, params) = spline.contribution(
             &request.name,
             2,
@@ -297,6 +469,7 @@ impl ConstraintSource for Spline2dSource {
             })
             .collect();
         contribution.warnings = warnings.iter().map(|w| w.to_string()).collect();
+        contribution.inputs = file.into_iter().collect();
         let net = ControlNet::new(&spline);
         self.built = Some(Built {
             name: request.name.clone(),
@@ -308,58 +481,23 @@ impl ConstraintSource for Spline2dSource {
         Ok(contribution)
     }
 
+    fn check_operation(&self, request: &OperationCheckRequest) -> Result<(), SourceError> {
+        self.check(&request.operation).map(|_| ())
+    }
+
+    fn check_output(&self, request: &OutputCheckRequest) -> Result<OutputCheck, SourceError> {
+        let (checked, _) =
+            self.check_output_text(&request.output, &request.base_dir, request.input_limit)?;
+        Ok(OutputCheck::new(
+            checked.files(),
+            checked.model.iter().map(|(_, path)| path.clone()).collect(),
+        ))
+    }
+
     fn plan(&self, request: &PlanRequest) -> Result<OperationPlan, SourceError> {
         let built = self.built()?;
         let what = format!("{} operation", built.name);
-        let op: OperationConfig = from_ron(&request.operation, &what)?;
-        let anchors = op
-            .anchors
-            .iter()
-            .map(|name| {
-                built
-                    .spline
-                    .points()
-                    .iter()
-                    .position(|p| p.name == *name)
-                    .ok_or_else(|| {
-                        SourceError::new(format!(
-                            "{what}: no control point named {name:?} (names look like \"v3\", \"e3-7:2\", \"t5:2,2,1\")"
-                        ))
-                    })
-            })
-            .collect::<Result<Vec<usize>, _>>()?;
-        let neighborhood = match op.neighborhood {
-            None => Neighborhood::Radius(3),
-            Some(ron::Value::String(k)) if k == "all" => Neighborhood::All,
-            Some(value) => match value.clone().into_rust::<u32>() {
-                Ok(r) => Neighborhood::Radius(r),
-                Err(_) => {
-                    return Err(SourceError::new(format!(
-                        "{what}: neighborhood must be a number of steps or \"all\", not {value:?}"
-                    )))
-                }
-            },
-        };
-        let operation = match (&op.translate, &op.rotate, &op.scale) {
-            (Some(by), None, None) => Operation::Translate {
-                by: by.iter().map(|e| e.0.clone()).collect(),
-            },
-            (None, Some(r), None) => Operation::Rotate {
-                center: [r.center.0 .0.clone(), r.center.1 .0.clone()],
-                degrees: r.degrees.0.clone(),
-                precision: r.precision,
-            },
-            (None, None, Some(s)) => Operation::Scale {
-                center: [s.center.0 .0.clone(), s.center.1 .0.clone()],
-                factor: s.factor.0.clone(),
-                precision: s.precision,
-            },
-            _ => {
-                return Err(SourceError::new(format!(
-                    "{what}: give exactly one of translate, rotate or scale"
-                )))
-            }
-        };
+        let op = self.check(&request.operation)?;
         let editor = SplineEditor {
             spline: &built.spline,
             net: &built.net,
@@ -367,10 +505,15 @@ impl ConstraintSource for Spline2dSource {
         };
         let error = |e: SelectError| SourceError::new(format!("{what}: {e}"));
         let selection = editor
-            .select(&request.system, &request.values, &anchors, neighborhood)
+            .select(
+                &request.system,
+                &request.values,
+                &op.anchors,
+                op.neighborhood,
+            )
             .map_err(error)?;
         let plan = editor
-            .plan(&selection, &request.values, &operation, op.steps)
+            .plan(&selection, &request.values, &op.operation, op.steps)
             .map_err(error)?;
         let summary = vec![
             SummaryItem {
@@ -406,18 +549,13 @@ impl ConstraintSource for Spline2dSource {
     fn render(&self, request: &RenderRequest) -> Result<Vec<OutputFile>, SourceError> {
         let built = self.built()?;
         let what = format!("{} output", built.name);
-        let config: OutputConfig = from_ron(&request.output, &what)?;
+        let (checked, model) =
+            self.check_output_text(&request.output, &request.base_dir, request.input_limit)?;
+        let config = &checked.config;
         let error = |e: &dyn std::fmt::Display| SourceError::new(format!("{what}: {e}"));
         let before = built.params.positions(&request.initial);
         let after = built.params.positions(&request.values);
         let mut files = Vec::new();
-        let model = match &config.model {
-            Some(path) => {
-                let full = request.base_dir.join(path);
-                Some(load_model(&full).map_err(|e| error(&e))?)
-            }
-            None => None,
-        };
         let deformed = match &model {
             Some(model) => {
                 let spline = FloatSpline::new(&built.spline, &after).map_err(|e| error(&e))?;
@@ -426,11 +564,7 @@ impl ConstraintSource for Spline2dSource {
             }
             None => None,
         };
-        if let (Some(path), Some(deformed)) = (&config.model, &deformed) {
-            let stem = std::path::Path::new(path)
-                .file_stem()
-                .map(|s| s.to_string_lossy().into_owned())
-                .unwrap_or_else(|| "model".into());
+        if let (Some((name, _)), Some(deformed)) = (&checked.model, &deformed) {
             let mut bytes = Vec::new();
             if !deformed.outside.is_empty() {
                 bytes.extend(
@@ -443,7 +577,7 @@ impl ConstraintSource for Spline2dSource {
                 );
             }
             write_obj(&deformed.model, &mut bytes).map_err(|e| error(&e))?;
-            let mut file = OutputFile::new(format!("{stem}-deformed.obj"), bytes);
+            let mut file = OutputFile::new(name.clone(), bytes);
             file.notes.extend(crate::model::left_in_place_note(
                 &deformed.outside,
                 "outside the reference mesh",
@@ -527,17 +661,9 @@ impl ConstraintSource for Spline2dSource {
 mod tests {
     use super::*;
     use api::{ConstraintSystem, Values};
-    use std::path::PathBuf;
 
     fn request(config: &str) -> BuildRequest {
-        BuildRequest {
-            name: "phi".into(),
-            config: config.into(),
-            base_dir: PathBuf::from("."),
-            system: ConstraintSystem::new(),
-            values: Values::default(),
-            sources: vec![],
-        }
+        api::conformance::request("phi", config)
     }
 
     const SQUARE: &str = r#"(mesh: (vertices: [("0", "0"), ("10", "0"), ("10", "10"), ("0", "10"), ("5", "4")],
@@ -609,5 +735,112 @@ mod tests {
             .expect_err("no operation")
             .message
             .contains("exactly one"));
+    }
+
+    #[test]
+    fn sizes_are_checked_before_anything_is_allocated() {
+        let mut source = Spline2dSource::default();
+        for (degree, needle) in [
+            ("1000000000", "degree 1000000000 is above the limit of 40"),
+            ("100000", "degree 100000 is above the limit of 40"),
+            ("18446744073709551615", "above the limit"),
+        ] {
+            let config = SQUARE.replace("degree: 5", &format!("degree: {degree}"));
+            let err = source.build(&request(&config)).expect_err(degree);
+            assert!(err.message.contains(needle), "{}", err.message);
+        }
+        let config = SQUARE.replace("degree: 5", "degree: 5, smoothness: 9");
+        let err = source.build(&request(&config)).expect_err("smoothness");
+        assert!(
+            err.message.contains("needs degree above 9"),
+            "{}",
+            err.message
+        );
+        let err = source
+            .build(&request(&SQUARE.replace("degree: 5", "degree: -1")))
+            .expect_err("negative");
+        assert!(err.at.is_some(), "{}", err.message);
+    }
+
+    #[test]
+    fn operations_and_outputs_are_checked_before_any_edit() {
+        let mut source = Spline2dSource::default();
+        source.build(&request(SQUARE)).expect("build");
+        let op = |text: &str| {
+            source
+                .check_operation(&OperationCheckRequest {
+                    operation: text.into(),
+                })
+                .map_err(|e| e.message)
+        };
+        assert_eq!(op(r#"(anchors: ["v4"], translate: ("1", "0"))"#), Ok(()));
+        for (text, needle) in [
+            (
+                r#"(anchors: [], translate: ("1", "0"))"#,
+                "anchors is empty",
+            ),
+            (
+                r#"(anchors: ["v4", "v4"], translate: ("1", "0"))"#,
+                "named twice",
+            ),
+            (
+                r#"(anchors: ["v9"], translate: ("1", "0"))"#,
+                "no control point named \"v9\"",
+            ),
+            (
+                r#"(anchors: ["v4"], translate: ("1", "0", "2"))"#,
+                "3 coordinates",
+            ),
+            (
+                r#"(anchors: ["v4"], translate: ("1", "0"), steps: 0)"#,
+                "steps is 0",
+            ),
+            (
+                r#"(anchors: ["v4"], translate: ("1", "0"), steps: 18446744073709551615)"#,
+                "between 1 and 100000",
+            ),
+            (
+                r#"(anchors: ["v4"], translate: ("1", "0"), neighborhood: -1)"#,
+                "negative",
+            ),
+            (
+                r#"(anchors: ["v4"], scale: (center: ("0", "0"), factor: "-2"))"#,
+                "must be positive",
+            ),
+            (
+                r#"(anchors: ["v4"], translate: ("1", "0"), wieghts: 1)"#,
+                "wieghts",
+            ),
+            (r#"(anchors: ["v4"])"#, "exactly one"),
+        ] {
+            let message = op(text).expect_err(text);
+            assert!(message.contains(needle), "{text}: {message}");
+            assert!(message.starts_with("phi operation: "), "{message}");
+        }
+        let out = |text: &str| {
+            source
+                .check_output(&OutputCheckRequest {
+                    output: text.into(),
+                    base_dir: ".".into(),
+                    input_limit: api::input::DEFAULT_MAX_INPUT_BYTES,
+                })
+                .map_err(|e| e.message)
+        };
+        assert_eq!(
+            out(r#"(picture: "a.svg")"#).map(|c| c.files),
+            Ok(vec!["a.svg".to_string()])
+        );
+        for (text, needle) in [
+            (r#"(picture: "a.png")"#, "must end in .svg"),
+            (r#"(picture: "../a.svg")"#, "plain file name"),
+            (r#"(picture: ".svg")"#, "plain file name"),
+            (r#"(model: "/etc/passwd")"#, "is not an OBJ statement"),
+            (r#"(model: "/dev/zero")"#, "character device"),
+            (r#"(model: "no/such.obj")"#, "no/such.obj"),
+            (r#"()"#, "nothing to render"),
+        ] {
+            let message = out(text).expect_err(text);
+            assert!(message.contains(needle), "{text}: {message}");
+        }
     }
 }

@@ -101,6 +101,31 @@ pub enum SplineError {
     /// Degree 0 has no deformation to speak of.
     #[error("degree must be at least 1, got {0}")]
     Degree(usize),
+    /// A degree above [`MAX_DEGREE`].
+    #[error("degree {degree} is above the limit of {max}")]
+    DegreeTooHigh {
+        /// Requested degree.
+        degree: usize,
+        /// [`MAX_DEGREE`].
+        max: usize,
+    },
+    /// The spline would have more control points or conditions than the limits allow
+    /// ([`MAX_CONTROL_POINTS`], [`MAX_CONDITIONS`]); checked before anything is allocated.
+    #[error("degree {degree} and C^{smoothness} on {triangles} triangles give {count} {what}, more than the limit of {max}")]
+    TooLarge {
+        /// `"control points"` or `"conditions"`.
+        what: &'static str,
+        /// How many there would be (saturated at `u64::MAX`).
+        count: u64,
+        /// The limit.
+        max: u64,
+        /// Degree.
+        degree: usize,
+        /// Smoothness.
+        smoothness: usize,
+        /// Triangles of the mesh.
+        triangles: usize,
+    },
     /// Smoothness of order `r ≥ d` cannot hold with local control (and is meaningless).
     #[error("smoothness C^{smoothness} needs degree above {smoothness}, got degree {degree}")]
     SmoothnessTooHigh {
@@ -157,16 +182,85 @@ fn position_key(vertices: [usize; 3], idx: [usize; 3]) -> PositionKey {
     key
 }
 
+/// The highest degree a spline may have. The thesis works with `d = 5`; `C²` needs `d ≥ 9`;
+/// beyond 40 every triangle carries more than 800 control points, which no edit needs.
+pub const MAX_DEGREE: usize = 40;
+
+/// The most control points a spline may have (each is a parameter of the system).
+pub const MAX_CONTROL_POINTS: u64 = 20_000_000;
+
+/// The most smoothness conditions a spline may have (each is a row of the system).
+pub const MAX_CONDITIONS: u64 = 40_000_000;
+
+/// Control points and conditions a spline of this size would have, in checked arithmetic
+/// (saturating at `u64::MAX`): `V + E(d − 1) + T(d − 1)(d − 2)/2` points, and for every
+/// interior edge `Σ_{m=1..r} (d + 1 − m)` conditions.
+fn size_of(
+    vertices: usize,
+    edges: usize,
+    interior_edges: usize,
+    triangles: usize,
+    degree: usize,
+    smoothness: usize,
+) -> (u64, u64) {
+    let n = |x: usize| x as u64;
+    let d = n(degree);
+    let points = n(vertices)
+        .saturating_add(n(edges).saturating_mul(d.saturating_sub(1)))
+        .saturating_add(
+            n(triangles)
+                .saturating_mul(d.saturating_sub(1).saturating_mul(d.saturating_sub(2)) / 2),
+        );
+    let per_edge: u64 = (1..=n(smoothness)).map(|m| (d + 1).saturating_sub(m)).sum();
+    (points, n(interior_edges).saturating_mul(per_edge))
+}
+
 impl Spline {
-    /// Builds the control points and the `C^1 … C^r` conditions of a degree-`d` spline.
+    /// The index of the control point named `name` (see [`ControlPoint::name`]).
+    pub fn point_index(&self, name: &str) -> Option<usize> {
+        self.points.iter().position(|p| p.name == name)
+    }
+
+    /// Builds the control points and the `C^1 … C^r` conditions of a degree-`d` spline, after
+    /// checking the degree against [`MAX_DEGREE`] and the sizes against [`MAX_CONTROL_POINTS`]
+    /// and [`MAX_CONDITIONS`].
     pub fn new(mesh: Mesh, degree: usize, smoothness: usize) -> Result<Self, SplineError> {
         if degree == 0 {
             return Err(SplineError::Degree(degree));
+        }
+        if degree > MAX_DEGREE {
+            return Err(SplineError::DegreeTooHigh {
+                degree,
+                max: MAX_DEGREE,
+            });
         }
         if smoothness >= degree && smoothness > 0 {
             return Err(SplineError::SmoothnessTooHigh { smoothness, degree });
         }
         let topology = mesh.topology();
+        let (point_count, condition_count) = size_of(
+            mesh.vertices().len(),
+            topology.edges.len(),
+            topology.interior_edges(),
+            mesh.triangles().len(),
+            degree,
+            smoothness,
+        );
+        for (what, count, max) in [
+            ("control points", point_count, MAX_CONTROL_POINTS),
+            ("conditions", condition_count, MAX_CONDITIONS),
+        ] {
+            if count > max {
+                return Err(SplineError::TooLarge {
+                    what,
+                    count,
+                    max,
+                    degree,
+                    smoothness,
+                    triangles: mesh.triangles().len(),
+                });
+            }
+        }
         let d = degree;
         let indices = multi_indices(d);
         let mut by_key: HashMap<PositionKey, usize> = HashMap::new();

@@ -17,6 +17,9 @@ use plugins_spline2d::svg::{before_after, Picture};
 use std::path::PathBuf;
 use std::time::Instant;
 
+/// The default input limit.
+const LIMIT: u64 = api::input::DEFAULT_MAX_INPUT_BYTES;
+
 fn q(n: i64) -> Rational {
     Rational::from_integer(n.into())
 }
@@ -360,7 +363,7 @@ fn models_load_deform_and_round_trip() {
         "v 1 1 0\nv 19 1 0\nv 10 18 0\nv 10 8 5\nv 30 30 1\nf 1 2 3\nf 1 2 4\nf 2 3 4\nf 3 1 4 5\n",
     )
     .expect("write");
-    let model = load_model(&path).expect("load");
+    let model = load_model(&path, LIMIT).expect("load");
     assert_eq!(model.positions.len(), 5);
     assert_eq!(model.triangles.len(), 5);
     let deformed = deform_model(&model, &identity, &locator).expect("deform");
@@ -390,9 +393,9 @@ fn models_load_deform_and_round_trip() {
     write_obj(&deformed.model, &mut text).expect("write");
     let out = dir.join("tetra_deformed.obj");
     std::fs::write(&out, &text).expect("write file");
-    assert_eq!(load_model(&out).expect("reload"), deformed.model);
+    assert_eq!(load_model(&out, LIMIT).expect("reload"), deformed.model);
     let mut again = Vec::new();
-    write_obj(&load_model(&out).expect("reload"), &mut again).expect("write");
+    write_obj(&load_model(&out, LIMIT).expect("reload"), &mut again).expect("write");
     assert_eq!(text, again);
 }
 
@@ -401,7 +404,7 @@ fn models_in_2d_and_point_clouds() {
     let spline = Spline::new(grid(2, 10, false), 2, 1).expect("spline");
     let locator = Locator::new(spline.mesh());
     let identity = FloatSpline::new(&spline, &nominal(&spline)).expect("float");
-    let quads = load_model(&data("model_2d_quads.obj")).expect("2D model");
+    let quads = load_model(&data("model_2d_quads.obj"), LIMIT).expect("2D model");
     assert_eq!(quads.positions.len(), 6);
     assert!(quads.positions.iter().all(|p| p[2] == 0.0));
     assert_eq!(
@@ -412,7 +415,7 @@ fn models_in_2d_and_point_clouds() {
         .expect("deform")
         .outside
         .is_empty());
-    let cloud = load_model(&data("model_point_cloud.obj")).expect("point cloud");
+    let cloud = load_model(&data("model_point_cloud.obj"), LIMIT).expect("point cloud");
     assert_eq!(cloud.positions.len(), 4);
     assert!(cloud.triangles.is_empty());
     let deformed = deform_model(&cloud, &identity, &locator).expect("deform");
@@ -420,9 +423,32 @@ fn models_in_2d_and_point_clouds() {
     assert_eq!(deformed.model.positions[1][2], -2.0);
 
     let missing = data("no_such_model.obj");
-    let e = load_model(&missing).expect_err("missing");
-    assert!(matches!(e, ModelError::Io { .. }));
+    let e = load_model(&missing, LIMIT).expect_err("missing");
+    assert!(matches!(e, ModelError::Input { .. }));
     assert!(e.to_string().contains("no_such_model.obj"), "{e}");
+    // Files that are not models are refused, naming the file and the line.
+    let e = parse_model("root:x:0:0:root:/root:/bin/bash\n", "/etc/passwd").expect_err("not OBJ");
+    assert!(
+        e.to_string().starts_with(
+            "/etc/passwd:1: column 1: \"root:x:0:0:root:/root:/bin/bash\" is not an OBJ statement"
+        ),
+        "{e}"
+    );
+    let e = parse_model("(sources: [])\n", "run.ron").expect_err("RON");
+    assert!(e.to_string().contains("is not an OBJ statement"), "{e}");
+    let e = parse_model("# only a comment\ng group\n", "empty.obj").expect_err("empty");
+    assert_eq!(
+        e.to_string(),
+        "empty.obj: the model has no vertices (no `v` lines)"
+    );
+    #[cfg(unix)]
+    {
+        let e = load_model(std::path::Path::new("/dev/urandom"), LIMIT).expect_err("device");
+        assert_eq!(
+            e.to_string(),
+            "/dev/urandom: the model must be a regular file, but this is a character device"
+        );
+    }
     let e = parse_model("v 1 2\nf 1 2 3\n", "broken.obj").expect_err("bad face");
     assert_eq!(
         e.to_string(),
@@ -445,7 +471,7 @@ fn pictures_are_deterministic_and_complete() {
             vec![&p[0] + &bump, &p[1] + &bump / q(2)]
         })
         .collect();
-    let model = load_model(&data("model_2d_quads.obj")).expect("model");
+    let model = load_model(&data("model_2d_quads.obj"), LIMIT).expect("model");
     let picture = |positions: &[Vec<Rational>]| -> String {
         Picture::new(&spline)
             .positions(positions)

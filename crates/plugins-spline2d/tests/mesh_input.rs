@@ -18,7 +18,7 @@ fn data(name: &str) -> PathBuf {
 }
 
 fn read(name: &str, options: &MeshOptions) -> MeshRead {
-    match read_obj(&data(name), options) {
+    match read_obj(&data(name), options, api::input::DEFAULT_MAX_INPUT_BYTES) {
         Ok(read) => read,
         Err(e) => panic!("{name}: {e}"),
     }
@@ -76,7 +76,11 @@ fn strip_of_six_triangles() {
         orientation: OrientationPolicy::Reject,
         ..MeshOptions::default()
     };
-    let e = match read_obj(&data("strip.obj"), &reject) {
+    let e = match read_obj(
+        &data("strip.obj"),
+        &reject,
+        api::input::DEFAULT_MAX_INPUT_BYTES,
+    ) {
         Ok(_) => panic!("clockwise triangle accepted"),
         Err(e) => e,
     };
@@ -132,7 +136,11 @@ fn noisy_coordinates_are_exact_unless_snapped() {
 
 #[test]
 fn missing_file_names_the_file() {
-    let e = match read_obj(&data("no-such-mesh.obj"), &MeshOptions::default()) {
+    let e = match read_obj(
+        &data("no-such-mesh.obj"),
+        &MeshOptions::default(),
+        api::input::DEFAULT_MAX_INPUT_BYTES,
+    ) {
         Ok(_) => panic!("missing file read"),
         Err(e) => e,
     };

@@ -35,8 +35,8 @@ use std::path::Path;
 /// Why a height field could not be read. File, line and column are 1-based.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum HeightFieldError {
-    /// The file could not be read.
-    #[error("{file}: cannot read the height field: {message}")]
+    /// The file could not be read (missing, not a regular file, too large).
+    #[error("{file}: {message}")]
     Io {
         /// The file.
         file: String,
@@ -63,6 +63,21 @@ pub enum HeightFieldError {
         /// What is missing.
         message: String,
     },
+}
+
+/// Most samples a height field may have (about 800 MB of heights and positions).
+pub const MAX_SAMPLES: usize = 50_000_000;
+
+/// `columns × rows`, checked for overflow and against [`MAX_SAMPLES`].
+fn grid_size(columns: usize, rows: usize) -> Result<usize, String> {
+    columns
+        .checked_mul(rows)
+        .filter(|&n| n <= MAX_SAMPLES)
+        .ok_or_else(|| {
+            format!(
+                "ncols × nrows = {columns} × {rows} is more than the limit of {MAX_SAMPLES} samples"
+            )
+        })
 }
 
 /// A regular grid of heights.
@@ -124,17 +139,24 @@ fn tokens(line: &str, line_number: usize, comments: bool) -> Vec<Token<'_>> {
 }
 
 impl HeightField {
-    /// Reads a height field from a file: an ESRI ASCII grid when the extension is `.asc`
-    /// (any case), a plain grid otherwise.
-    pub fn read(path: &Path) -> Result<HeightField, HeightFieldError> {
+    /// Reads a height field from a file of at most `limit` bytes: an ESRI ASCII grid when the
+    /// extension is `.asc` (any case), a plain grid otherwise. Only regular text files are read
+    /// (see [`api::input`]).
+    pub fn read(path: &Path, limit: u64) -> Result<HeightField, HeightFieldError> {
         let file = path.display().to_string();
-        let bytes = std::fs::read(path).map_err(|e| HeightFieldError::Io {
-            file: file.clone(),
-            message: e.to_string(),
-        })?;
-        let text = String::from_utf8(bytes).map_err(|e| HeightFieldError::Io {
-            file: file.clone(),
-            message: format!("not UTF-8 text ({e})"),
+        let text = api::input::read_text_file(path, "height field", limit).map_err(|e| match e
+            .position()
+        {
+            Some((line, column)) => HeightFieldError::Syntax {
+                file: file.clone(),
+                line,
+                column,
+                message: format!("the height field {}", e.reason()),
+            },
+            None => HeightFieldError::Io {
+                file: file.clone(),
+                message: format!("the height field {}", e.reason()),
+            },
         })?;
         if is_esri(path) {
             Self::parse_esri(&text, &file)
@@ -278,7 +300,11 @@ impl HeightField {
             Some(v) => Some(number(&v)?),
             None => None,
         };
-        let expected = columns * rows;
+        let expected =
+            grid_size(columns, rows).map_err(|message| HeightFieldError::Incomplete {
+                file: file.to_string(),
+                message,
+            })?;
         if data.len() != expected {
             return match data.get(expected) {
                 Some(extra) => Err(syntax(
@@ -360,7 +386,11 @@ impl HeightField {
                 ),
             });
         }
-        let mut heights = vec![None; rows * columns];
+        let size = grid_size(columns, rows).map_err(|message| HeightFieldError::Incomplete {
+            file: file.to_string(),
+            message,
+        })?;
+        let mut heights = vec![None; size];
         for (row_from_top, line) in lines.iter().enumerate() {
             let row = rows - 1 - row_from_top;
             for (column, token) in line.iter().enumerate() {
@@ -585,11 +615,15 @@ mod tests {
                 "{error}\nexpected: {expected}"
             );
         }
-        let missing = HeightField::read(Path::new("no/such/terrain.asc")).expect_err("missing");
+        let missing = HeightField::read(
+            Path::new("no/such/terrain.asc"),
+            api::input::DEFAULT_MAX_INPUT_BYTES,
+        )
+        .expect_err("missing");
         assert!(
             missing
                 .to_string()
-                .starts_with("no/such/terrain.asc: cannot read"),
+                .starts_with("no/such/terrain.asc: the height field cannot be read"),
             "{missing}"
         );
         assert!(is_esri(Path::new("a/B.ASC")) && !is_esri(Path::new("a.txt")));

@@ -58,68 +58,39 @@ use crate::deform::{DeformedModel, Psi};
 use crate::heightfield::HeightField;
 use crate::prism::{Layer, Surfaces};
 use crate::relief::{self, Marker, Panel, View};
+use api::config::from_ron;
 use api::exact::{rational_to_f64, Exact};
 use api::{
-    BuildRequest, ConstraintSource, Contribution, OperationPlan, Origin, OutputFile, ParamId,
-    PlanRequest, PlannedStep, Rational, RenderRequest, SourceError, SummaryItem, Values,
+    BuildRequest, ConstraintSource, Contribution, OperationCheckRequest, OperationPlan, Origin,
+    OutputCheck, OutputCheckRequest, OutputFile, ParamId, PlanRequest, PlannedStep, Rational,
+    RenderRequest, SourceError, SummaryItem, Values,
 };
 use num_traits::One;
 use plugins_spline2d::edit::{Neighborhood, Operation, SelectError, SplineEditor};
 use plugins_spline2d::model::{load_model, write_obj, Model};
 use plugins_spline2d::net::ControlNet;
-use plugins_spline2d::plugin::spline_from_config;
+use plugins_spline2d::operation::{
+    checked_steps, default_steps, find_anchors, motion, ExactList, NeighborhoodConfig,
+    RotateConfig, ScaleConfig,
+};
+use plugins_spline2d::plugin::{
+    check_file_name, deformed_name, spline_from_config, SplineConfig, SplineRead,
+};
 use plugins_spline2d::source::SplineParams;
 use plugins_spline2d::spline::Spline;
-use serde::{Deserialize, Deserializer};
-use std::path::Path;
-
-/// Deserialises a present field as `Some` (RON values carry no `Some(..)` wrapper here).
-fn some<'de, D: Deserializer<'de>, T: Deserialize<'de>>(d: D) -> Result<Option<T>, D::Error> {
-    T::deserialize(d).map(Some)
-}
-
-/// Parses RON text into `T` through `ron::Value`, so both struct syntax `(a: 1)` and map syntax
-/// `{"a": 1}` are accepted.
-fn from_ron<T: serde::de::DeserializeOwned>(text: &str, what: &str) -> Result<T, SourceError> {
-    let value: ron::Value =
-        ron::from_str(text).map_err(|e| SourceError::new(format!("{what}: {e}")))?;
-    value
-        .into_rust()
-        .map_err(|e| SourceError::new(format!("{what}: {e}")))
-}
+use serde::Deserialize;
+use std::path::{Path, PathBuf};
 
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct Config {
     /// A `spline2d` configuration (mesh, degree, smoothness, snap, orientation).
-    spline: ron::Value,
+    spline: SplineConfig,
     top: Exact,
-    #[serde(default, deserialize_with = "some")]
+    #[serde(default)]
     bottom: Option<Exact>,
     #[serde(default)]
     xy: bool,
-}
-
-#[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RotateConfig {
-    center: (Exact, Exact),
-    degrees: Exact,
-    #[serde(default = "default_precision")]
-    precision: u64,
-}
-
-#[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct ScaleConfig {
-    center: (Exact, Exact),
-    factor: Exact,
-    #[serde(default = "default_precision")]
-    precision: u64,
-}
-
-fn default_precision() -> u64 {
-    1_000_000
 }
 
 #[derive(Debug, Clone, Deserialize)]
@@ -128,31 +99,36 @@ struct OperationConfig {
     /// `"z0"`, `"z1"` or `"xy"`.
     mode: String,
     anchors: Vec<String>,
-    /// `3` or `"all"`.
-    #[serde(default, deserialize_with = "some")]
-    neighborhood: Option<ron::Value>,
-    #[serde(default, deserialize_with = "some")]
+    #[serde(default)]
+    neighborhood: Option<NeighborhoodConfig>,
+    #[serde(default)]
     dz: Option<Exact>,
-    #[serde(default, deserialize_with = "some")]
-    translate: Option<Vec<Exact>>,
-    #[serde(default, deserialize_with = "some")]
+    #[serde(default)]
+    translate: Option<ExactList>,
+    #[serde(default)]
     rotate: Option<RotateConfig>,
-    #[serde(default, deserialize_with = "some")]
+    #[serde(default)]
     scale: Option<ScaleConfig>,
     #[serde(default = "default_steps")]
-    steps: usize,
+    steps: u64,
 }
 
-fn default_steps() -> usize {
-    1
+/// An operation checked against the built terrain.
+struct CheckedOperation {
+    /// [`SURFACES`] index of the edited surface.
+    surface: usize,
+    anchors: Vec<usize>,
+    neighborhood: Neighborhood,
+    operation: Operation,
+    steps: usize,
 }
 
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct OutputConfig {
-    #[serde(default, deserialize_with = "some")]
+    #[serde(default)]
     model: Option<String>,
-    #[serde(default, deserialize_with = "some")]
+    #[serde(default)]
     picture: Option<String>,
     #[serde(default = "default_size")]
     size: u32,
@@ -166,6 +142,28 @@ fn default_size() -> u32 {
 
 fn default_true() -> bool {
     true
+}
+
+/// An output checked: the model read, and the files it writes.
+struct CheckedOutput {
+    config: OutputConfig,
+    model: Model,
+    model_path: PathBuf,
+    /// `<stem>-deformed.obj`.
+    model_file: String,
+    /// `<picture stem>` of `<stem>-before.png` and `<stem>-after.png`.
+    picture: Option<String>,
+}
+
+impl CheckedOutput {
+    fn files(&self) -> Vec<String> {
+        let mut files = vec![self.model_file.clone()];
+        if let Some(stem) = &self.picture {
+            files.push(format!("{stem}-before.png"));
+            files.push(format!("{stem}-after.png"));
+        }
+        files
+    }
 }
 
 /// The three surfaces, in parameter order.
@@ -249,18 +247,125 @@ impl TerrainSource {
     }
 }
 
-/// Reads the terrain or model to deform: an ESRI grid (`.asc`), an OBJ model (`.obj`) or a
-/// plain grid (anything else).
-pub fn load_terrain(path: &Path) -> Result<Model, String> {
+/// Reads the terrain or model to deform, of at most `limit` bytes: an ESRI grid (`.asc`), an
+/// OBJ model (`.obj`) or a plain grid (anything else).
+pub fn load_terrain(path: &Path, limit: u64) -> Result<Model, String> {
     let is_obj = path
         .extension()
         .is_some_and(|e| e.to_string_lossy().eq_ignore_ascii_case("obj"));
     if is_obj {
-        load_model(path).map_err(|e| e.to_string())
+        load_model(path, limit).map_err(|e| e.to_string())
     } else {
-        HeightField::read(path)
+        HeightField::read(path, limit)
             .map(|field| field.to_model())
             .map_err(|e| e.to_string())
+    }
+}
+
+impl TerrainSource {
+    /// Parses and checks an operation: schema, mode, anchors, neighbourhood, move and steps.
+    fn check(&self, text: &str) -> Result<CheckedOperation, SourceError> {
+        let built = self.built()?;
+        let what = format!("{} operation", built.name);
+        let error = |message: String| SourceError::new(format!("{what}: {message}"));
+        let op: OperationConfig = from_ron(text, &what)?;
+        let surface = match op.mode.as_str() {
+            "z0" => 0,
+            "z1" => 1,
+            "xy" if built.xy.is_some() => 2,
+            "xy" => {
+                return Err(error(
+                    "mode \"xy\" needs `xy: true` in the source configuration".into(),
+                ))
+            }
+            other => {
+                return Err(error(format!(
+                    "mode must be \"z0\" (bottom), \"z1\" (top) or \"xy\", not {other:?}"
+                )))
+            }
+        };
+        let anchors = find_anchors(&built.spline, &op.anchors).map_err(error)?;
+        let operation = if surface == 2 {
+            if op.dz.is_some() {
+                return Err(error(
+                    "mode \"xy\": give exactly one of translate, rotate or scale (dz is for z0/z1)"
+                        .into(),
+                ));
+            }
+            motion(
+                op.translate.as_ref(),
+                op.rotate.as_ref(),
+                op.scale.as_ref(),
+                2,
+            )
+            .map_err(|e| error(format!("mode \"xy\": {e}")))?
+        } else {
+            match (&op.dz, &op.translate, &op.rotate, &op.scale) {
+                (Some(dz), None, None, None) => Operation::Translate {
+                    by: vec![dz.0.clone()],
+                },
+                _ => {
+                    return Err(error(format!(
+                        "mode {:?} moves the anchors vertically: give dz (and no translate, rotate or scale)",
+                        op.mode
+                    )))
+                }
+            }
+        };
+        let steps = checked_steps(op.steps, built.spline.points().len()).map_err(error)?;
+        Ok(CheckedOperation {
+            surface,
+            anchors,
+            neighborhood: op.neighborhood.map_or(Neighborhood::Radius(3), |n| n.0),
+            operation,
+            steps,
+        })
+    }
+
+    /// Parses and checks an output, reading the model (which must be a terrain or a model).
+    fn check_output_text(
+        &self,
+        text: &str,
+        base_dir: &Path,
+        limit: u64,
+    ) -> Result<CheckedOutput, SourceError> {
+        let built = self.built()?;
+        let what = format!("{} output", built.name);
+        let error = |e: &dyn std::fmt::Display| SourceError::new(format!("{what}: {e}"));
+        let config: OutputConfig = from_ron(text, &what)?;
+        let Some(model_path) = config.model.clone() else {
+            return Err(error(
+                &"give the model (terrain) to deform: model: \"terrain.asc\" (or .obj, or a plain grid)",
+            ));
+        };
+        let picture = match &config.picture {
+            Some(name) => {
+                check_file_name(name, "picture", "png").map_err(|e| error(&e))?;
+                let stem = Path::new(name)
+                    .file_stem()
+                    .map(|s| s.to_string_lossy().into_owned())
+                    .unwrap_or_default();
+                Some(stem)
+            }
+            None => None,
+        };
+        relief::check_width(config.size).map_err(|e| error(&e))?;
+        let full = base_dir.join(&model_path);
+        let model = load_terrain(&full, limit).map_err(|e| error(&e))?;
+        let checked = CheckedOutput {
+            model_file: deformed_name(&model_path),
+            config,
+            model,
+            model_path: full,
+            picture,
+        };
+        let files = checked.files();
+        if let Some(name) = files.iter().skip(1).find(|f| **f == files[0]) {
+            return Err(error(&format!(
+                "the deformed model and a picture are both named {name:?}"
+            )));
+        }
+        Ok(checked)
     }
 }
 
@@ -304,10 +409,16 @@ impl ConstraintSource for TerrainSource {
         let bottom = config.bottom.map_or_else(|| -top.clone(), |b| b.0);
         let layer =
             Layer::new(bottom, top).map_err(|e| SourceError::new(format!("{name} config: {e}")))?;
-        let spline_text = ron::to_string(&config.spline)
-            .map_err(|e| SourceError::new(format!("{name} config: spline: {e}")))?;
-        let (spline, warnings) =
-            spline_from_config(&format!("{name} spline"), &spline_text, &request.base_dir)?;
+        let SplineRead {
+            spline,
+            warnings,
+            file,
+        } = spline_from_config(
+            &format!("{name} spline"),
+            &config.spline,
+            &request.base_dir,
+            request.input_limit,
+        )?;
         let n = spline.points().len();
         let existing = request.system.params().len();
         let (mut contribution, bottom) = surface_contribution(
@@ -366,6 +477,7 @@ impl ConstraintSource for TerrainSource {
             })
             .collect();
         contribution.warnings = warnings.iter().map(|w| w.to_string()).collect();
+        contribution.inputs = file.into_iter().collect();
         let net = ControlNet::new(&spline);
         self.built = Some(Built {
             name: name.clone(),
@@ -379,82 +491,25 @@ impl ConstraintSource for TerrainSource {
         Ok(contribution)
     }
 
+    fn check_operation(&self, request: &OperationCheckRequest) -> Result<(), SourceError> {
+        self.check(&request.operation).map(|_| ())
+    }
+
+    fn check_output(&self, request: &OutputCheckRequest) -> Result<OutputCheck, SourceError> {
+        let checked =
+            self.check_output_text(&request.output, &request.base_dir, request.input_limit)?;
+        Ok(OutputCheck::new(checked.files(), vec![checked.model_path]))
+    }
+
     fn plan(&self, request: &PlanRequest) -> Result<OperationPlan, SourceError> {
         let built = self.built()?;
         let what = format!("{} operation", built.name);
         let error = |message: String| SourceError::new(format!("{what}: {message}"));
-        let op: OperationConfig = from_ron(&request.operation, &what)?;
-        let params = match op.mode.as_str() {
-            "z0" => &built.bottom,
-            "z1" => &built.top,
-            "xy" => built.xy.as_ref().ok_or_else(|| {
-                error("mode \"xy\" needs `xy: true` in the source configuration".into())
-            })?,
-            other => {
-                return Err(error(format!(
-                    "mode must be \"z0\" (bottom), \"z1\" (top) or \"xy\", not {other:?}"
-                )))
-            }
+        let op = self.check(&request.operation)?;
+        let Some(params) = built.surfaces()[op.surface] else {
+            return Err(error("the surface has no parameters".into()));
         };
-        let anchors = op
-            .anchors
-            .iter()
-            .map(|name| {
-                built
-                    .spline
-                    .points()
-                    .iter()
-                    .position(|p| p.name == *name)
-                    .ok_or_else(|| {
-                        error(format!(
-                            "no control point named {name:?} (names look like \"v3\", \"e3-7:2\", \"t5:2,2,1\")"
-                        ))
-                    })
-            })
-            .collect::<Result<Vec<usize>, _>>()?;
-        let neighborhood = match op.neighborhood {
-            None => Neighborhood::Radius(3),
-            Some(ron::Value::String(k)) if k == "all" => Neighborhood::All,
-            Some(value) => match value.clone().into_rust::<u32>() {
-                Ok(r) => Neighborhood::Radius(r),
-                Err(_) => {
-                    return Err(error(format!(
-                        "neighborhood must be a number of steps or \"all\", not {value:?}"
-                    )))
-                }
-            },
-        };
-        let vertical = op.mode != "xy";
-        let operation = match (&op.dz, &op.translate, &op.rotate, &op.scale, vertical) {
-            (Some(dz), None, None, None, true) => Operation::Translate {
-                by: vec![dz.0.clone()],
-            },
-            (_, _, _, _, true) => {
-                return Err(error(format!(
-                    "mode {:?} moves the anchors vertically: give dz (and no translate, rotate or scale)",
-                    op.mode
-                )))
-            }
-            (None, Some(by), None, None, false) => Operation::Translate {
-                by: by.iter().map(|e| e.0.clone()).collect(),
-            },
-            (None, None, Some(r), None, false) => Operation::Rotate {
-                center: [r.center.0 .0.clone(), r.center.1 .0.clone()],
-                degrees: r.degrees.0.clone(),
-                precision: r.precision,
-            },
-            (None, None, None, Some(s), false) => Operation::Scale {
-                center: [s.center.0 .0.clone(), s.center.1 .0.clone()],
-                factor: s.factor.0.clone(),
-                precision: s.precision,
-            },
-            _ => {
-                return Err(error(
-                    "mode \"xy\": give exactly one of translate, rotate or scale (dz is for z0/z1)"
-                        .into(),
-                ))
-            }
-        };
+        let (anchors, neighborhood, operation) = (&op.anchors, op.neighborhood, &op.operation);
         let editor = SplineEditor {
             spline: &built.spline,
             net: &built.net,
@@ -462,10 +517,10 @@ impl ConstraintSource for TerrainSource {
         };
         let refused = |e: SelectError| error(e.to_string());
         let selection = editor
-            .select(&request.system, &request.values, &anchors, neighborhood)
+            .select(&request.system, &request.values, anchors, neighborhood)
             .map_err(refused)?;
         let plan = editor
-            .plan(&selection, &request.values, &operation, op.steps)
+            .plan(&selection, &request.values, operation, op.steps)
             .map_err(refused)?;
         let summary = [
             ("initial_derived", selection.initial.len()),
@@ -499,35 +554,14 @@ impl ConstraintSource for TerrainSource {
         let built = self.built()?;
         let what = format!("{} output", built.name);
         let error = |e: &dyn std::fmt::Display| SourceError::new(format!("{what}: {e}"));
-        let config: OutputConfig = from_ron(&request.output, &what)?;
-        let Some(model_path) = &config.model else {
-            return Err(error(
-                &"give the model (terrain) to deform: model: \"terrain.asc\" (or .obj, or a plain grid)",
-            ));
-        };
-        let picture_stem = match &config.picture {
-            Some(name) => match name.strip_suffix(".png") {
-                Some(stem) if !stem.is_empty() && !stem.contains(['/', '\\']) => {
-                    Some(stem.to_string())
-                }
-                _ => {
-                    return Err(error(&format!(
-                        "picture must be a file name (no directories) ending in .png, not {name:?}"
-                    )))
-                }
-            },
-            None => None,
-        };
-        let model = load_terrain(&request.base_dir.join(model_path)).map_err(|e| error(&e))?;
+        let checked =
+            self.check_output_text(&request.output, &request.base_dir, request.input_limit)?;
+        let (config, model, picture_stem) = (&checked.config, &checked.model, &checked.picture);
         let before = built.psi(&request.initial)?;
         let after = built.psi(&request.values)?;
-        let deformed = after.deform(&model);
-        let stem = Path::new(model_path)
-            .file_stem()
-            .map(|s| s.to_string_lossy().into_owned())
-            .unwrap_or_else(|| "model".into());
+        let deformed = after.deform(model);
         let mut model_file = OutputFile::new(
-            format!("{stem}-deformed.obj"),
+            checked.model_file.clone(),
             deformed_obj(built, &deformed).map_err(|e| error(&e))?,
         );
         model_file.notes.extend(
@@ -539,7 +573,7 @@ impl ConstraintSource for TerrainSource {
         );
         let mut files = vec![model_file];
         if let Some(picture) = picture_stem {
-            let initial = before.deform(&model).model;
+            let initial = before.deform(model).model;
             let lines = |psi: &Psi| {
                 if config.reference_mesh {
                     mesh_lines(built, psi)
@@ -875,10 +909,7 @@ mod tests {
                 r#"(mode: "z0", anchors: ["v4"], dz: "1", neighborhood: "some")"#,
                 "neighborhood",
             ),
-            (
-                r#"(mode: "z0", anchors: [], dz: "1")"#,
-                "at least one anchor",
-            ),
+            (r#"(mode: "z0", anchors: [], dz: "1")"#, "anchors is empty"),
         ] {
             let message = plan(op);
             assert!(message.starts_with("hills operation: "), "{message}");
@@ -897,6 +928,7 @@ mod tests {
         let render = |output: &str| {
             source
                 .render(&RenderRequest {
+                    input_limit: api::input::DEFAULT_MAX_INPUT_BYTES,
                     output: output.into(),
                     base_dir: PathBuf::from("."),
                     system: ConstraintSystem::new(),
@@ -909,11 +941,15 @@ mod tests {
                 .message
         };
         assert!(render("(picture: \"x.png\")").contains("give the model"));
-        assert!(render("(model: \"t.asc\", picture: \"x.svg\")").contains("ending in .png"));
+        assert!(render("(model: \"t.asc\", picture: \"x.svg\")").contains("must end in .png"));
         assert!(render("(model: \"t.asc\", picture: \"d/x.png\")").contains("no directories"));
-        assert!(render("(model: \"no/such.asc\")").contains("no/such.asc: cannot read"));
+        assert!(render("(model: \"no/such.asc\")")
+            .contains("no/such.asc: the height field cannot be read"));
+        assert!(render("(model: \"/dev/zero\")").contains("character device"));
+        assert!(render("(model: \"t.asc\", size: 100000)").contains("picture width"));
         let message = TerrainSource::default()
             .render(&RenderRequest {
+                input_limit: api::input::DEFAULT_MAX_INPUT_BYTES,
                 output: "(model: \"t.asc\")".into(),
                 base_dir: PathBuf::from("."),
                 system: ConstraintSystem::new(),
@@ -1087,6 +1123,7 @@ mod tests {
         };
         let render = |output: &str| {
             source.render(&RenderRequest {
+                input_limit: api::input::DEFAULT_MAX_INPUT_BYTES,
                 output: output.into(),
                 base_dir: dir.path().to_path_buf(),
                 system: system.clone(),

@@ -84,12 +84,20 @@ pub struct View {
     high: f64,
 }
 
+/// Checks a picture width: between 16 and 8192 pixels (the height follows the terrain's shape
+/// and is capped at 8192 too).
+pub fn check_width(width: u32) -> Result<(), ReliefError> {
+    if (MIN_WIDTH..=MAX_WIDTH).contains(&width) {
+        Ok(())
+    } else {
+        Err(ReliefError::Width(width))
+    }
+}
+
 impl View {
     /// A view showing everything in `panels` (with a small margin), `width` pixels wide.
     pub fn fit(panels: &[Panel<'_>], width: u32) -> Result<View, ReliefError> {
-        if !(MIN_WIDTH..=MAX_WIDTH).contains(&width) {
-            return Err(ReliefError::Width(width));
-        }
+        check_width(width)?;
         let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
         let (mut low, mut high) = (f64::INFINITY, f64::NEG_INFINITY);
         let mut include = |p: [f64; 2]| {

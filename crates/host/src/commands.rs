@@ -1,0 +1,296 @@
+//! The `ecles` commands as functions: what `main` calls, and what tests call in process.
+//!
+//! Each command prints through a [`Console`] and returns its exit code (see
+//! [`crate::error`]); nothing here panics on any input, and nothing is written before every
+//! input has been checked.
+
+use crate::console::Console;
+use crate::error::{RunError, EXIT_EDIT_FAILED};
+use crate::outputs;
+use crate::registry;
+use crate::report::{self, Report};
+use crate::session::{describe, Session};
+use std::path::{Path, PathBuf};
+
+/// Options of `ecles run`.
+#[derive(Debug, Clone)]
+pub struct RunOptions {
+    /// The run file.
+    pub run: PathBuf,
+    /// Output directory (default: `<run file without extension>.out` next to it).
+    pub out: Option<PathBuf>,
+    /// Print nothing but errors.
+    pub quiet: bool,
+    /// Exit with 1 when the float backend disagrees with the exact one.
+    pub strict: bool,
+    /// Largest input file, in bytes.
+    pub max_input_bytes: u64,
+}
+
+/// The default output directory of a run file: `<stem>.out` next to it.
+pub fn default_out_dir(run: &Path) -> PathBuf {
+    let stem = run
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "run".into());
+    run.with_file_name(format!("{stem}.out"))
+}
+
+/// `ecles run`: checks everything, runs the edits, renders the outputs and writes them with
+/// the report, all or nothing.
+pub fn run(options: &RunOptions, console: &mut Console<'_>) -> Result<u8, RunError> {
+    let out_dir = options
+        .out
+        .clone()
+        .unwrap_or_else(|| default_out_dir(&options.run));
+    // A failed run must not leave the previous run's report behind.
+    outputs::remove_stale_report(&out_dir)?;
+    let mut session = Session::build(&options.run, options.max_input_bytes)?;
+    let mut report = session.analyze();
+    let run_name = options.run.display().to_string();
+    if !report.consistent {
+        return Err(RunError::input(format!(
+            "{run_name}: the constraints contradict each other: {}",
+            report.conflict.clone().unwrap_or_default().join(", ")
+        )));
+    }
+    if !report.violated.is_empty() {
+        return Err(RunError::input(format!(
+            "{run_name}: the initial values violate {}",
+            report.violated.join(", ")
+        )));
+    }
+    let plan = session.check()?;
+    outputs::check_targets(&out_dir, &plan.files, &plan.inputs)?;
+    if !options.quiet {
+        print_system(&report, console)?;
+        console.flush()?;
+    }
+    let progress = if options.quiet {
+        indicatif::ProgressBar::hidden()
+    } else {
+        let bar = indicatif::ProgressBar::new(session.edit_count() as u64);
+        if let Ok(style) =
+            indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} edits {msg}")
+        {
+            bar.set_style(style);
+        }
+        bar
+    };
+    for i in 0..session.edit_count() {
+        let edit = session.run_edit(i)?;
+        progress.inc(1);
+        report.edits.push(edit);
+    }
+    progress.finish_and_clear();
+    let files = session.render_outputs(&plan)?;
+    report.summary.edits = report.edits.len();
+    report.summary.failed = report.edits.iter().filter(|e| !e.solvable).count();
+    report.summary.disagreements = report.cross_check.disagreements.len()
+        + report
+            .edits
+            .iter()
+            .map(|e| e.disagreements.len())
+            .sum::<usize>();
+    report.outputs = files.iter().map(|f| f.name.clone()).collect();
+    report.output_notes = files
+        .iter()
+        .flat_map(|f| {
+            f.notes.iter().map(|note| report::OutputNote {
+                file: f.name.clone(),
+                note: note.clone(),
+            })
+        })
+        .collect();
+    let json = serde_json::to_string_pretty(&report)
+        .map_err(|e| RunError::environment(format!("cannot encode the report: {e}")))?
+        + "\n";
+    outputs::create_dir(&out_dir)?;
+    let contents: Vec<(String, Vec<u8>)> = files
+        .iter()
+        .map(|f| (f.name.clone(), f.bytes.clone()))
+        .collect();
+    drop(files);
+    outputs::write_all(&out_dir, &contents, json.as_bytes())?;
+    if !options.quiet {
+        print_edits(&report, &out_dir, console)?;
+        console.flush()?;
+    }
+    let failed = report.summary.failed > 0 || (options.strict && report.summary.disagreements > 0);
+    Ok(if failed { EXIT_EDIT_FAILED } else { 0 })
+}
+
+/// `ecles analyze`: the whole-system report, as text or JSON. Exits with 2 when the
+/// constraints contradict each other or the initial values violate them (the report, printed
+/// first, says which rows).
+pub fn analyze(
+    run: &Path,
+    json: bool,
+    max_input_bytes: u64,
+    console: &mut Console<'_>,
+) -> Result<u8, RunError> {
+    let session = Session::build(run, max_input_bytes)?;
+    let report = session.analyze();
+    if json {
+        let text = serde_json::to_string_pretty(&report)
+            .map_err(|e| RunError::environment(format!("cannot encode the report: {e}")))?;
+        console.line(text)?;
+    } else {
+        print_system(&report, console)?;
+    }
+    console.flush()?;
+    if !report.consistent {
+        return Err(RunError::input(format!(
+            "{}: the constraints contradict each other: {}",
+            run.display(),
+            report.conflict.clone().unwrap_or_default().join(", ")
+        )));
+    }
+    if !report.violated.is_empty() {
+        return Err(RunError::input(format!(
+            "{}: the initial values violate {}",
+            run.display(),
+            report.violated.join(", ")
+        )));
+    }
+    Ok(0)
+}
+
+/// `ecles explain`: why a parameter or coordinate is fixed, limited or free.
+pub fn explain(
+    run: &Path,
+    param: &str,
+    max_input_bytes: u64,
+    console: &mut Console<'_>,
+) -> Result<u8, RunError> {
+    let session = Session::build(run, max_input_bytes)?;
+    for line in session.explain(param)? {
+        console.line(line)?;
+    }
+    console.flush()?;
+    Ok(0)
+}
+
+/// `ecles plugins`: the built-in sources, or one plugin library (a path without an extension
+/// names the platform's library file, as in run files).
+pub fn plugins(path: Option<&Path>, console: &mut Console<'_>) -> Result<u8, RunError> {
+    match path {
+        None => {
+            console.line(format!(
+                "built-in sources (plugin ABI {}):",
+                plugin_abi::abi::ABI_VERSION
+            ))?;
+            for b in registry::builtins() {
+                let source = (b.make)();
+                console.line(format!("  {} {}", b.kind, source.version()))?;
+            }
+        }
+        Some(path) => {
+            let library = registry::library_path(&path.to_string_lossy(), Path::new(""));
+            let loaded = plugin_abi::load(&library).map_err(|e| RunError::input(e.to_string()))?;
+            console.line(format!(
+                "{}: plugin {} version {}, ABI {}",
+                library.display(),
+                loaded.kind,
+                loaded.version,
+                loaded.abi_version
+            ))?;
+        }
+    }
+    console.flush()?;
+    Ok(0)
+}
+
+/// The sources and the whole-system verdict, as printed before the edits.
+fn print_system(report: &Report, console: &mut Console<'_>) -> Result<(), RunError> {
+    for s in &report.sources {
+        let counts: Vec<String> = s.counts.iter().map(|(k, v)| format!("{k} {v}")).collect();
+        console.line(format!(
+            "source {} ({} {}): {} parameters, {} rows{}",
+            s.name,
+            s.plugin,
+            s.version,
+            s.parameters,
+            s.rows,
+            if counts.is_empty() {
+                String::new()
+            } else {
+                format!(" [{}]", counts.join(", "))
+            }
+        ))?;
+        for w in &s.warnings {
+            console.line(format!("  warning: {w}"))?;
+        }
+    }
+    console.line(format!("system: {}", describe(report)))?;
+    let cc = &report.cross_check;
+    if cc.enabled {
+        match (cc.float_rank, cc.agree, &cc.skipped) {
+            (_, _, Some(reason)) => console.line(format!("cross-check skipped: {reason}"))?,
+            (Some(rank), Some(agree), None) => console.line(format!(
+                "cross-check: float rank {rank}, {}{}",
+                if agree { "agrees" } else { "DISAGREES" },
+                cc.margin
+                    .map(|m| format!(
+                        " (smallest kept {:.3e}, largest dropped {:.3e})",
+                        m.smallest_kept, m.largest_dropped
+                    ))
+                    .unwrap_or_default()
+            ))?,
+            _ => {}
+        }
+        for d in &cc.disagreements {
+            console.line(format!("  {d}"))?;
+        }
+    }
+    Ok(())
+}
+
+/// One line per edit and the summary, as printed after the run.
+fn print_edits(report: &Report, out_dir: &Path, console: &mut Console<'_>) -> Result<(), RunError> {
+    for e in &report.edits {
+        let what = match &e.source {
+            Some(s) => format!("edit {} ({s})", e.index),
+            None => format!("edit {}", e.index),
+        };
+        if e.solvable {
+            console.line(format!(
+                "{what}: ok, {} anchors, {} derived, rank {}, residual {}{}",
+                e.anchors.len(),
+                e.derived.len(),
+                e.rank,
+                e.max_residual,
+                e.float_deviation
+                    .map(|d| format!(", float deviation {d:.2e}"))
+                    .unwrap_or_default()
+            ))?;
+        } else {
+            console.line(format!(
+                "{what}: FAILED: {}",
+                e.error.clone().unwrap_or_else(|| "unknown".into())
+            ))?;
+            for line in &e.explanation {
+                console.line(format!("  {line}"))?;
+            }
+        }
+        for d in &e.disagreements {
+            console.line(format!("  float disagrees: {d}"))?;
+        }
+    }
+    console.line(format!(
+        "{} edits, {} failed, {} disagreements; wrote {}{}",
+        report.summary.edits,
+        report.summary.failed,
+        report.summary.disagreements,
+        out_dir.join(outputs::REPORT).display(),
+        if report.outputs.is_empty() {
+            String::new()
+        } else {
+            format!(" and {}", report.outputs.join(", "))
+        }
+    ))?;
+    for n in &report.output_notes {
+        console.line(format!("note: {}: {}", n.file, n.note))?;
+    }
+    Ok(())
+}
