@@ -127,12 +127,12 @@ pub struct Edit<F: Factorization> {
 }
 
 /// The reduced system of an edit before factoring.
-struct Reduced {
-    layout: Layout,
-    r_ed: IntMatrix,
-    family: RhsFamily,
-    rows: Vec<RowRef>,
-    labels: Vec<String>,
+pub(crate) struct Reduced {
+    pub(crate) layout: Layout,
+    pub(crate) r_ed: IntMatrix,
+    pub(crate) family: RhsFamily,
+    pub(crate) rows: Vec<RowRef>,
+    pub(crate) labels: Vec<String>,
 }
 
 /// Scalar equations of one row: `(terms over coordinates, rhs, component)`.
@@ -523,7 +523,7 @@ fn strong_check<F: Factorization>(
     }
 }
 
-fn conflict<S: Clone>(
+pub(crate) fn conflict<S: Clone>(
     rows: &[RowRef],
     labels: &[String],
     layout: Layout,
@@ -550,7 +550,7 @@ fn conflict<S: Clone>(
 }
 
 /// Checks ids, overlaps and weights; returns one weight per derived parameter.
-fn validate_spec<S: std::fmt::Debug>(
+pub(crate) fn validate_spec<S: std::fmt::Debug>(
     system: &ConstraintSystem,
     values: &Values,
     spec: &EditSpec,
@@ -609,7 +609,7 @@ fn validate_spec<S: std::fmt::Debug>(
 }
 
 /// Chooses the layout and builds `R_ED`, `R_EA` and the constant parts `q_E − R_EF' P_F'`.
-fn reduce(
+pub(crate) fn reduce(
     system: &ConstraintSystem,
     values: &Values,
     spec: &EditSpec,

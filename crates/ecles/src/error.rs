@@ -134,7 +134,26 @@ pub enum EditError<S: fmt::Debug> {
         /// The constraints that block it.
         conflict: Box<Conflict<S>>,
     },
+    /// A requested move of the anchors is impossible: the rows of the certificate tie the
+    /// anchors to fixed parameters (or to each other) in the direction of the move (see
+    /// [`crate::check_moves`]).
+    #[error("the requested move of the anchors conflicts with {0}")]
+    MoveBlocked(Box<Conflict<S>>),
     /// Weak solvability fails for these anchor values: the anchors contradict the constraints.
     #[error("the anchor values conflict with constraints {0}")]
     Conflict(Box<Conflict<S>>),
+}
+
+impl<S: fmt::Debug> EditError<S> {
+    /// The conflicting rows behind the refusal, when there are some: for conflicts, blocked
+    /// moves, failed strong checks and inconsistent current states.
+    pub fn conflict(&self) -> Option<&Conflict<S>> {
+        match self {
+            EditError::Conflict(c)
+            | EditError::CurrentStateInconsistent(c)
+            | EditError::MoveBlocked(c) => Some(c),
+            EditError::NotStronglySolvable { conflict, .. } => Some(conflict),
+            _ => None,
+        }
+    }
 }

@@ -12,6 +12,8 @@
 //! * [`Edit::update`] (algorithm 4) checks weak solvability (algorithm 5) for new anchor values
 //!   and solves the least-squares problem for new hints. It is cheap: everything that does not
 //!   depend on anchor values and hints was computed by `initialize`.
+//! * [`check_moves`]: solvability for the anchor moves actually requested (a translation, a
+//!   drag), weaker than strong solvability: what choosing a derived set needs.
 //! * [`Edit::drag`]: a straight drag solved at its two ends; every frame is then an exact
 //!   linear interpolation (the solution is affine in the anchor values and hints).
 //!
@@ -23,9 +25,11 @@
 mod drag;
 mod edit;
 mod error;
+mod moves;
 mod relevant;
 
 pub use drag::Drag;
 pub use edit::{Edit, EditReport, EditSpec, Layout, RowRef, UpdateResult};
 pub use error::{Conflict, ConflictingRow, EditError};
+pub use moves::check_moves;
 pub use relevant::{extract_relevant, Relevant};

@@ -330,3 +330,69 @@ fn straight_drags_interpolate_exactly() {
         }
     }
 }
+
+/// A point `p` tied to `q` (`p − q = 0`, vector row) and pinned in x (`p x = 0`, scalar row).
+fn pinned_in_x() -> (ConstraintSystem, Vec<ParamId>, Values) {
+    let mut s = ConstraintSystem::new();
+    let p = s.add_parameter("p", 2).expect("name");
+    let q = s.add_parameter("q", 2).expect("name");
+    s.add_row(vector_row("p = q", &[(p, 1), (q, -1)], &[0, 0]))
+        .expect("row");
+    s.add_row(ConstraintRow {
+        label: "p x = 0".into(),
+        origin: Origin::default(),
+        body: RowBody::Scalar {
+            terms: vec![(
+                Coord {
+                    param: p,
+                    component: 0,
+                },
+                1.into(),
+            )],
+            rhs: 0.into(),
+        },
+    })
+    .expect("row");
+    let values = Values::from_vecs(&s, vec![vec![z(0), z(2)], vec![z(0), z(2)]]).expect("values");
+    (s, vec![p, q], values)
+}
+
+#[test]
+fn requested_moves_are_checked_not_every_direction() {
+    let (s, p, values) = pinned_in_x();
+    let spec = EditSpec::new(vec![p[0]], vec![p[1]]);
+    let check =
+        |moves: &[Vec<Vec<Rational>>]| ecles::check_moves(&backend(), &s, &values, &spec, moves);
+    // Strong solvability fails (x is pinned) ...
+    assert!(matches!(
+        ExactEdit::check_strongly_solvable(&backend(), &s, &values, &spec.clone().strong()),
+        Err(EditError::NotStronglySolvable { .. })
+    ));
+    // ... but a move along y is possible, also as a drag of several steps ...
+    check(&[vec![vec![z(0), z(1)]]]).expect("y is free");
+    check(&[
+        vec![vec![z(0), z(1)]],
+        vec![vec![z(0), z(2)]],
+        vec![vec![z(0), q(5, 2)]],
+    ])
+    .expect("y is free at every step");
+    check(&[]).expect("no move");
+    // ... and a move with an x component is blocked by the pin alone, not by the tie.
+    match check(&[vec![vec![z(0), z(1)]], vec![vec![z(1), z(1)]]]) {
+        Err(EditError::MoveBlocked(conflict)) => {
+            assert_eq!(conflict.labels(), ["p x = 0"]);
+        }
+        other => panic!("expected MoveBlocked, got {other:?}"),
+    }
+    // Every step of an edit that check_moves accepts solves exactly.
+    let edit = ExactEdit::initialize(&backend(), &s, &values, &spec).expect("init");
+    let mut after = values.clone();
+    edit.apply(&s, &mut after, &[vec![z(0), z(5)]], &[vec![z(0), z(2)]])
+        .expect("the y move solves");
+    assert_eq!(after.get(p[1]), &[z(0), z(5)]);
+    // Displacements must have the anchors' shape.
+    assert!(matches!(
+        check(&[vec![vec![z(1)]]]),
+        Err(EditError::Count { .. })
+    ));
+}

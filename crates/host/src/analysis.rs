@@ -173,9 +173,13 @@ pub fn analyse(system: &ConstraintSystem, values: &Values, tolerance: Option<f64
     let elimination = eliminate_blockwise(&shape.matrix, &rhs, COMBINATION_LIMIT);
     analysis.rank = elimination.rank * shape.copies;
     analysis.structure = Some(crate::structural::report(&shape, &elimination));
+    // A row is redundant only if its whole equation, right-hand side included, is the
+    // combination; a row whose left side is a combination but whose right side differs
+    // contradicts the others and belongs in `conflict`.
     analysis.redundant = elimination
         .redundant
         .iter()
+        .filter(|red| red.inconsistent_columns.is_empty())
         .map(|red| RedundantRow {
             row: shape.labels[red.row].clone(),
             combination: red.combination.as_ref().map(|w| {

@@ -508,10 +508,8 @@ impl Session {
         spec: &EditSpec,
         e: &EditError<S>,
     ) -> Vec<String> {
-        let conflict = match e {
-            EditError::Conflict(c) | EditError::CurrentStateInconsistent(c) => c,
-            EditError::NotStronglySolvable { conflict, .. } => conflict,
-            _ => return Vec::new(),
+        let Some(conflict) = e.conflict() else {
+            return Vec::new();
         };
         let rows: std::collections::BTreeSet<api::RowId> =
             conflict.rows.iter().map(|r| r.row.row).collect();
@@ -816,11 +814,7 @@ fn conflict_labels<S: std::fmt::Debug>(
     system: &ConstraintSystem,
     e: &EditError<S>,
 ) -> Option<Vec<String>> {
-    let conflict = match e {
-        EditError::Conflict(c) | EditError::CurrentStateInconsistent(c) => c,
-        EditError::NotStronglySolvable { conflict, .. } => conflict,
-        _ => return None,
-    };
+    let conflict = e.conflict()?;
     Some(
         conflict
             .rows
