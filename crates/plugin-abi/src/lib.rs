@@ -106,7 +106,8 @@ pub mod abi;
 mod export;
 mod host;
 
-pub use host::{load, DynamicSource, LoadError, LoadedPlugin};
+pub use export::dispatch;
+pub use host::{decode_answer, load, AnswerError, DynamicSource, LoadError, LoadedPlugin};
 
 use std::path::{Path, PathBuf};
 

@@ -10,7 +10,7 @@ use std::fmt;
 
 /// Why an equation could not be read: a message about the character at `column`.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub(crate) struct EquationError {
+pub struct EquationError {
     /// 1-based column, in characters, of the offending token (one past the end for a missing
     /// token).
     pub column: usize,
@@ -29,7 +29,7 @@ impl EquationError {
 
 /// A parameter name as written in an equation.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub(crate) struct NameRef {
+pub struct NameRef {
     /// The name.
     pub name: String,
     /// 1-based column of its first character.
@@ -38,7 +38,7 @@ pub(crate) struct NameRef {
 
 /// An equation `Σ c_j name_j = rhs`, with every term moved left and every constant moved right.
 #[derive(Debug, Clone, PartialEq, Eq, Default)]
-pub(crate) struct ParsedEquation {
+pub struct ParsedEquation {
     /// Terms in order of appearance (right-hand terms negated); a name may occur several times.
     pub terms: Vec<(NameRef, Integer)>,
     /// The constants of the right side minus those of the left side.
@@ -85,7 +85,7 @@ fn is_name_char(c: char) -> bool {
 }
 
 /// Whether `name` matches `[A-Za-z_][A-Za-z0-9_.]*`.
-pub(crate) fn is_valid_name(name: &str) -> bool {
+pub fn is_valid_name(name: &str) -> bool {
     let mut chars = name.chars();
     chars.next().is_some_and(is_name_start) && chars.all(is_name_char)
 }
@@ -320,7 +320,7 @@ impl Parser {
 }
 
 /// Reads one equation: terms and integer constants on both sides of exactly one `=`.
-pub(crate) fn parse_equation(text: &str) -> Result<ParsedEquation, EquationError> {
+pub fn parse_equation(text: &str) -> Result<ParsedEquation, EquationError> {
     let mut parser = Parser {
         tokens: tokenize(text)?,
         pos: 0,

@@ -105,7 +105,7 @@
 //! ```
 
 mod config;
-mod equation;
+pub mod equation;
 
 use api::{
     BuildRequest, ConstraintRow, ConstraintSource, Contribution, Coord, Integer, NewParameter,
