@@ -13,13 +13,14 @@
 //! needed by a blocking condition, so `D` stays local (for `d ≥ 5` the thesis' bound of the
 //! anchors' triangles plus a few neighbours), and the result is verified, not assumed.
 
+use crate::motion;
 use crate::net::ControlNet;
 use crate::source::SplineParams;
 use crate::spline::{PointType, Spline};
 use api::{ConstraintSystem, ParamId, Rational, Values};
 use ecles::{Edit, EditError, EditSpec};
 use exact_ldu::{ExactFactorization, ExactLdu};
-use num_traits::{One, ToPrimitive, Zero};
+use num_traits::{One, Signed, Zero};
 use std::collections::BTreeSet;
 
 /// Which control points become derived before expansion.
@@ -75,51 +76,84 @@ pub enum Operation {
         by: Vec<Rational>,
     },
     /// Soft rotation about `center` by `degrees` (planar splines only): anchors rotate by the
-    /// angle, derived points are pulled by `θ` times it. Irrational results are rounded to the
-    /// grid `1/precision`.
+    /// angle, derived points are pulled by `θ` times it.
+    ///
+    /// Every point moves by an exact rational rotation ([`motion::Rotation`]): the angle is
+    /// reduced exactly modulo 360, multiples of 90 degrees are exact (a multiple of 360 leaves
+    /// the point unchanged), and otherwise `tan` of the half angle is rounded to the grid
+    /// `1/precision`, so `cos² + sin² = 1` exactly, distances to the centre are preserved
+    /// exactly and the angle is within `(1 + 1/32)/precision` radians of the request.
     Rotate {
         /// Centre of rotation.
         center: [Rational; 2],
         /// Angle in degrees, counter-clockwise.
         degrees: Rational,
-        /// Denominator of the rounding grid.
+        /// Denominator of the grid of `tan(angle/2)`: `1..=`[`motion::MAX_PRECISION`]
+        /// (`10^12`).
         precision: u64,
     },
-    /// Soft scaling about `center` by `factor > 0` (planar splines only): anchors scale
-    /// exactly, derived points are pulled by `factor^θ` (rounded to `1/precision`).
+    /// Soft scaling about `center` by `factor > 0` (planar splines only): anchors scale by
+    /// `factor`, derived points are pulled by `factor^θ` (each step by the power `t = θ ·` step
+    /// fraction).
+    ///
+    /// The full factor (`t = 1`: anchors at the last step) is exact; other powers are exact
+    /// rationals ([`motion::scale_power`]) of relative error below `1/precision` (at most
+    /// `0.63/precision`) for any positive rational factor, however large or small.
     Scale {
         /// Centre of scaling.
         center: [Rational; 2],
         /// Scale factor, positive.
         factor: Rational,
-        /// Denominator of the rounding grid.
+        /// Inverse of the relative precision of `factor^θ`: `1..=`[`motion::MAX_PRECISION`]
+        /// (`10^12`).
         precision: u64,
     },
 }
 
 impl Operation {
-    /// Checks the operation for a spline whose values have `dim` coordinates: a translation of
-    /// `dim` coordinates; rotations and scalings only of planar splines, with a positive
-    /// precision, and a positive scale factor.
+    /// Checks the operation against a spline of dimension `dim` without running anything: a
+    /// translation has `dim` coordinates; rotation and scaling need a planar spline (`dim = 2`)
+    /// and a precision in `1..=`[`motion::MAX_PRECISION`]; the scale factor is positive.
     pub fn validate(&self, dim: usize) -> Result<(), SelectError> {
-        match self {
-            Operation::Translate { by } if by.len() != dim => {
-                Err(SelectError::InvalidOperation(format!(
-                    "translation has {} coordinates, the spline has {dim}",
-                    by.len()
-                )))
-            }
-            Operation::Rotate { precision, .. } | Operation::Scale { precision, .. }
-                if dim != 2 || *precision == 0 =>
-            {
-                Err(SelectError::InvalidOperation(
-                    "rotation and scaling need a planar spline and a positive precision".into(),
+        let invalid = |message: String| Err(SelectError::InvalidOperation(message));
+        let planar = |what: &str| {
+            if dim == 2 {
+                Ok(())
+            } else {
+                invalid(format!(
+                    "{what} needs a planar spline (dimension 2), this spline has dimension {dim}"
                 ))
             }
-            Operation::Scale { factor, .. } if *factor <= Rational::zero() => Err(
-                SelectError::InvalidOperation("the scale factor must be positive".into()),
-            ),
-            _ => Ok(()),
+        };
+        let precision = |p: u64| {
+            motion::check_precision(p).map_err(|e| SelectError::InvalidOperation(e.to_string()))
+        };
+        match self {
+            Operation::Translate { by } if by.len() != dim => invalid(format!(
+                "translate has {} coordinates, the spline has dimension {dim}",
+                by.len()
+            )),
+            Operation::Translate { .. } => Ok(()),
+            Operation::Rotate { precision: p, .. } => {
+                planar("rotate")?;
+                precision(*p)
+            }
+            Operation::Scale {
+                factor,
+                precision: p,
+                ..
+            } => {
+                planar("scale")?;
+                precision(*p)?;
+                if factor.is_positive() {
+                    Ok(())
+                } else {
+                    invalid(format!(
+                        "scale factor {} must be positive",
+                        api::format_rational(factor)
+                    ))
+                }
+            }
         }
     }
 }
@@ -165,7 +199,8 @@ pub enum SelectError {
     #[error("the current control points violate {0:?}")]
     CurrentStateInconsistent(Vec<String>),
     /// The operation does not fit the spline (rotation of a scalar spline, wrong vector size,
-    /// non-positive scale, zero steps or precision).
+    /// non-positive scale, zero steps, precision outside `1..=`[`motion::MAX_PRECISION`]), or
+    /// a motion's float error bound would not be far below its rounding grid.
     #[error("invalid operation: {0}")]
     InvalidOperation(String),
     /// ECLES refused the edit for another reason.
@@ -334,20 +369,20 @@ impl SplineEditor<'_> {
                 let moved = |p: usize, theta: &Rational| {
                     move_point(operation, &position(p), &(theta * &fraction))
                 };
-                Step {
+                Ok(Step {
                     anchors: selection
                         .anchors
                         .iter()
                         .map(|&a| moved(a, &Rational::one()))
-                        .collect(),
+                        .collect::<Result<_, _>>()?,
                     hints: selection
                         .derived
                         .iter()
                         .map(|&s| moved(s, &selection.theta[s]))
-                        .collect(),
-                }
+                        .collect::<Result<_, _>>()?,
+                })
             })
-            .collect();
+            .collect::<Result<_, SelectError>>()?;
         Ok(Plan {
             spec: EditSpec::new(self.ids(&selection.anchors), self.ids(&selection.derived)),
             steps: steps_out,
@@ -355,56 +390,38 @@ impl SplineEditor<'_> {
     }
 }
 
-/// Rounds `x` to the nearest multiple of `1/precision`.
-fn round_to(x: f64, precision: u64) -> Rational {
-    let scaled = (x * precision as f64).round();
-    let numer = num_bigint::BigInt::from(scaled as i128);
-    Rational::new(numer, precision.into())
-}
-
-/// The point `p` moved by the fraction `t` of an operation (`t = θ · step fraction`).
-fn move_point(operation: &Operation, p: &[Rational], t: &Rational) -> Vec<Rational> {
+/// The point `p` moved by the fraction `t` of an operation (`t = θ · step fraction`), exactly
+/// (see [`motion`]).
+fn move_point(
+    operation: &Operation,
+    p: &[Rational],
+    t: &Rational,
+) -> Result<Vec<Rational>, SelectError> {
+    let invalid = |e: motion::MotionError| SelectError::InvalidOperation(e.to_string());
+    fn planar(p: &[Rational]) -> Result<&[Rational; 2], SelectError> {
+        <&[Rational; 2]>::try_from(p).map_err(|_| {
+            SelectError::InvalidOperation(format!(
+                "rotation and scaling need planar points, this one has {} coordinates",
+                p.len()
+            ))
+        })
+    }
     match operation {
-        Operation::Translate { by } => p.iter().zip(by).map(|(x, v)| x + v * t).collect(),
+        Operation::Translate { by } => Ok(p.iter().zip(by).map(|(x, v)| x + v * t).collect()),
         Operation::Rotate {
             center,
             degrees,
             precision,
-        } => {
-            if t.is_zero() {
-                return p.to_vec();
-            }
-            let angle = (degrees * t).to_f64().unwrap_or(0.0).to_radians();
-            let (s, c) = angle.sin_cos();
-            let dx = (&p[0] - &center[0]).to_f64().unwrap_or(0.0);
-            let dy = (&p[1] - &center[1]).to_f64().unwrap_or(0.0);
-            vec![
-                &center[0] + round_to(c * dx - s * dy, *precision),
-                &center[1] + round_to(s * dx + c * dy, *precision),
-            ]
-        }
+        } => motion::rotate_point(center, planar(p)?, degrees, t, *precision)
+            .map(Vec::from)
+            .map_err(invalid),
         Operation::Scale {
             center,
             factor,
             precision,
-        } => {
-            if t.is_one() {
-                // The full factor is exact.
-                return p
-                    .iter()
-                    .zip(center)
-                    .map(|(x, c)| c + factor * (x - c))
-                    .collect();
-            }
-            let f = factor
-                .to_f64()
-                .unwrap_or(1.0)
-                .powf(t.to_f64().unwrap_or(0.0));
-            p.iter()
-                .zip(center)
-                .map(|(x, c)| c + round_to(f * (x - c).to_f64().unwrap_or(0.0), *precision))
-                .collect()
-        }
+        } => motion::scale_point(center, planar(p)?, factor, t, *precision)
+            .map(Vec::from)
+            .map_err(invalid),
     }
 }
 
@@ -691,5 +708,88 @@ mod tests {
                 1
             )
             .is_err());
+    }
+
+    #[test]
+    fn exact_motions_in_plans_and_their_validation() {
+        let f = fixture(2);
+        let editor = SplineEditor {
+            spline: &f.spline,
+            net: &f.net,
+            params: &f.params,
+        };
+        let anchor = point(&f, "v4");
+        let sel = editor
+            .select(&f.system, &f.values, &[anchor], Neighborhood::Radius(2))
+            .expect("select");
+        let center = [
+            Rational::from_integer(3.into()),
+            Rational::from_integer((-2).into()),
+        ];
+        // 3.6e401 degrees is a whole number of turns: the anchor stays exactly in place.
+        let op = Operation::Rotate {
+            center: center.clone(),
+            degrees: api::parse_rational("3.6e401").expect("degrees"),
+            precision: 1_000_000,
+        };
+        let plan = editor.plan(&sel, &f.values, &op, 2).expect("plan");
+        let last = plan.steps.last().expect("steps");
+        assert_eq!(
+            last.anchors[0].as_slice(),
+            f.spline.points()[anchor].nominal.as_slice()
+        );
+        // A scale by 1e300 moves the anchor exactly.
+        let factor = api::parse_rational("1e300").expect("factor");
+        let op = Operation::Scale {
+            center: center.clone(),
+            factor: factor.clone(),
+            precision: 1_000_000,
+        };
+        let plan = editor.plan(&sel, &f.values, &op, 1).expect("plan");
+        let nominal = &f.spline.points()[anchor].nominal;
+        assert_eq!(
+            plan.steps[0].anchors[0][0],
+            &center[0] + &factor * (&nominal[0] - &center[0])
+        );
+        // Precision and factor limits, with messages naming the field and the limit.
+        for precision in [0, motion::MAX_PRECISION + 1] {
+            let op = Operation::Rotate {
+                center: center.clone(),
+                degrees: Rational::one(),
+                precision,
+            };
+            let expected = format!(
+                "invalid operation: precision {precision} must be between 1 and 1000000000000"
+            );
+            let err = op.validate(2).expect_err("refused");
+            assert_eq!(err.to_string(), expected);
+            let err = editor.plan(&sel, &f.values, &op, 1).expect_err("refused");
+            assert_eq!(err.to_string(), expected);
+        }
+        let op = Operation::Scale {
+            center: center.clone(),
+            factor: -Rational::one(),
+            precision: 10,
+        };
+        assert_eq!(
+            op.validate(2).expect_err("refused").to_string(),
+            "invalid operation: scale factor -1 must be positive"
+        );
+        assert!(op.validate(1).is_err());
+        let op = Operation::Scale {
+            center,
+            factor: Rational::one(),
+            precision: motion::MAX_PRECISION,
+        };
+        assert!(op.validate(2).is_ok());
+        assert!(op.validate(1).is_err());
+        let op = Operation::Translate {
+            by: vec![Rational::one()],
+        };
+        assert!(op.validate(1).is_ok());
+        assert_eq!(
+            op.validate(2).expect_err("refused").to_string(),
+            "invalid operation: translate has 1 coordinates, the spline has dimension 2"
+        );
     }
 }

@@ -13,6 +13,7 @@
 //! * [`source`]: declaring control points and conditions in a shared constraint system.
 //! * [`edit`]: the 2DSD operations: selection, ExpandDerived, relative magnitudes, soft
 //!   translation / rotation / scaling turned into ECLES edits.
+//! * [`motion`]: exact rational rotations and scalings of the plane (no float on coordinates).
 //! * [`plugin`]: the [`api::ConstraintSource`] implementation (configuration, build, plan,
 //!   render).
 
@@ -21,6 +22,7 @@ pub mod eval;
 pub mod mesh;
 pub mod mesh_io;
 pub mod model;
+pub mod motion;
 pub mod net;
 pub mod operation;
 pub mod plugin;

@@ -22,6 +22,7 @@
 //!     neighborhood: 3,             // δ_max on the control net, or "all"
 //!     translate: ("3/2", "-1"),    // or rotate: (center: ("0", "0"), degrees: "30", precision: 1000)
 //!                                  // or scale: (center: ("0", "0"), factor: "3/2", precision: 1000)
+//!                                  // precision: 1..=10^12, default 10^6 (see `crate::motion`)
 //!     steps: 4,                    // default 1
 //! )
 //! ```
@@ -735,6 +736,23 @@ mod tests {
             .expect_err("no operation")
             .message
             .contains("exactly one"));
+        // Limits are checked before the selection runs.
+        let err =
+            plan(r#"(anchors: ["v4"], rotate: (center: ("0", "0"), degrees: "30", precision: 0))"#)
+                .expect_err("precision 0");
+        assert!(
+            err.message
+                .contains("precision 0 must be between 1 and 1000000000000"),
+            "{}",
+            err.message
+        );
+        let err = plan(r#"(anchors: ["v4"], scale: (center: ("0", "0"), factor: "-2"))"#)
+            .expect_err("negative factor");
+        assert!(
+            err.message.contains("scale factor -2 must be positive"),
+            "{}",
+            err.message
+        );
     }
 
     #[test]
