@@ -46,8 +46,27 @@ pub struct Selection {
     /// Relative magnitude `θ` of every control point: 1 for anchors, 0 for fixed points,
     /// `δ''/(δ' + δ'')` for derived ones.
     pub theta: Vec<Rational>,
-    /// Strong-solvability checks run by ExpandDerived (1 when `S` was already enough).
+    /// Solvability checks run by ExpandDerived (1 when `S` was already enough).
     pub checks: usize,
+    /// Set when no derived set can make the edit solvable: no fixed control point is left in
+    /// the conditions that block it. The selection is still complete, so the edit can be run
+    /// and refused by ECLES with its exact certificate and explanation.
+    pub blocked: Option<Blocked>,
+}
+
+/// Why ExpandDerived stopped without making the edit solvable.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Blocked {
+    /// What cannot happen: `"moving v3[1]"`, `"the requested move"` or `"the current values"`.
+    pub what: String,
+    /// Labels of the blocking conditions (the exact certificate's rows).
+    pub conditions: Vec<String>,
+}
+
+impl std::fmt::Display for Blocked {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{} conflicts with {:?}", self.what, self.conditions)
+    }
 }
 
 impl Selection {
@@ -186,18 +205,6 @@ pub enum SelectError {
     /// An anchor id is not a control point.
     #[error("control point {0} does not exist")]
     UnknownPoint(usize),
-    /// No choice of derived points can absorb some anchor move: the anchors are tied by
-    /// conditions among themselves (or to points outside this spline).
-    #[error("the anchors are over-constrained: moving {anchor} conflicts with {conditions:?}; select fewer anchors")]
-    OverConstrained {
-        /// The anchor that cannot move.
-        anchor: String,
-        /// Labels of the blocking conditions.
-        conditions: Vec<String>,
-    },
-    /// The current values already violate conditions near the anchors.
-    #[error("the current control points violate {0:?}")]
-    CurrentStateInconsistent(Vec<String>),
     /// The operation does not fit the spline (rotation of a scalar spline, wrong vector size,
     /// non-positive scale, zero steps, precision outside `1..=`[`motion::MAX_PRECISION`]), or
     /// a motion's float error bound would not be far below its rounding grid.
@@ -220,15 +227,42 @@ pub struct SplineEditor<'a> {
 }
 
 impl SplineEditor<'_> {
-    /// 2DSD.Select: the neighbourhood `S`, ExpandDerived to `D` (verified strongly solvable
-    /// against every row of `system`, including rows other sources put on these points), and
-    /// ComputeRelMagnitude.
+    /// 2DSD.Select for an edit whose moves are not known yet (a mouse-down before the drag):
+    /// the neighbourhood `S`, ExpandDerived to `D` until the edit is **strongly** solvable
+    /// (every anchor move can be absorbed; verified exactly against every row of `system`,
+    /// including rows other sources put on these points), and ComputeRelMagnitude.
     pub fn select(
         &self,
         system: &ConstraintSystem,
         values: &Values,
         anchors: &[usize],
         neighborhood: Neighborhood,
+    ) -> Result<Selection, SelectError> {
+        self.expand(system, values, anchors, neighborhood, None)
+    }
+
+    /// 2DSD.Select for known anchor moves (`moves[k]`: one displacement per anchor, in
+    /// ascending anchor order): ExpandDerived grows `D` only until *these* moves can be
+    /// absorbed ([`ecles::check_moves`]), so a point pinned in x can still be dragged along y.
+    pub fn select_for_moves(
+        &self,
+        system: &ConstraintSystem,
+        values: &Values,
+        anchors: &[usize],
+        neighborhood: Neighborhood,
+        moves: &[Vec<Vec<Rational>>],
+    ) -> Result<Selection, SelectError> {
+        self.expand(system, values, anchors, neighborhood, Some(moves))
+    }
+
+    /// The neighbourhood, ExpandDerived (against `moves`, or every direction) and `θ`.
+    fn expand(
+        &self,
+        system: &ConstraintSystem,
+        values: &Values,
+        anchors: &[usize],
+        neighborhood: Neighborhood,
+        moves: Option<&[Vec<Vec<Rational>>]>,
     ) -> Result<Selection, SelectError> {
         if anchors.is_empty() {
             return Err(SelectError::NoAnchors);
@@ -250,54 +284,75 @@ impl SplineEditor<'_> {
         let mut derived: BTreeSet<usize> = initial.iter().copied().collect();
         let mut added = Vec::new();
         let mut checks = 0;
+        let mut blocked = None;
         loop {
             checks += 1;
-            let spec = EditSpec::new(self.ids(&anchors), self.ids(derived.iter())).strong();
-            match Edit::<ExactFactorization>::check_strongly_solvable(
-                &ExactLdu::default(),
-                system,
-                values,
-                &spec,
-            ) {
+            let spec = EditSpec::new(self.ids(&anchors), self.ids(derived.iter()));
+            let outcome = match moves {
+                Some(moves) => {
+                    ecles::check_moves(&ExactLdu::default(), system, values, &spec, moves)
+                }
+                None => Edit::<ExactFactorization>::check_strongly_solvable(
+                    &ExactLdu::default(),
+                    system,
+                    values,
+                    &spec,
+                ),
+            };
+            let (what, conflict) = match outcome {
                 Ok(()) => break,
                 Err(EditError::NotStronglySolvable {
-                    anchor, conflict, ..
-                }) => {
-                    let mut candidates: Vec<usize> = Vec::new();
-                    for row in conflict.row_ids() {
-                        for p in system.rows()[row.index()].body.params() {
-                            if let Some(cp) = self.params.point_of(p) {
-                                if !anchor_set.contains(&cp) && !derived.contains(&cp) {
-                                    candidates.push(cp);
-                                }
-                            }
-                        }
-                    }
-                    let nearest = candidates
-                        .iter()
-                        .map(|&c| to_anchor[c].unwrap_or(u32::MAX))
-                        .min();
-                    let Some(nearest) = nearest else {
-                        return Err(SelectError::OverConstrained {
-                            anchor,
-                            conditions: conflict.labels().iter().map(|s| s.to_string()).collect(),
-                        });
-                    };
-                    candidates.sort_unstable();
-                    candidates.dedup();
-                    for c in candidates {
-                        if to_anchor[c].unwrap_or(u32::MAX) == nearest {
-                            derived.insert(c);
-                            added.push(c);
-                        }
-                    }
+                    anchor,
+                    component,
+                    conflict,
+                }) => (
+                    format!(
+                        "moving {anchor}{}",
+                        component.map(|k| format!("[{k}]")).unwrap_or_default()
+                    ),
+                    conflict,
+                ),
+                Err(EditError::MoveBlocked(conflict)) => {
+                    ("the requested move".to_string(), conflict)
                 }
                 Err(EditError::CurrentStateInconsistent(conflict)) => {
-                    return Err(SelectError::CurrentStateInconsistent(
-                        conflict.labels().iter().map(|s| s.to_string()).collect(),
-                    ))
+                    // No derived point repairs values that already violate the conditions.
+                    blocked = Some(Blocked {
+                        what: "the current values".into(),
+                        conditions: conflict.labels().iter().map(|s| s.to_string()).collect(),
+                    });
+                    break;
                 }
                 Err(other) => return Err(SelectError::Edit(other.to_string())),
+            };
+            let mut candidates: Vec<usize> = Vec::new();
+            for row in conflict.row_ids() {
+                for p in system.rows()[row.index()].body.params() {
+                    if let Some(cp) = self.params.point_of(p) {
+                        if !anchor_set.contains(&cp) && !derived.contains(&cp) {
+                            candidates.push(cp);
+                        }
+                    }
+                }
+            }
+            let nearest = candidates
+                .iter()
+                .map(|&c| to_anchor[c].unwrap_or(u32::MAX))
+                .min();
+            let Some(nearest) = nearest else {
+                blocked = Some(Blocked {
+                    what,
+                    conditions: conflict.labels().iter().map(|s| s.to_string()).collect(),
+                });
+                break;
+            };
+            candidates.sort_unstable();
+            candidates.dedup();
+            for c in candidates {
+                if to_anchor[c].unwrap_or(u32::MAX) == nearest {
+                    derived.insert(c);
+                    added.push(c);
+                }
             }
         }
         let derived: Vec<usize> = derived.into_iter().collect();
@@ -309,7 +364,54 @@ impl SplineEditor<'_> {
             added,
             theta,
             checks,
+            blocked,
         })
+    }
+
+    /// The whole 2DSD edit for an operation: the anchors' moves first (they do not depend on
+    /// the derived set), then Select and ExpandDerived for exactly those moves, then the hints.
+    /// The selection may be [`Selection::blocked`]; the plan is complete either way.
+    pub fn plan_operation(
+        &self,
+        system: &ConstraintSystem,
+        values: &Values,
+        anchors: &[usize],
+        neighborhood: Neighborhood,
+        operation: &Operation,
+        steps: usize,
+    ) -> Result<(Selection, Plan), SelectError> {
+        if steps == 0 {
+            return Err(SelectError::InvalidOperation(
+                "steps must be at least 1".into(),
+            ));
+        }
+        operation.validate(self.params.dim)?;
+        let n = self.spline.points().len();
+        if let Some(&bad) = anchors.iter().find(|&&a| a >= n) {
+            return Err(SelectError::UnknownPoint(bad));
+        }
+        let sorted: Vec<usize> = anchors
+            .iter()
+            .copied()
+            .collect::<BTreeSet<_>>()
+            .into_iter()
+            .collect();
+        let moves: Vec<Vec<Vec<Rational>>> = (1..=steps)
+            .map(|k| {
+                let fraction = Rational::new(k.into(), steps.into());
+                sorted
+                    .iter()
+                    .map(|&a| {
+                        let from = values.get(self.params.ids[a]);
+                        let to = move_point(operation, from, &fraction)?;
+                        Ok(to.iter().zip(from).map(|(t, f)| t - f).collect())
+                    })
+                    .collect::<Result<Vec<Vec<Rational>>, SelectError>>()
+            })
+            .collect::<Result<_, _>>()?;
+        let selection = self.select_for_moves(system, values, &sorted, neighborhood, &moves)?;
+        let plan = self.plan(&selection, values, operation, steps)?;
+        Ok((selection, plan))
     }
 
     fn ids<'b>(&self, points: impl IntoIterator<Item = &'b usize>) -> Vec<ParamId> {

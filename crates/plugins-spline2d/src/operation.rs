@@ -11,9 +11,11 @@
 //! | `steps` | 1 ..= [`MAX_STEPS`], and steps × control points ≤ [`MAX_STEP_VALUES`] |
 //! | `neighborhood` | 0 ..= [`MAX_NEIGHBORHOOD`] net steps, or `"all"` |
 
-use crate::edit::{Neighborhood, Operation};
+use crate::edit::{Neighborhood, Operation, Plan, Selection};
 use crate::spline::Spline;
 use api::exact::Exact;
+use api::{OperationPlan, PlannedStep, Rational, SummaryItem};
+use num_traits::One;
 use serde::de::{self, Deserializer, Visitor};
 use serde::Deserialize;
 use std::collections::BTreeSet;
@@ -206,6 +208,45 @@ pub fn checked_steps(steps: u64, points: usize) -> Result<usize, String> {
         ));
     }
     Ok(count)
+}
+
+/// The plan of a 2DSD edit as a source answers it: unit weights, no strong check (the selection
+/// already verified the requested moves, or found them blocked), and the selection's facts for
+/// the report (`expansion_blocked` only when ExpandDerived found no way to make the edit
+/// solvable: ECLES then refuses it with the exact certificate).
+pub fn operation_plan(selection: &Selection, plan: Plan) -> OperationPlan {
+    let mut summary: Vec<SummaryItem> = [
+        ("initial_derived", selection.initial.len()),
+        ("added_by_expansion", selection.added.len()),
+        ("solvability_checks", selection.checks),
+    ]
+    .into_iter()
+    .map(|(key, value)| SummaryItem {
+        key: key.into(),
+        value: value as u64,
+    })
+    .collect();
+    if selection.blocked.is_some() {
+        summary.push(SummaryItem {
+            key: "expansion_blocked".into(),
+            value: 1,
+        });
+    }
+    OperationPlan {
+        weights: vec![Rational::one(); plan.spec.derived.len()],
+        anchors: plan.spec.anchors,
+        derived: plan.spec.derived,
+        strong: false,
+        steps: plan
+            .steps
+            .into_iter()
+            .map(|s| PlannedStep {
+                anchors: s.anchors,
+                hints: s.hints,
+            })
+            .collect(),
+        summary,
+    }
 }
 
 #[cfg(test)]

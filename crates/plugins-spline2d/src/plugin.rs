@@ -42,8 +42,8 @@ use crate::mesh_io::{self, MeshOptions, OrientationPolicy};
 use crate::model::{deform_model, load_model, write_obj, Model};
 use crate::net::ControlNet;
 use crate::operation::{
-    checked_steps, default_steps, find_anchors, motion, ExactList, NeighborhoodConfig,
-    RotateConfig, ScaleConfig,
+    checked_steps, default_steps, find_anchors, motion, operation_plan, ExactList,
+    NeighborhoodConfig, RotateConfig, ScaleConfig,
 };
 use crate::source::SplineParams;
 use crate::spline::Spline;
@@ -52,10 +52,9 @@ use api::config::from_ron;
 use api::exact::Exact;
 use api::{
     BuildRequest, ConstraintSource, Contribution, OperationCheckRequest, OperationPlan,
-    OutputCheck, OutputCheckRequest, OutputFile, PlanRequest, PlannedStep, Rational, RenderRequest,
-    SourceError, SummaryItem,
+    OutputCheck, OutputCheckRequest, OutputFile, PlanRequest, RenderRequest, SourceError,
+    SummaryItem,
 };
-use num_traits::One;
 use serde::de::{self, Deserializer, MapAccess, Visitor};
 use serde::Deserialize;
 use std::fmt;
@@ -505,46 +504,17 @@ impl ConstraintSource for Spline2dSource {
             params: &built.params,
         };
         let error = |e: SelectError| SourceError::new(format!("{what}: {e}"));
-        let selection = editor
-            .select(
+        let (selection, plan) = editor
+            .plan_operation(
                 &request.system,
                 &request.values,
                 &op.anchors,
                 op.neighborhood,
+                &op.operation,
+                op.steps,
             )
             .map_err(error)?;
-        let plan = editor
-            .plan(&selection, &request.values, &op.operation, op.steps)
-            .map_err(error)?;
-        let summary = vec![
-            SummaryItem {
-                key: "initial_derived".into(),
-                value: selection.initial.len() as u64,
-            },
-            SummaryItem {
-                key: "added_by_expansion".into(),
-                value: selection.added.len() as u64,
-            },
-            SummaryItem {
-                key: "solvability_checks".into(),
-                value: selection.checks as u64,
-            },
-        ];
-        Ok(OperationPlan {
-            weights: vec![Rational::one(); plan.spec.derived.len()],
-            anchors: plan.spec.anchors,
-            derived: plan.spec.derived,
-            strong: false,
-            steps: plan
-                .steps
-                .into_iter()
-                .map(|s| PlannedStep {
-                    anchors: s.anchors,
-                    hints: s.hints,
-                })
-                .collect(),
-            summary,
-        })
+        Ok(operation_plan(&selection, plan))
     }
 
     fn render(&self, request: &RenderRequest) -> Result<Vec<OutputFile>, SourceError> {

@@ -62,16 +62,15 @@ use api::config::from_ron;
 use api::exact::{rational_to_f64, Exact};
 use api::{
     BuildRequest, ConstraintSource, Contribution, OperationCheckRequest, OperationPlan, Origin,
-    OutputCheck, OutputCheckRequest, OutputFile, ParamId, PlanRequest, PlannedStep, Rational,
-    RenderRequest, SourceError, SummaryItem, Values,
+    OutputCheck, OutputCheckRequest, OutputFile, ParamId, PlanRequest, Rational, RenderRequest,
+    SourceError, SummaryItem, Values,
 };
-use num_traits::One;
 use plugins_spline2d::edit::{Neighborhood, Operation, SelectError, SplineEditor};
 use plugins_spline2d::model::{load_model, write_obj, Model};
 use plugins_spline2d::net::ControlNet;
 use plugins_spline2d::operation::{
-    checked_steps, default_steps, find_anchors, motion, ExactList, NeighborhoodConfig,
-    RotateConfig, ScaleConfig,
+    checked_steps, default_steps, find_anchors, motion, operation_plan, ExactList,
+    NeighborhoodConfig, RotateConfig, ScaleConfig,
 };
 use plugins_spline2d::plugin::{
     check_file_name, deformed_name, spline_from_config, SplineConfig, SplineRead,
@@ -516,38 +515,17 @@ impl ConstraintSource for TerrainSource {
             params,
         };
         let refused = |e: SelectError| error(e.to_string());
-        let selection = editor
-            .select(&request.system, &request.values, anchors, neighborhood)
+        let (selection, plan) = editor
+            .plan_operation(
+                &request.system,
+                &request.values,
+                anchors,
+                neighborhood,
+                operation,
+                op.steps,
+            )
             .map_err(refused)?;
-        let plan = editor
-            .plan(&selection, &request.values, operation, op.steps)
-            .map_err(refused)?;
-        let summary = [
-            ("initial_derived", selection.initial.len()),
-            ("added_by_expansion", selection.added.len()),
-            ("solvability_checks", selection.checks),
-        ]
-        .into_iter()
-        .map(|(key, value)| SummaryItem {
-            key: key.into(),
-            value: value as u64,
-        })
-        .collect();
-        Ok(OperationPlan {
-            weights: vec![Rational::one(); plan.spec.derived.len()],
-            anchors: plan.spec.anchors,
-            derived: plan.spec.derived,
-            strong: false,
-            steps: plan
-                .steps
-                .into_iter()
-                .map(|s| PlannedStep {
-                    anchors: s.anchors,
-                    hints: s.hints,
-                })
-                .collect(),
-            summary,
-        })
+        Ok(operation_plan(&selection, plan))
     }
 
     fn render(&self, request: &RenderRequest) -> Result<Vec<OutputFile>, SourceError> {
