@@ -199,6 +199,65 @@ pub fn rational_to_f64(value: &Rational) -> f64 {
     (n / d) * 2f64.powi(exp)
 }
 
+/// Converts a rational to the nearest `f64`, correctly rounded (ties to even), with gradual
+/// underflow to subnormals and `±∞` beyond the largest finite `f64`. Unlike
+/// [`rational_to_f64`] (up to three roundings), a value that is an `f64` comes back exactly
+/// and any other value is off by at most half a unit in the last place: `|x̂ − x| ≤ 2^-53·|x|`
+/// for results in the normal range. For values that feed exact-sensitive float evaluation
+/// (displacements, coordinates written for a user). The fraction need not be in lowest terms
+/// (`Rational::new_raw`), which saves the greatest common divisor when converting products.
+pub fn rational_to_f64_nearest(value: &Rational) -> f64 {
+    use num_traits::{Signed, ToPrimitive};
+    if value.is_zero() {
+        return 0.0;
+    }
+    let negative = value.is_negative();
+    let signed = |x: f64| if negative { -x } else { x };
+    let n = value.numer().abs();
+    let d = value.denom().abs();
+    // e with 2^e ≤ n/d < 2^(e+1).
+    let mut e = n.bits() as i64 - d.bits() as i64;
+    let below = if e >= 0 {
+        n < (&d << (e as usize))
+    } else {
+        (&n << ((-e) as usize)) < d
+    };
+    if below {
+        e -= 1;
+    }
+    if e > 1023 {
+        return signed(f64::INFINITY);
+    }
+    if e < -1076 {
+        // Below half the smallest subnormal 2^-1074.
+        return signed(0.0);
+    }
+    // The quantum of the result is 2^(E − 52), E = max(e, −1022): q = round(n/d · 2^(52 − E)).
+    let exponent = e.max(-1022);
+    let shift = 52 - exponent;
+    let (numerator, denominator) = if shift >= 0 {
+        (n << (shift as usize), d)
+    } else {
+        (n, d << ((-shift) as usize))
+    };
+    let (mut q, r) = num_integer::Integer::div_rem(&numerator, &denominator);
+    let twice = r << 1usize;
+    if twice > denominator || (twice == denominator && q.bit(0)) {
+        q += 1u32;
+    }
+    // q ≤ 2^53; bits = ((E + 1022) << 52) + q covers normal numbers (q ≥ 2^52, the implicit
+    // bit carrying into the exponent field), subnormals (E = −1022, q < 2^52) and a rounding
+    // up to the next power of two (q = 2^53).
+    let Some(q) = q.to_u64() else {
+        return signed(f64::INFINITY);
+    };
+    let bits = (((exponent + 1022) as u64) << 52) + q;
+    if bits >= f64::INFINITY.to_bits() {
+        return signed(f64::INFINITY);
+    }
+    signed(f64::from_bits(bits))
+}
+
 /// The exact rational equal to a finite `f64` (used to feed float results back into exact checks).
 pub fn rational_from_f64(value: f64) -> Option<Rational> {
     Rational::from_float(value)
@@ -280,6 +339,85 @@ mod tests {
     fn formats_reports_stably() {
         assert_eq!(format_rational(&q(-95, 2)), "-95/2");
         assert_eq!(format_rational(&q(59, 1)), "59");
+    }
+
+    #[test]
+    fn nearest_conversion_is_correctly_rounded() {
+        // Decimal text: Rust's parser rounds correctly, so both must agree bit for bit.
+        let mut state = 0x9e37_79b9_7f4a_7c15_u64;
+        let mut next = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        let mut texts: Vec<String> = [
+            "4.531",
+            "0.1",
+            "0.3",
+            "246.5",
+            "1e-7",
+            "12345.678",
+            "-20",
+            "9007199254740993",
+            "9007199254740995",
+            "1e308",
+            "1.7976931348623157e308",
+            "1.7976931348623159e308",
+            "2e308",
+            "4.9406564584124654e-324",
+            "2.4703282292062328e-324",
+            "2.4703282292062327e-324",
+            "2.2250738585072011e-308",
+            "1e-400",
+            "123456789e-330",
+        ]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+        for _ in 0..3000 {
+            let digits = next() % 10_u64.pow((next() % 17 + 1) as u32);
+            let exponent = (next() % 700) as i64 - 350;
+            texts.push(format!("{digits}e{exponent}"));
+            texts.push(format!("-{}.{:03}", next() % 100_000, next() % 1000));
+        }
+        for text in &texts {
+            let exact = parse_rational(text).expect("number");
+            let expected: f64 = text.parse().expect("float");
+            assert_eq!(
+                rational_to_f64_nearest(&exact).to_bits(),
+                expected.to_bits(),
+                "{text}"
+            );
+        }
+        // Every finite f64 (normal or subnormal) comes back exactly.
+        for _ in 0..3000 {
+            let x = f64::from_bits(next());
+            if x.is_finite() {
+                let exact = rational_from_f64(x).expect("finite");
+                assert_eq!(
+                    rational_to_f64_nearest(&exact).to_bits(),
+                    x.to_bits(),
+                    "{x:e}"
+                );
+            }
+        }
+        // Ties go to even; fractions far beyond 64 bits.
+        let two53 = num_traits::pow(BigInt::from(2), 53);
+        let tie = Rational::from_integer(&two53 + 1);
+        assert_eq!(rational_to_f64_nearest(&tie), 9007199254740992.0);
+        let tie = Rational::from_integer(&two53 + 3);
+        assert_eq!(rational_to_f64_nearest(&tie), 9007199254740996.0);
+        let third = Rational::new(
+            num_traits::pow(BigInt::from(10), 400),
+            num_traits::pow(BigInt::from(10), 400) * 3,
+        );
+        assert_eq!(rational_to_f64_nearest(&third), 1.0 / 3.0);
+        assert_eq!(rational_to_f64_nearest(&q(-0, 1)).to_bits(), 0);
+        let unreduced = Rational::new_raw(BigInt::from(-4531 * 6), BigInt::from(1000 * 6));
+        assert_eq!(rational_to_f64_nearest(&unreduced), -4.531);
+        let negative_denominator = Rational::new_raw(BigInt::from(1), BigInt::from(-10));
+        assert_eq!(rational_to_f64_nearest(&negative_denominator), -0.1);
     }
 
     #[test]

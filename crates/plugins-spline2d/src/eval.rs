@@ -11,13 +11,15 @@
 //!   the oracle for tests and for small numbers of points. Locating is a linear scan.
 //! * Float path ([`Locator`], [`FloatSpline`]): for drawing and for deforming models with up
 //!   to millions of vertices. The locator buckets triangles in a uniform grid and keeps each
-//!   triangle's corners in `f64`; the float spline keeps every triangle's control points
-//!   (pre-multiplied by their multinomial coefficients) contiguously, so evaluating a point
-//!   allocates nothing ([`FloatSpline::evaluate_into`]).
+//!   triangle's corners in `f64`; the float spline keeps every triangle's displacements from a
+//!   reference (the identity for a deformation of the plane), pre-multiplied by their
+//!   multinomial coefficients and rounded once, contiguously, so evaluating a point allocates
+//!   nothing ([`FloatSpline::evaluate_point_into`]) and a point where nothing moved comes back
+//!   bit-identical.
 
 use crate::mesh::{twice_area, Mesh, Point};
 use crate::spline::{multi_indices, Spline};
-use api::exact::rational_to_f64;
+use api::exact::rational_to_f64_nearest;
 use api::{Integer, Rational};
 use num_traits::{One, Zero};
 
@@ -35,6 +37,24 @@ pub enum EvalError {
     /// Positions have no coordinates.
     #[error("control point positions need at least one coordinate")]
     ZeroDimension,
+    /// [`FloatSpline::with_references`] needs one reference per coordinate.
+    #[error("expected one reference per coordinate ({expected}), got {found}")]
+    ReferenceCount {
+        /// Coordinates of the positions.
+        expected: usize,
+        /// References given.
+        found: usize,
+    },
+    /// An identity reference names an axis the plane does not have.
+    #[error(
+        "reference of coordinate {coordinate}: the identity has axes 0 (x) and 1 (y), not {axis}"
+    )]
+    IdentityAxis {
+        /// The coordinate.
+        coordinate: usize,
+        /// The axis given.
+        axis: usize,
+    },
     /// A position has a different number of coordinates than the first one.
     #[error("control point {point} has {found} coordinates, the first one has {expected}")]
     Dimension {
@@ -186,8 +206,8 @@ const MAX_CELLS_PER_AXIS: usize = 2048;
 ///
 /// Triangles are bucketed in a uniform grid over the mesh's bounding box (about two cells per
 /// triangle); each triangle is listed in every cell its slightly enlarged bounding box meets.
-/// Each triangle keeps its corners and the inverse of twice its area, so its barycentric
-/// coordinates cost a few multiplications.
+/// Each triangle keeps its corners (rounded to the nearest `f64`) and the inverse of twice its
+/// area, so its barycentric coordinates cost a few multiplications.
 #[derive(Debug, Clone)]
 pub struct Locator {
     /// Per triangle: corners `x0 y0 x1 y1 x2 y2` and `1 / twice area`.
@@ -218,7 +238,12 @@ impl Locator {
         let vertices: Vec<[f64; 2]> = mesh
             .vertices()
             .iter()
-            .map(|p| [rational_to_f64(&p[0]), rational_to_f64(&p[1])])
+            .map(|p| {
+                [
+                    rational_to_f64_nearest(&p[0]),
+                    rational_to_f64_nearest(&p[1]),
+                ]
+            })
             .collect();
         let mut triangles = Vec::with_capacity(mesh.triangles().len());
         let mut boxes = Vec::with_capacity(mesh.triangles().len());
@@ -389,52 +414,221 @@ impl Locator {
     }
 }
 
+/// `w·(q − r)` (`w·q` without `r`) rounded to the nearest `f64`. The fraction is not reduced:
+/// the rounding does not need it, and the greatest common divisors would dominate the cost of
+/// converting a spline.
+fn scaled_difference(q: &Rational, r: Option<&Rational>, w: &Integer) -> f64 {
+    let (numerator, denominator) = match r {
+        None => (q.numer() * w, q.denom().clone()),
+        Some(r) if r.denom() == q.denom() => ((q.numer() - r.numer()) * w, q.denom().clone()),
+        Some(r) => (
+            (q.numer() * r.denom() - r.numer() * q.denom()) * w,
+            q.denom() * r.denom(),
+        ),
+    };
+    // Denominators of reduced rationals are positive, and so is their product.
+    rational_to_f64_nearest(&Rational::new_raw(numerator, denominator))
+}
+
 /// Degrees up to this use a stack buffer for the powers of `β` in evaluation.
 const STACK_DEGREE: usize = 31;
 /// Degrees up to this use a smaller stack buffer.
 const SMALL_DEGREE: usize = 7;
 
-/// A spline with its control points in `f64`, laid out per triangle for fast evaluation.
+/// What one coordinate of a [`FloatSpline`]'s values is measured from: a function `r` whose
+/// Bernstein coefficients `r_i` are known exactly. The spline is stored as `r` plus the
+/// displacement `Σ B_i(β)·(q_i − r_i)`, so where every `q_i = r_i` the float value is `r`
+/// itself and elsewhere the rounding error scales with the displacement, not with `r`.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Reference {
+    /// The zero function: the control values are stored as they are.
+    Zero,
+    /// Coordinate `axis` (0 for `x`, 1 for `y`) of the identity map of the plane; its
+    /// coefficient at a control point is that coordinate of the point's nominal position
+    /// ([`crate::spline::ControlPoint::nominal`]).
+    Identity(usize),
+    /// A constant function (every coefficient equal to it): a flat surface such as `z = a`.
+    Constant(Rational),
+}
+
+/// A [`Reference`] in `f64`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Base {
+    Zero,
+    Identity(usize),
+    Constant(f64),
+}
+
+/// A spline with its control points in `f64`, laid out per triangle for fast evaluation, as a
+/// reference function plus a displacement.
 ///
-/// Triangle `t`'s control points are stored contiguously in [`multi_indices`] order, each
-/// multiplied by its multinomial coefficient `d!/(i! j! k!)`, so
-/// `φ = Σ β0^i β1^j β2^k · stored_{ijk}`. Building it converts every rational once.
+/// Every coordinate `c` of the values has a [`Reference`] `r_c` (the identity for a
+/// deformation of the plane, a constant for a surface, or zero). For each control point `i`
+/// the exact displacement `δ_i = q_i − r_i`, multiplied by the point's multinomial coefficient
+/// `w_i = d!/(i! j! k!)`, is rounded to the nearest `f64` once
+/// ([`api::exact::rational_to_f64_nearest`]); triangle `t`'s values are stored contiguously in
+/// [`multi_indices`] order. Then `φ_c = r_c + D_c` with
+/// `D_c(β) = Σ β0^i β1^j β2^k · stored_{ijk}`, and the identity reference is evaluated at the
+/// point itself ([`FloatSpline::evaluate_point_into`]) or as `Σ βk·vk`
+/// ([`FloatSpline::evaluate_into`]). A triangle whose displacements are all zero is marked
+/// ([`FloatSpline::is_displaced`]) and not evaluated: a point there comes back bit-identical.
+///
+/// # Error bound
+/// Let `u = 2^-53`, `N = (d+1)(d+2)/2` and, for a point `p` in triangle `t` (or within the
+/// locator's tolerance of it), `M_c` the largest `|δ_i|` of coordinate `c` over the control
+/// points of `t` (for a point on or within rounding of an edge or vertex shared with another
+/// triangle, of both triangles). If the float barycentric coordinates are off by at most `δ_β`
+/// each, the computed displacement satisfies
+///
+/// `|D̂_c − D_c(p)| ≤ K·M_c` with `K = (N + d + 5)·u + 9·d·δ_β`,
+///
+/// and the value at the point, `x̂' = fl(x + D̂_x)` for an identity reference, satisfies
+/// `|x̂' − x'| ≤ u·|x'| + 1.01·K·M_x`, where `x' = x + D_x(p)` is the exact value at the
+/// rational value of the `f64` input. For the barycentric coordinates of [`Locator`] (corners
+/// rounded to nearest, `p` inside `t`), `δ_β ≤ 7u·h(2L + 3h)/A`, with `h` the longest edge of
+/// `t`, `A` twice its area and `L` the largest magnitude of a coordinate of `p` or of `t`'s
+/// corners: for well-shaped triangles whose size is that of the coordinates, `K` is a few
+/// hundred `u` at degree 5. In particular `M_c = 0` gives the reference value exactly.
 #[derive(Debug, Clone, PartialEq)]
 pub struct FloatSpline {
     degree: usize,
     dim: usize,
     /// `(d+1)(d+2)/2 · dim` values per triangle.
     stride: usize,
+    /// Per triangle, the rounded `w_i·δ_i`.
     coefficients: Vec<f64>,
+    /// Per triangle: some displacement is nonzero.
+    displaced: Vec<bool>,
+    references: Vec<Reference>,
+    bases: Vec<Base>,
+    /// Per triangle, its corners (rounded to nearest), when some reference is the identity;
+    /// empty otherwise.
+    corners: Vec<[[f64; 2]; 3]>,
 }
 
 impl FloatSpline {
     /// Converts a spline with control points at `positions` (one per control point, all with
-    /// the same number of coordinates; see [`check_positions`]).
+    /// the same number of coordinates; see [`check_positions`]). Values with two coordinates
+    /// are a deformation of the plane and are measured from the identity
+    /// (`[Reference::Identity(0), Reference::Identity(1)]`), so the nominal positions give the
+    /// identity exactly; other values are measured from zero. See
+    /// [`FloatSpline::with_references`] to choose.
     pub fn new(spline: &Spline, positions: &[Vec<Rational>]) -> Result<Self, EvalError> {
         let dim = check_positions(spline, positions)?;
+        let references = if dim == 2 {
+            vec![Reference::Identity(0), Reference::Identity(1)]
+        } else {
+            vec![Reference::Zero; dim]
+        };
+        Self::with_references(spline, positions, &references)
+    }
+
+    /// Converts a spline with control points at `positions`, coordinate `c` measured from
+    /// `references[c]` (one reference per coordinate; identity axes 0 or 1).
+    pub fn with_references(
+        spline: &Spline,
+        positions: &[Vec<Rational>],
+        references: &[Reference],
+    ) -> Result<Self, EvalError> {
+        let dim = check_positions(spline, positions)?;
+        if references.len() != dim {
+            return Err(EvalError::ReferenceCount {
+                expected: dim,
+                found: references.len(),
+            });
+        }
+        if let Some((coordinate, axis)) =
+            references
+                .iter()
+                .enumerate()
+                .find_map(|(coordinate, r)| match r {
+                    Reference::Identity(axis) if *axis > 1 => Some((coordinate, *axis)),
+                    _ => None,
+                })
+        {
+            return Err(EvalError::IdentityAxis { coordinate, axis });
+        }
         let d = spline.degree();
-        let floats: Vec<Vec<f64>> = positions
-            .iter()
-            .map(|p| p.iter().map(rational_to_f64).collect())
-            .collect();
-        let weights: Vec<f64> = multinomials(d)
-            .iter()
-            .map(|m| rational_to_f64(&Rational::from_integer(m.clone())))
-            .collect();
+        let weights = multinomials(d);
         let stride = weights.len() * dim;
         let triangles = spline.mesh().triangles().len();
+        // `w·δ` of a control point, rounded once.
+        let displacement = |point: usize, w: &Integer| -> Vec<f64> {
+            let nominal = &spline.points()[point].nominal;
+            positions[point]
+                .iter()
+                .zip(references)
+                .map(|(q, r)| {
+                    let r = match r {
+                        Reference::Zero => None,
+                        Reference::Identity(axis) => Some(&nominal[*axis]),
+                        Reference::Constant(c) => Some(c),
+                    };
+                    scaled_difference(q, r, w)
+                })
+                .collect()
+        };
+        // A control point has the same multinomial in every triangle containing it (they are
+        // symmetric in the multi-index), so each is converted once; the weight's local index
+        // is kept to check.
+        let mut converted: Vec<Option<(usize, Vec<f64>)>> = vec![None; positions.len()];
         let mut coefficients = Vec::with_capacity(stride * triangles);
+        let mut displaced = Vec::with_capacity(triangles);
         for t in 0..triangles {
-            for (&point, w) in spline.triangle_points(t).iter().zip(&weights) {
-                coefficients.extend(floats[point].iter().map(|x| x * w));
+            let mut moved = false;
+            for (l, &point) in spline.triangle_points(t).iter().enumerate() {
+                let stale = match &converted[point] {
+                    Some((k, _)) => weights[*k] != weights[l],
+                    None => true,
+                };
+                if stale {
+                    converted[point] = Some((l, displacement(point, &weights[l])));
+                }
+                if let Some((_, values)) = &converted[point] {
+                    moved |= values.iter().any(|x| *x != 0.0);
+                    coefficients.extend_from_slice(values);
+                }
             }
+            displaced.push(moved);
         }
+        let bases: Vec<Base> = references
+            .iter()
+            .map(|r| match r {
+                Reference::Zero => Base::Zero,
+                Reference::Identity(axis) => Base::Identity(*axis),
+                Reference::Constant(c) => Base::Constant(rational_to_f64_nearest(c)),
+            })
+            .collect();
+        let corners = if bases.iter().any(|b| matches!(b, Base::Identity(_))) {
+            let vertices: Vec<[f64; 2]> = spline
+                .mesh()
+                .vertices()
+                .iter()
+                .map(|p| {
+                    [
+                        rational_to_f64_nearest(&p[0]),
+                        rational_to_f64_nearest(&p[1]),
+                    ]
+                })
+                .collect();
+            spline
+                .mesh()
+                .triangles()
+                .iter()
+                .map(|tri| tri.map(|v| vertices[v]))
+                .collect()
+        } else {
+            Vec::new()
+        };
         Ok(FloatSpline {
             degree: d,
             dim,
             stride,
             coefficients,
+            displaced,
+            references: references.to_vec(),
+            bases,
+            corners,
         })
     }
 
@@ -450,10 +644,43 @@ impl FloatSpline {
 
     /// Number of triangles.
     pub fn triangle_count(&self) -> usize {
-        self.coefficients
-            .len()
-            .checked_div(self.stride)
-            .unwrap_or(0)
+        self.displaced.len()
+    }
+
+    /// What each coordinate is measured from.
+    pub fn references(&self) -> &[Reference] {
+        &self.references
+    }
+
+    /// Whether some control value of triangle `t` differs from its reference (as rounded to
+    /// `f64`); `false` if `t` is not a triangle. Where it is `false` the spline is its
+    /// reference on `t` and [`FloatSpline::evaluate_point_into`] returns the reference value
+    /// exactly.
+    pub fn is_displaced(&self, t: usize) -> bool {
+        self.displaced.get(t).copied().unwrap_or(false)
+    }
+
+    /// Reference `c` on triangle `t` at `beta` (the identity as `Σ βk·vk`).
+    #[inline]
+    fn base_at(&self, t: usize, beta: [f64; 3], c: usize) -> f64 {
+        match self.bases[c] {
+            Base::Zero => 0.0,
+            Base::Constant(v) => v,
+            Base::Identity(axis) => {
+                let k = &self.corners[t];
+                beta[0] * k[0][axis] + beta[1] * k[1][axis] + beta[2] * k[2][axis]
+            }
+        }
+    }
+
+    /// Reference `c` at the point `p` (the identity is `p` itself).
+    #[inline]
+    fn base_at_point(&self, p: [f64; 2], c: usize) -> f64 {
+        match self.bases[c] {
+            Base::Zero => 0.0,
+            Base::Constant(v) => v,
+            Base::Identity(axis) => p[axis],
+        }
     }
 
     /// `φ` on triangle `t` at barycentric coordinates `beta`; `None` if `t` is not a triangle.
@@ -467,16 +694,39 @@ impl FloatSpline {
     }
 
     /// `φ` on triangle `t` at `beta`, written to `out` without allocating (for degrees up to
-    /// 31). The hot path for deforming large models.
+    /// 31): the reference at `beta` (the identity as `Σ βk·vk` from the rounded corners) plus
+    /// the displacement. For drawing; to map a point use
+    /// [`FloatSpline::evaluate_point_into`], which takes the identity from the point itself.
     ///
     /// # Panics
     /// If `t` is not a triangle or `out.len()` differs from [`FloatSpline::dim`].
     pub fn evaluate_into(&self, t: usize, beta: [f64; 3], out: &mut [f64]) {
+        self.displacement_into(t, beta, out);
+        let moved = self.displaced[t];
+        for (c, o) in out.iter_mut().enumerate() {
+            let base = self.base_at(t, beta, c);
+            *o = if moved { base + *o } else { base };
+        }
+    }
+
+    /// The displacement `D(β) = Σ B_i(β)·δ_i` from the references on triangle `t` at `beta`,
+    /// written to `out` without allocating (zeros where [`FloatSpline::is_displaced`] is
+    /// false). The hot path for deforming large models: the value is the reference plus this.
+    /// Error bound: see [`FloatSpline`].
+    ///
+    /// # Panics
+    /// If `t` is not a triangle or `out.len()` differs from [`FloatSpline::dim`].
+    #[inline]
+    pub fn displacement_into(&self, t: usize, beta: [f64; 3], out: &mut [f64]) {
         assert_eq!(
             out.len(),
             self.dim,
             "output has the wrong number of coordinates"
         );
+        if !self.displaced[t] {
+            out.fill(0.0);
+            return;
+        }
         let coefficients = &self.coefficients[t * self.stride..(t + 1) * self.stride];
         match self.dim {
             1 => {
@@ -492,6 +742,11 @@ impl FloatSpline {
             3 => {
                 let mut o = [0.0; 3];
                 self.sum::<3>(coefficients, beta, &mut o);
+                out.copy_from_slice(&o);
+            }
+            4 => {
+                let mut o = [0.0; 4];
+                self.sum::<4>(coefficients, beta, &mut o);
                 out.copy_from_slice(&o);
             }
             _ => self.sum_dyn(coefficients, beta, out),
@@ -572,13 +827,16 @@ impl FloatSpline {
         });
     }
 
-    /// `φ` on triangle `t` at `beta` with its partial derivatives with respect to the three
-    /// barycentric coordinates, taken as independent variables of the Bernstein form:
-    /// `∂φ/∂β0 = Σ_{i ≥ 1} i · β0^(i−1) β1^j β2^k · stored_{ijk}` and likewise for `β1`, `β2`.
-    /// The derivative along a direction `u` of the plane is `Σ_a ∂φ/∂β_a · ∂β_a/∂u` (the
-    /// `∂β_a/∂u` of a triangle sum to zero). Returns the value and the three partials (each
-    /// with [`FloatSpline::dim`] coordinates); `None` if `t` is not a triangle.
-    pub fn evaluate_with_derivatives(
+    /// The displacement `D` on triangle `t` at `beta` with its partial derivatives with
+    /// respect to the three barycentric coordinates, taken as independent variables of the
+    /// Bernstein form: `∂D/∂β0 = Σ_{i ≥ 1} i · β0^(i−1) β1^j β2^k · stored_{ijk}` and likewise
+    /// for `β1`, `β2`. The derivative along a direction `u` of the plane is
+    /// `Σ_a ∂D/∂β_a · ∂β_a/∂u` (the `∂β_a/∂u` of a triangle sum to zero, so a term common to
+    /// the three partials does not matter). Returns the displacement (bit-identical to
+    /// [`FloatSpline::displacement_into`]) and the three partials (each with
+    /// [`FloatSpline::dim`] coordinates; all zero where [`FloatSpline::is_displaced`] is
+    /// false); `None` if `t` is not a triangle.
+    pub fn displacement_with_derivatives(
         &self,
         t: usize,
         beta: [f64; 3],
@@ -588,9 +846,12 @@ impl FloatSpline {
         }
         let d = self.degree;
         let dim = self.dim;
-        let coefficients = &self.coefficients[t * self.stride..(t + 1) * self.stride];
         let mut value = vec![0.0; dim];
         let mut partials = [vec![0.0; dim], vec![0.0; dim], vec![0.0; dim]];
+        if !self.displaced[t] {
+            return Some((value, partials));
+        }
+        let coefficients = &self.coefficients[t * self.stride..(t + 1) * self.stride];
         self.with_powers(beta, |pw| {
             let (p0, rest) = pw.split_at(d + 1);
             let (p1, p2) = rest.split_at(d + 1);
@@ -621,6 +882,32 @@ impl FloatSpline {
         Some((value, partials))
     }
 
+    /// `φ` on triangle `t` at `beta` with its partial derivatives with respect to the three
+    /// barycentric coordinates: the reference plus [`FloatSpline::displacement_with_derivatives`],
+    /// the reference differentiated as the linear function `Σ βa·ra` (for the identity
+    /// `∂/∂βa = va`, the corner; a constant has none). Partials of the degree-`d` Bernstein
+    /// form differ from these by a term common to the three, so directional derivatives
+    /// `Σ_a ∂φ/∂β_a · ∂β_a/∂u` are the same. The value is bit-identical to
+    /// [`FloatSpline::evaluate`]; `None` if `t` is not a triangle.
+    pub fn evaluate_with_derivatives(
+        &self,
+        t: usize,
+        beta: [f64; 3],
+    ) -> Option<(Vec<f64>, [Vec<f64>; 3])> {
+        let (mut value, mut partials) = self.displacement_with_derivatives(t, beta)?;
+        let moved = self.displaced[t];
+        for (c, v) in value.iter_mut().enumerate() {
+            let base = self.base_at(t, beta, c);
+            *v = if moved { base + *v } else { base };
+            if let Base::Identity(axis) = self.bases[c] {
+                for (a, partial) in partials.iter_mut().enumerate() {
+                    partial[c] += self.corners[t][a][axis];
+                }
+            }
+        }
+        Some((value, partials))
+    }
+
     /// `φ(p)`: locates `p` with `locator` (built from the same mesh) and evaluates. `None` when
     /// `p` is outside the mesh or the locator belongs to a mesh with other triangles.
     pub fn evaluate_point(&self, locator: &Locator, p: [f64; 2]) -> Option<Vec<f64>> {
@@ -632,13 +919,23 @@ impl FloatSpline {
     /// Like [`FloatSpline::evaluate_point`] without allocating: writes `φ(p)` to `out` and
     /// returns `true`, or returns `false` (leaving `out` unchanged) when `p` is outside, the
     /// locator's triangle is not one of this spline's, or `out` has the wrong length.
+    ///
+    /// The value is the reference at `p` plus the displacement: an identity coordinate is
+    /// `fl(x + D̂_x)` with `x` the input itself, so a point in a triangle that is not
+    /// displaced ([`FloatSpline::is_displaced`]) comes back bit-identical and a displaced one
+    /// is within the bound stated at [`FloatSpline`].
     pub fn evaluate_point_into(&self, locator: &Locator, p: [f64; 2], out: &mut [f64]) -> bool {
         if out.len() != self.dim {
             return false;
         }
         match locator.locate(p) {
             Some((t, beta)) if t < self.triangle_count() => {
-                self.evaluate_into(t, beta, out);
+                self.displacement_into(t, beta, out);
+                let moved = self.displaced[t];
+                for (c, o) in out.iter_mut().enumerate() {
+                    let base = self.base_at_point(p, c);
+                    *o = if moved { base + *o } else { base };
+                }
                 true
             }
             _ => false,
@@ -650,6 +947,7 @@ impl FloatSpline {
 mod tests {
     use super::*;
     use crate::spline::tests::{grid, q, star, strip};
+    use api::exact::rational_to_f64;
 
     fn frac(n: i64, d: i64) -> Rational {
         Rational::new(n.into(), d.into())
@@ -705,7 +1003,13 @@ mod tests {
                     let value = evaluate_exact(&spline, &positions, &p).expect("inside");
                     assert_eq!(value, p.to_vec());
                     let pf = [rational_to_f64(&p[0]), rational_to_f64(&p[1])];
+                    // Identity plus a zero displacement: the point itself, bit for bit.
                     let v = float.evaluate_point(&locator, pf).expect("inside");
+                    assert_eq!(v, pf.to_vec());
+                    assert!((0..spline.mesh().triangles().len()).all(|t| !float.is_displaced(t)));
+                    // From the barycentric coordinates (for drawing): to rounding.
+                    let (t, beta) = locator.locate(pf).expect("inside");
+                    let v = float.evaluate(t, beta).expect("triangle");
                     for c in 0..2 {
                         assert!((v[c] - pf[c]).abs() <= 1e-12 * (1.0 + pf[c].abs()));
                     }
@@ -817,6 +1121,38 @@ mod tests {
         assert!(float.evaluate(1, [1.0, 0.0, 0.0]).is_none());
         let mut out = [0.0; 2];
         assert!(!float.evaluate_point_into(&Locator::new(spline.mesh()), [1.0, 1.0], &mut out));
+        let values = vec![vec![q(1), q(2)]; n];
+        assert_eq!(
+            FloatSpline::with_references(&spline, &values, &[Reference::Zero]),
+            Err(EvalError::ReferenceCount {
+                expected: 2,
+                found: 1
+            })
+        );
+        assert_eq!(
+            FloatSpline::with_references(
+                &spline,
+                &values,
+                &[Reference::Zero, Reference::Identity(2)]
+            ),
+            Err(EvalError::IdentityAxis {
+                coordinate: 1,
+                axis: 2
+            })
+        );
+        // Measured from the constants they equal, values are not displaced and come back as
+        // the constants (rounded to nearest), exactly.
+        let tenth = frac(1, 10);
+        let values = vec![vec![tenth.clone(), q(2)]; n];
+        let references = [Reference::Constant(tenth), Reference::Constant(q(2))];
+        let flat = FloatSpline::with_references(&spline, &values, &references).expect("float");
+        assert_eq!(flat.references(), &references);
+        assert!(!flat.is_displaced(0) && !flat.is_displaced(1));
+        let (value, partials) = flat
+            .evaluate_with_derivatives(0, [0.2, 0.3, 0.5])
+            .expect("triangle");
+        assert_eq!(value, [0.1, 2.0]);
+        assert!(partials.iter().flatten().all(|x| *x == 0.0));
     }
 
     #[test]

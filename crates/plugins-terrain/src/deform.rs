@@ -2,20 +2,25 @@
 //! (thesis 17.2–17.3).
 //!
 //! [`Psi`] keeps the point locator of the reference mesh and the three splines as one
-//! [`FloatSpline`] whose control values are `(σ0, σ1)` or `(φx, φy, σ0, σ1)`, so mapping a vertex
-//! is one point location and one evaluation, without allocation:
-//! locate `(x, y)` in `T` (triangle `u`, barycentric `β`), take `α0 = (b − z)/(b − a)`,
-//! `α1 = (z − a)/(b − a)`, and return `(φ(x, y), α0·σ0(x, y) + α1·σ1(x, y))`. Without `φ`
-//! (the identity) `x` and `y` are returned unchanged. Vertices outside the prisms keep their
-//! position and are listed ([`DeformedModel`]); the topology is kept.
+//! [`FloatSpline`] whose control values are `(σ0, σ1)` or `(φx, φy, σ0, σ1)`, stored as
+//! displacements from the undeformed state (`σ0 = a`, `σ1 = b`, `φ` the identity), so mapping a
+//! vertex is one point location and one evaluation, without allocation: locate `(x, y)` in `T`
+//! (triangle `u`, barycentric `β`), take `α0 = (b − z)/(b − a)`, `α1 = (z − a)/(b − a)`, and
+//! return `(x + Dx, y + Dy, z + α0·D0 + α1·D1)`, where `Dx, Dy, D0, D1` are the displacements
+//! `Σ B_i(β)·δ_i` of `φx − x`, `φy − y`, `σ0 − a` and `σ1 − b`. This is `ψ` exactly
+//! (`α0·a + α1·b = z`), and in floating point a vertex in a prism whose control values are
+//! all unchanged comes back bit-identical (that prism is not even evaluated), while a moved
+//! one is off by an amount proportional to its displacement (bound at [`Psi::map`]). Without
+//! `φ` (the identity) `x` and `y` are returned unchanged. Vertices outside the prisms keep
+//! their position and are listed ([`DeformedModel`]); the topology is kept.
 //!
 //! [`Psi::jacobian_in`] gives `ψ` and its derivatives on one prism, for normals and for
 //! checking smoothness across the walls of neighbouring prisms.
 
 use crate::prism::{Layer, Surfaces};
-use api::exact::rational_to_f64;
+use api::exact::rational_to_f64_nearest;
 use api::Rational;
-use plugins_spline2d::eval::{check_positions, EvalError, FloatSpline, Locator};
+use plugins_spline2d::eval::{check_positions, EvalError, FloatSpline, Locator, Reference};
 use plugins_spline2d::model::Model;
 use plugins_spline2d::spline::Spline;
 
@@ -85,7 +90,7 @@ impl DeformedModel {
 #[derive(Debug, Clone)]
 pub struct Psi {
     locator: Locator,
-    /// Values `(σ0, σ1)` or `(φx, φy, σ0, σ1)`.
+    /// Values `(σ0, σ1)` or `(φx, φy, σ0, σ1)`, measured from `(a, b)` or `(x, y, a, b)`.
     spline: FloatSpline,
     xy: bool,
     bottom: f64,
@@ -125,15 +130,30 @@ impl Psi {
                 v
             })
             .collect();
-        let float = FloatSpline::new(spline, &combined).map_err(|source| DeformError::Values {
-            surface: "bottom",
-            source,
-        })?;
+        let mut references = if surfaces.phi.is_some() {
+            vec![Reference::Identity(0), Reference::Identity(1)]
+        } else {
+            Vec::new()
+        };
+        references.push(Reference::Constant(layer.bottom().clone()));
+        references.push(Reference::Constant(layer.top().clone()));
+        let float =
+            FloatSpline::with_references(spline, &combined, &references).map_err(|source| {
+                DeformError::Values {
+                    surface: "bottom",
+                    source,
+                }
+            })?;
         let vertices: Vec<[f64; 2]> = spline
             .mesh()
             .vertices()
             .iter()
-            .map(|p| [rational_to_f64(&p[0]), rational_to_f64(&p[1])])
+            .map(|p| {
+                [
+                    rational_to_f64_nearest(&p[0]),
+                    rational_to_f64_nearest(&p[1]),
+                ]
+            })
             .collect();
         let corners: Vec<[[f64; 2]; 3]> = spline
             .mesh()
@@ -156,8 +176,8 @@ impl Psi {
             locator: Locator::new(spline.mesh()),
             spline: float,
             xy: surfaces.phi.is_some(),
-            bottom: rational_to_f64(layer.bottom()),
-            top: rational_to_f64(layer.top()),
+            bottom: rational_to_f64_nearest(layer.bottom()),
+            top: rational_to_f64_nearest(layer.top()),
             corners,
             gradients,
         })
@@ -184,17 +204,46 @@ impl Psi {
         ))
     }
 
-    /// `ψ(p)`, or why `p` is outside the prisms.
+    /// Whether some control value of the prism over triangle `t` differs from the undeformed
+    /// state (`φ` the identity, `σ0 = a`, `σ1 = b`); `false` if `t` is not a triangle.
+    /// [`Psi::map`] returns the points of the other prisms unchanged.
+    pub fn is_displaced(&self, t: usize) -> bool {
+        self.spline.is_displaced(t)
+    }
+
+    /// `ψ(p)`, or why `p` is outside the prisms, as the identity plus a displacement:
+    /// `(x + D̂x, y + D̂y, z + (α̂0·D̂0 + α̂1·D̂1))`.
+    ///
+    /// # Error bound
+    /// A point in a prism whose control values are all unchanged ([`Psi::is_displaced`] is
+    /// false) is returned bit-identical. Otherwise, with `u = 2^-53`, `x' y' z'` the exact `ψ`
+    /// at the rational value of the `f64` input (exact `a`, `b` and control values), `M_c` the
+    /// largest exact displacement `|δ_i|` of coordinate `c` (`φx − x`, `φy − y`, `σ0 − a`,
+    /// `σ1 − b`) over the control points of the triangle (of both triangles for a point on or
+    /// within rounding of a shared edge or vertex) and `K` the factor stated at
+    /// [`FloatSpline`] (`K = (N + d + 5)·u + 9·d·δ_β`, `N = (d+1)(d+2)/2`, `δ_β` the error
+    /// of the barycentric coordinates, `≤ 7u·h(2L + 3h)/A`):
+    ///
+    /// * `|x̂' − x'| ≤ u·|x'| + 1.01·K·Mx`, and likewise for `y`;
+    /// * `|ẑ' − z'| ≤ u·|z'| + 1.01·(K + η)·(M0 + M1)` with
+    ///   `η = 5u + 2u·(|a| + |b|)/(b − a)` (the error of the float `α0`, `α1`).
+    ///
+    /// So the error is one rounding of the result plus a small multiple of `u` times the
+    /// displacement, not `u` times `|a|`, `|b|` or `|x|`.
     #[inline]
     pub fn map(&self, p: [f64; 3]) -> Result<[f64; 3], Outside> {
         let (t, beta, [a0, a1]) = self.locate(p)?;
-        let mut values = [0.0; 4];
+        if !self.spline.is_displaced(t) {
+            return Ok(p);
+        }
         if self.xy {
-            self.spline.evaluate_into(t, beta, &mut values);
-            Ok([values[0], values[1], a0 * values[2] + a1 * values[3]])
+            let mut d = [0.0; 4];
+            self.spline.displacement_into(t, beta, &mut d);
+            Ok([p[0] + d[0], p[1] + d[1], p[2] + (a0 * d[2] + a1 * d[3])])
         } else {
-            self.spline.evaluate_into(t, beta, &mut values[..2]);
-            Ok([p[0], p[1], a0 * values[0] + a1 * values[1]])
+            let mut d = [0.0; 2];
+            self.spline.displacement_into(t, beta, &mut d);
+            Ok([p[0], p[1], p[2] + (a0 * d[0] + a1 * d[1])])
         }
     }
 
@@ -215,29 +264,33 @@ impl Psi {
     /// `ψ` and its Jacobian `∂ψ_r/∂(x, y, z)_c` on the prism over triangle `t` at `p`,
     /// evaluating that prism's polynomial pieces (also just outside the triangle, so the two
     /// sides of a shared wall can be compared). `None` if `t` is not a triangle.
+    ///
+    /// As in [`Psi::map`], `ψ` is the identity plus the displacements, so the Jacobian is
+    /// `I` plus their derivatives: `∂x'/∂x = 1 + ∂Dx/∂x`, `∂z'/∂x = α0·∂D0/∂x + α1·∂D1/∂x`,
+    /// `∂z'/∂z = 1 + (D1 − D0)/(b − a)`. The value is [`Psi::map`]'s on `t`.
     pub fn jacobian_in(&self, t: usize, p: [f64; 3]) -> Option<([f64; 3], [[f64; 3]; 3])> {
         let beta = self.locator.barycentric(t, [p[0], p[1]])?;
         let g = self.gradients.get(t)?;
-        let (value, partials) = self.spline.evaluate_with_derivatives(t, beta)?;
-        // Derivative of value coordinate `c` along x (axis 0) or y (axis 1).
+        let (d, partials) = self.spline.displacement_with_derivatives(t, beta)?;
+        // Derivative of displacement coordinate `c` along x (axis 0) or y (axis 1).
         let along =
             |c: usize, axis: usize| -> f64 { (0..3).map(|k| partials[k][c] * g[k][axis]).sum() };
         let height = self.top - self.bottom;
         let (a0, a1) = ((self.top - p[2]) / height, (p[2] - self.bottom) / height);
         let s = if self.xy { 2 } else { 0 };
-        let (s0, s1) = (value[s], value[s + 1]);
-        let z = a0 * s0 + a1 * s1;
+        let (d0, d1) = (d[s], d[s + 1]);
+        let z = p[2] + (a0 * d0 + a1 * d1);
         let dz = [
             a0 * along(s, 0) + a1 * along(s + 1, 0),
             a0 * along(s, 1) + a1 * along(s + 1, 1),
-            (s1 - s0) / height,
+            1.0 + (d1 - d0) / height,
         ];
         if self.xy {
             Some((
-                [value[0], value[1], z],
+                [p[0] + d[0], p[1] + d[1], z],
                 [
-                    [along(0, 0), along(0, 1), 0.0],
-                    [along(1, 0), along(1, 1), 0.0],
+                    [1.0 + along(0, 0), along(0, 1), 0.0],
+                    [along(1, 0), 1.0 + along(1, 1), 0.0],
                     dz,
                 ],
             ))
@@ -276,11 +329,164 @@ impl Psi {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::prism::psi_exact;
-    use api::exact::rational_from_f64;
+    use api::exact::{rational_from_f64, rational_to_f64};
+    use plugins_spline2d::eval::locate_exact;
     use plugins_spline2d::mesh::grid;
+
+    /// The unit roundoff `u = 2^-53`.
+    const U: f64 = 1.0 / 9_007_199_254_740_992.0;
+
+    /// `δ_β` of the error bound for `p` in the triangle with these corners: `7u·h(2L + 3h)/A`.
+    fn barycentric_error(corners: [[f64; 2]; 3], p: [f64; 2]) -> f64 {
+        let [a, b, c] = corners;
+        let length = |u: [f64; 2], v: [f64; 2]| (u[0] - v[0]).hypot(u[1] - v[1]);
+        let h = length(a, b).max(length(b, c)).max(length(c, a));
+        let area = ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])).abs();
+        let l = corners
+            .iter()
+            .chain(std::iter::once(&p))
+            .flatten()
+            .fold(0.0f64, |m, x| m.max(x.abs()));
+        7.0 * U * h * (2.0 * l + 3.0 * h) / area
+    }
+
+    /// What [`check_against_exact`] found.
+    #[derive(Debug, Default)]
+    pub(crate) struct Checked {
+        /// Vertices in prisms with unchanged control values (bit-identical).
+        pub unchanged: usize,
+        /// Vertices in prisms with changed control values (within the bound).
+        pub moved: usize,
+        /// Vertices the float map leaves in place (outside the prisms).
+        pub outside: usize,
+        /// The largest error / bound over the moved vertices and coordinates.
+        pub worst: f64,
+        /// The largest error in units of `u·(|exact| + M)` (`M` the displacement budget of the
+        /// coordinate: `Mx`, `My` or `M0 + M1`), for the record.
+        pub relative: f64,
+        /// Vertices in changed prisms that the exact `ψ` leaves in place.
+        pub exactly_in_place: usize,
+        /// Of those, the vertices the float map moves.
+        pub moved_in_floats_only: usize,
+    }
+
+    /// Maps `points` with the float `ψ` of `surfaces` and checks every vertex inside the
+    /// prisms: bit-identical where the prism's control values are those of the undeformed
+    /// state (checked exactly), otherwise within the bound stated at [`Psi::map`] of the exact
+    /// `ψ` ([`psi_exact`]) at the rational value of the `f64` vertex.
+    pub(crate) fn check_against_exact(
+        spline: &Spline,
+        layer: &Layer,
+        surfaces: Surfaces<'_>,
+        points: &[[f64; 3]],
+    ) -> Checked {
+        let psi = Psi::new(spline, layer, surfaces).expect("psi");
+        let deformed = psi.deform(&Model {
+            positions: points.to_vec(),
+            triangles: Vec::new(),
+        });
+        // Exact displacements per control point: (φx − x, φy − y, σ0 − a, σ1 − b).
+        let displacements: Vec<[Rational; 4]> = spline
+            .points()
+            .iter()
+            .enumerate()
+            .map(|(i, point)| {
+                let (dx, dy) = match surfaces.phi {
+                    Some(phi) => (
+                        &phi[i][0] - &point.nominal[0],
+                        &phi[i][1] - &point.nominal[1],
+                    ),
+                    None => (
+                        Rational::from_integer(0.into()),
+                        Rational::from_integer(0.into()),
+                    ),
+                };
+                [
+                    dx,
+                    dy,
+                    &surfaces.bottom[i][0] - layer.bottom(),
+                    &surfaces.top[i][0] - layer.top(),
+                ]
+            })
+            .collect();
+        let zero = Rational::from_integer(0.into());
+        let unchanged = |t: usize| {
+            spline
+                .triangle_points(t)
+                .iter()
+                .all(|&i| displacements[i].iter().all(|d| *d == zero))
+        };
+        let corners = |t: usize| {
+            spline.mesh().triangles()[t].map(|v| {
+                let p = &spline.mesh().vertices()[v];
+                [rational_to_f64(&p[0]), rational_to_f64(&p[1])]
+            })
+        };
+        let (a, b) = (
+            rational_to_f64(layer.bottom()),
+            rational_to_f64(layer.top()),
+        );
+        let eta = 5.0 * U + 2.0 * U * (a.abs() + b.abs()) / (b - a);
+        let d = spline.degree();
+        let n = (d + 1) * (d + 2) / 2;
+        let mut checked = Checked::default();
+        for (p, image) in points.iter().zip(&deformed.model.positions) {
+            let Ok((t, _, _)) = psi.locate(*p) else {
+                assert_eq!(image.map(f64::to_bits), p.map(f64::to_bits));
+                checked.outside += 1;
+                continue;
+            };
+            assert_eq!(psi.is_displaced(t), !unchanged(t), "triangle {t}");
+            if unchanged(t) {
+                assert_eq!(image.map(f64::to_bits), p.map(f64::to_bits), "{p:?}");
+                checked.unchanged += 1;
+                continue;
+            }
+            let exact_p = p.map(|c| rational_from_f64(c).expect("finite"));
+            let (Some(exact), Some((te, _))) = (
+                psi_exact(spline, layer, surfaces, &exact_p),
+                locate_exact(spline.mesh(), &[exact_p[0].clone(), exact_p[1].clone()]),
+            ) else {
+                // Inside only by the float tolerance; not a vertex of the tests.
+                panic!("{p:?} is inside the prisms in floats but not exactly");
+            };
+            checked.moved += 1;
+            if exact == exact_p {
+                checked.exactly_in_place += 1;
+                if image != p {
+                    checked.moved_in_floats_only += 1;
+                }
+            }
+            let (mut m, mut delta) = ([0.0f64; 4], 0.0f64);
+            for s in [t, te] {
+                for &i in spline.triangle_points(s) {
+                    for (mc, dc) in m.iter_mut().zip(&displacements[i]) {
+                        *mc = mc.max(rational_to_f64(dc).abs());
+                    }
+                }
+                delta = delta.max(barycentric_error(corners(s), [p[0], p[1]]));
+            }
+            let k = (n + d + 5) as f64 * U + 9.0 * d as f64 * delta;
+            let budgets = [k * m[0], k * m[1], (k + eta) * (m[2] + m[3])];
+            for c in 0..3 {
+                let error = rational_from_f64(image[c]).expect("finite") - &exact[c];
+                let error = rational_to_f64(&error).abs();
+                let bound =
+                    (U * rational_to_f64(&exact[c]).abs() + 1.01 * budgets[c]) * (1.0 + 1e-9);
+                assert!(
+                    error <= bound,
+                    "{p:?} coordinate {c}: error {error:e} > bound {bound:e}"
+                );
+                checked.worst = checked.worst.max(error / bound);
+                let scale = rational_to_f64(&exact[c]).abs() + [m[0], m[1], m[2] + m[3]][c];
+                checked.relative = checked.relative.max(error / (U * scale));
+            }
+        }
+        checked
+    }
 
     fn q(n: i64, d: i64) -> Rational {
         Rational::new(n.into(), d.into())
@@ -346,15 +552,8 @@ mod tests {
                     assert_eq!(image, p, "outside vertices stay in place");
                     continue;
                 }
-                for c in 0..3 {
-                    assert!(
-                        (image[c] - p[c]).abs() <= 1e-13 * (1.0 + p[c].abs()),
-                        "{image:?} vs {p:?}"
-                    );
-                }
-                if !with_phi {
-                    assert_eq!([image[0], image[1]], [p[0], p[1]], "x and y untouched");
-                }
+                // Identity plus zero displacements: bit for bit.
+                assert_eq!(image.map(f64::to_bits), p.map(f64::to_bits), "{p:?}");
                 if v % 50 != 0 {
                     continue;
                 }
@@ -366,6 +565,125 @@ mod tests {
                     Some(exact.clone())
                 );
             }
+        }
+    }
+
+    /// A layer and a mesh whose numbers are not `f64`s (a = −1/10, b = 123/7, nominal positions
+    /// with denominator 5): the undeformed map still returns every vertex bit-identical.
+    #[test]
+    fn awkward_layers_leave_undeformed_vertices_bit_identical() {
+        let spline = Spline::new(grid(2, 20, true), 5, 1).expect("spline");
+        let layer = Layer::new(q(-1, 10), q(123, 7)).expect("layer");
+        let phi = spline.identity_positions();
+        let bottom = spline.constant_positions(layer.bottom());
+        let top = spline.constant_positions(layer.top());
+        let mut points = points();
+        for x in [0.1, 4.531, 1e-7, 39.999999999999, 1.0 / 3.0] {
+            for z in [-0.1, 4.531, 17.571428571428573, 0.0, 1e-300, 12.345678] {
+                points.push([x, 40.0 - x, z]);
+            }
+        }
+        for with_phi in [false, true] {
+            let surfaces = Surfaces {
+                phi: with_phi.then_some(phi.as_slice()),
+                bottom: &bottom,
+                top: &top,
+            };
+            let checked = check_against_exact(&spline, &layer, surfaces, &points);
+            assert_eq!(checked.moved, 0);
+            assert!(checked.unchanged > 900, "{checked:?}");
+        }
+    }
+
+    /// Control values moved near the corner (0, 0) by awkward amounts, in all four
+    /// coordinates: vertices over unchanged prisms come back bit-identical, the others agree
+    /// with the exact `ψ` within the bound of [`Psi::map`]; the Jacobian is that of the
+    /// identity plus the displacements.
+    #[test]
+    fn local_edits_move_only_their_prisms_within_the_bound() {
+        let spline = Spline::new(grid(2, 20, true), 5, 1).expect("spline");
+        let layer = Layer::new(q(-7, 2), q(12, 1)).expect("layer");
+        let near = |i: usize| {
+            let [x, y] = &spline.points()[i].nominal;
+            x + y < q(20, 1)
+        };
+        let shift = |i: usize, salt: i64, d: i64| q(((i as i64) * salt % 17) - 8, d);
+        let phi: Vec<Vec<Rational>> = spline
+            .points()
+            .iter()
+            .enumerate()
+            .map(|(i, p)| {
+                if near(i) {
+                    vec![
+                        &p.nominal[0] + shift(i, 7, 9),
+                        &p.nominal[1] + shift(i, 5, 13),
+                    ]
+                } else {
+                    p.nominal.to_vec()
+                }
+            })
+            .collect();
+        let surface = |level: &Rational, salt: i64| -> Vec<Vec<Rational>> {
+            (0..spline.points().len())
+                .map(|i| {
+                    if near(i) {
+                        vec![level + shift(i, salt, 3)]
+                    } else {
+                        vec![level.clone()]
+                    }
+                })
+                .collect()
+        };
+        let bottom = surface(layer.bottom(), 3);
+        let top = surface(layer.top(), 11);
+        let mut points = points();
+        for x in [0.1, 4.531, 1e-7, 24.5, 1.0 / 3.0, 20.0] {
+            for z in [-3.5, 4.531, 12.0, 0.0, 1e-300] {
+                points.push([x, x, z]);
+                points.push([x, 40.0 - x, z]);
+            }
+        }
+        for with_phi in [false, true] {
+            let surfaces = Surfaces {
+                phi: with_phi.then_some(phi.as_slice()),
+                bottom: &bottom,
+                top: &top,
+            };
+            let checked = check_against_exact(&spline, &layer, surfaces, &points);
+            assert!(
+                checked.unchanged > 200 && checked.moved > 200,
+                "{checked:?}"
+            );
+            eprintln!("with φ: {with_phi}: {checked:?}");
+            // Jacobian: central differences of the map inside a moved prism.
+            let psi = Psi::new(&spline, &layer, surfaces).expect("psi");
+            let at = [3.0, 4.0, 1.5];
+            let (t, _, _) = psi.locate(at).expect("inside");
+            assert!(psi.is_displaced(t));
+            let (value, j) = psi.jacobian_in(t, at).expect("triangle");
+            assert_eq!(Ok(value), psi.map(at));
+            let step = 1e-5;
+            for axis in 0..3 {
+                let (mut plus, mut minus) = (at, at);
+                plus[axis] += step;
+                minus[axis] -= step;
+                let (f, g) = (psi.map(plus).expect("in"), psi.map(minus).expect("in"));
+                for r in 0..3 {
+                    let numeric = (f[r] - g[r]) / (2.0 * step);
+                    assert!(
+                        (numeric - j[r][axis]).abs() < 1e-6 * (1.0 + numeric.abs()),
+                        "∂{r}/∂{axis}: {numeric} vs {}",
+                        j[r][axis]
+                    );
+                }
+            }
+            // Far away the Jacobian is the identity's.
+            let far = [35.0, 36.0, 2.0];
+            let (t, _, _) = psi.locate(far).expect("inside");
+            assert!(!psi.is_displaced(t));
+            let (value, j) = psi.jacobian_in(t, far).expect("triangle");
+            assert_eq!(value, far);
+            assert_eq!(j, [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]);
         }
     }
 
@@ -398,7 +716,12 @@ mod tests {
         .expect("psi");
         assert_eq!(psi.map([f64::NAN, 1.0, 0.5]), Err(Outside::Mesh));
         assert_eq!(psi.map([1.0, 1.0, f64::NAN]), Err(Outside::Layer));
-        assert_eq!(psi.map([1.0, 1.0, 1.0 + 1e-12]), Ok([1.0, 1.0, 0.0]));
+        // Just above the top (within the tolerance): both surfaces are flattened to 0, a
+        // displacement of −1 for the top, so z' is 0 up to a few units of 2^-53 (the bound of
+        // `Psi::map` with M1 = 1).
+        let [x, y, z] = psi.map([1.0, 1.0, 1.0 + 1e-12]).expect("inside");
+        assert_eq!([x, y], [1.0, 1.0]);
+        assert!(z.abs() <= 1e-15, "{z}");
         assert!(psi.jacobian_in(2, [1.0, 1.0, 0.5]).is_none());
         assert!(psi.phi_in(2, [1.0, 0.0, 0.0]).is_none());
     }

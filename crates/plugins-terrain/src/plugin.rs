@@ -1064,6 +1064,85 @@ mod tests {
         assert!(moved.iter().all(|m| *m > 0.1), "{moved:?}");
     }
 
+    /// The bundled terrain example's source (`examples/terrain.ron`) and the bundled height
+    /// field `examples/terrains/hills.asc`.
+    fn example() -> (TerrainSource, ConstraintSystem, Values, Model) {
+        let examples = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples");
+        let config = r#"(spline: (mesh: "terrains/reference.obj", degree: 5, smoothness: 1),
+            top: "20", xy: true)"#;
+        let mut source = TerrainSource::default();
+        let contribution = source
+            .build(&BuildRequest {
+                base_dir: examples.clone(),
+                ..conformance::request("terrain", config)
+            })
+            .expect("build");
+        let mut system = ConstraintSystem::new();
+        let mut values = Values::default();
+        contribution
+            .apply_to(&mut system, &mut values)
+            .expect("contribution applies");
+        let hills = load_terrain(&examples.join("terrains/hills.asc")).expect("hills.asc");
+        (source, system, values, hills)
+    }
+
+    /// Without an edit the bundled terrain comes back bit-identical (x, y and z of every
+    /// vertex; `α0·σ0 + α1·σ1` used to round heights such as 4.531 to 4.530999999999998).
+    #[test]
+    fn the_undeformed_example_terrain_is_returned_bit_identical() {
+        let (source, _, values, hills) = example();
+        let built = source.built().expect("built");
+        let deformed = built.psi(&values).expect("psi").deform(&hills);
+        assert_eq!(deformed.model.triangles, hills.triangles);
+        assert_eq!(deformed.model.positions.len(), 33 * 33);
+        for (image, p) in deformed.model.positions.iter().zip(&hills.positions) {
+            assert_eq!(image.map(f64::to_bits), p.map(f64::to_bits), "{p:?}");
+        }
+        // Every sample is inside the prisms (cell centres on [0, 40]²), so all went through ψ.
+        assert!(deformed.outside().is_empty());
+    }
+
+    /// Local edits of the bundled terrain (the top and bottom raised near vertex 0, φ moved
+    /// near vertex 2, by awkward amounts): vertices over prisms whose control values did not
+    /// change are bit-identical, the others agree with the exact `ψ` within the bound of
+    /// [`Psi::map`].
+    #[test]
+    fn local_edits_of_the_example_terrain_leave_far_vertices_bit_identical() {
+        let (source, system, mut values, hills) = example();
+        for operation in [
+            r#"(mode: "z1", anchors: ["v0"], neighborhood: 2, dz: "7/3")"#,
+            r#"(mode: "z0", anchors: ["v0"], neighborhood: 2, dz: "-1/3")"#,
+            r#"(mode: "xy", anchors: ["v2"], neighborhood: 2, translate: ("1/3", "-2/7"))"#,
+        ] {
+            edit(&source, &system, &mut values, operation);
+        }
+        let built = source.built().expect("built");
+        let bottom = built.bottom.positions(&values);
+        let top = built.top.positions(&values);
+        let xy = built.xy.as_ref().expect("xy").positions(&values);
+        let surfaces = Surfaces {
+            phi: Some(&xy),
+            bottom: &bottom,
+            top: &top,
+        };
+        let checked = crate::deform::tests::check_against_exact(
+            &built.spline,
+            &built.layer,
+            surfaces,
+            &hills.positions,
+        );
+        assert!(
+            checked.unchanged > 100 && checked.moved > 100,
+            "{checked:?}"
+        );
+        // Samples on the walls between changed and unchanged prisms, where the exact ψ leaves
+        // them in place, stay in place in floats too (their barycentric coordinate across the
+        // wall is exactly 0, so only the wall's unchanged control values contribute).
+        assert!(checked.exactly_in_place > 0, "{checked:?}");
+        assert_eq!(checked.moved_in_floats_only, 0, "{checked:?}");
+        eprintln!("{checked:?}");
+    }
+
     #[test]
     fn renders_the_deformed_model_and_pictures() {
         let dir = tempfile::tempdir().expect("temporary directory");
