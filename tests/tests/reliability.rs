@@ -594,3 +594,112 @@ fn a_plan_naming_an_unknown_parameter_is_refused_not_a_panic() {
         &["planned an edit that cannot run", "#999999"],
     );
 }
+
+#[test]
+fn rotations_and_scales_are_exact_whatever_the_numbers() {
+    // 3.6e401 degrees is an exact multiple of 360: the anchor stays exactly where it was.
+    let text = worm_edit(
+        r#"Source(source: "worm", operation: (anchors: ["v3"], neighborhood: 2, rotate: (center: ("0", "0"), degrees: "3.6e401")))"#,
+    );
+    let (_dir, path, out) = beside_examples(&text);
+    let o = run(&path, &out);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let report = read_report(&out);
+    let values = report["edits"][0]["values"].as_array().expect("values");
+    let v3 = values.iter().find(|v| v["name"] == "worm.v3").expect("v3");
+    assert_eq!(v3["exact"], serde_json::json!(["36", "17"]));
+    // A quarter turn about the origin is exact: v3 = (36, 17) goes to (-17, 36).
+    let text = worm_edit(
+        r#"Source(source: "worm", operation: (anchors: ["v3"], neighborhood: 2, rotate: (center: ("0", "0"), degrees: "-270")))"#,
+    );
+    let (_dir, path, out) = beside_examples(&text);
+    let o = run(&path, &out);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let report = read_report(&out);
+    let values = report["edits"][0]["values"].as_array().expect("values");
+    let v3 = values.iter().find(|v| v["name"] == "worm.v3").expect("v3");
+    assert_eq!(v3["exact"], serde_json::json!(["-17", "36"]));
+    // Scaling by 1e300 about v0 = (0, 0): the anchor lands exactly at 1e300 · (36, 17).
+    let text = worm_edit(
+        r#"Source(source: "worm", operation: (anchors: ["v3"], neighborhood: 2, scale: (center: ("0", "0"), factor: "1e300")))"#,
+    );
+    let (_dir, path, out) = beside_examples(&text);
+    let o = run(&path, &out);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let report = read_report(&out);
+    let values = report["edits"][0]["values"].as_array().expect("values");
+    let v3 = values.iter().find(|v| v["name"] == "worm.v3").expect("v3");
+    let big = |k: u32| format!("{k}{}", "0".repeat(300));
+    assert_eq!(v3["exact"], serde_json::json!([big(36), big(17)]));
+    assert_eq!(report["edits"][0]["max_residual"], "0");
+}
+
+#[test]
+fn refusals_name_the_rows_that_block_the_requested_move() {
+    let align = common::library("plugins_align");
+    let text = format!(
+        "(\n  sources: [\n    {WORM_SOURCE},\n    (name: \"al\", plugin: {:?}, config: (constraints: [OnLine(points: [\"worm.v0\"], through: ((\"0\", \"0\"), (\"0\", \"10\")))])),\n  ],\n  edits: [\n    Source(source: \"worm\", operation: (anchors: [\"v0\"], neighborhood: 2, translate: (\"0\", \"1\"))),\n    Source(source: \"worm\", operation: (anchors: [\"v0\"], neighborhood: 2, translate: (\"1\", \"0\"))),\n  ],\n)\n",
+        align.display().to_string()
+    );
+    let (_dir, path, out) = beside_examples(&text);
+    let o = run(&path, &out);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    let report = read_report(&out);
+    // Along y the pin in x does not block anything.
+    let first = &report["edits"][0];
+    assert_eq!(first["solvable"], Value::Bool(true), "{first}");
+    assert_eq!(first["max_residual"], "0");
+    // Along x it does, and the report names exactly that row, with an explanation.
+    let second = &report["edits"][1];
+    assert_eq!(second["solvable"], Value::Bool(false), "{second}");
+    let conflict: Vec<&str> = second["conflict"]
+        .as_array()
+        .expect("conflict filled")
+        .iter()
+        .filter_map(Value::as_str)
+        .collect();
+    assert_eq!(conflict.len(), 1, "{conflict:?}");
+    assert!(conflict[0].starts_with("al: worm.v0"), "{conflict:?}");
+    assert!(!second["explanation"]
+        .as_array()
+        .expect("explanation")
+        .is_empty());
+    assert_eq!(second["plan"]["expansion_blocked"], 1);
+}
+
+#[test]
+fn terrain_heights_stay_exactly_where_nothing_was_edited() {
+    let text = std::fs::read_to_string(root().join("examples/terrain.ron")).expect("terrain.ron");
+    let start = text.find("edits: [").expect("edits");
+    let end = start + text[start..].find("\n    ],").expect("end of edits") + "\n    ],".len();
+    let no_edits = format!("{}edits: [],{}", &text[..start], &text[end..]);
+    let (_dir, path, out) = beside_examples(&no_edits);
+    let o = run(&path, &out);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let heights: Vec<f64> = std::fs::read_to_string(root().join("examples/terrains/hills.asc"))
+        .expect("hills.asc")
+        .lines()
+        .skip(6)
+        .flat_map(|l| {
+            l.split_whitespace()
+                .map(|t| t.parse::<f64>().expect("height"))
+                .collect::<Vec<_>>()
+        })
+        .collect();
+    let deformed = std::fs::read_to_string(out.join("hills-deformed.obj")).expect("deformed");
+    let mut zs: Vec<f64> = deformed
+        .lines()
+        .filter_map(|l| l.strip_prefix("v "))
+        .map(|l| {
+            l.split_whitespace()
+                .nth(2)
+                .expect("z")
+                .parse::<f64>()
+                .expect("z")
+        })
+        .collect();
+    let mut expected = heights.clone();
+    zs.sort_by(f64::total_cmp);
+    expected.sort_by(f64::total_cmp);
+    assert_eq!(zs, expected, "every height comes out exactly as it went in");
+}

@@ -1082,7 +1082,11 @@ mod tests {
         contribution
             .apply_to(&mut system, &mut values)
             .expect("contribution applies");
-        let hills = load_terrain(&examples.join("terrains/hills.asc")).expect("hills.asc");
+        let hills = load_terrain(
+            &examples.join("terrains/hills.asc"),
+            api::input::DEFAULT_MAX_INPUT_BYTES,
+        )
+        .expect("hills.asc");
         (source, system, values, hills)
     }
 
