@@ -46,6 +46,9 @@ pub fn run(options: &RunOptions, console: &mut Console<'_>) -> Result<u8, RunErr
     // A failed run must not leave the previous run's report behind.
     outputs::remove_stale_report(&out_dir)?;
     let mut session = Session::build(&options.run, options.max_input_bytes)?;
+    // Every edit and output is checked before any work on the system.
+    let plan = session.check()?;
+    outputs::check_targets(&out_dir, &plan.files, &plan.inputs)?;
     let mut report = session.analyze();
     let run_name = options.run.display().to_string();
     if !report.consistent {
@@ -60,8 +63,6 @@ pub fn run(options: &RunOptions, console: &mut Console<'_>) -> Result<u8, RunErr
             report.violated.join(", ")
         )));
     }
-    let plan = session.check()?;
-    outputs::check_targets(&out_dir, &plan.files, &plan.inputs)?;
     if !options.quiet {
         print_system(&report, console)?;
         console.flush()?;

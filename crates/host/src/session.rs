@@ -101,6 +101,22 @@ impl Session {
         self.run_path.display().to_string()
     }
 
+    /// A source's refusal of `fragment`, at its run-file position (see
+    /// [`located_source_error`]).
+    fn source_error(
+        &self,
+        fragment: &runfile::Fragment,
+        context: &str,
+        error: &api::SourceError,
+    ) -> RunError {
+        RunError::input(located_source_error(
+            &self.run_name(),
+            fragment,
+            context,
+            error,
+        ))
+    }
+
     /// `run.ron:LINE:COL: message`.
     fn at(&self, at: TextPosition, message: impl std::fmt::Display) -> RunError {
         RunError::input(format!("{}:{at}: {message}", self.run_name()))
@@ -128,14 +144,9 @@ impl Session {
             input_limit: self.input_limit,
         };
         let context = format!("source {:?} (plugin {})", entry.name, entry.plugin);
-        let contribution = source.build(&request).map_err(|e| {
-            RunError::input(located_source_error(
-                &self.run_name(),
-                &entry.config,
-                &context,
-                &e,
-            ))
-        })?;
+        let contribution = source
+            .build(&request)
+            .map_err(|e| self.source_error(&entry.config, &context, &e))?;
         contribution
             .apply_to(&mut self.system, &mut self.values)
             .map_err(|e| self.at(entry.at, format!("{context} contributed invalid data: {e}")))?;
@@ -257,12 +268,11 @@ impl Session {
                             operation: operation.text().to_string(),
                         })
                         .map_err(|e| {
-                            RunError::input(located_source_error(
-                                &self.run_name(),
+                            self.source_error(
                                 operation,
                                 &format!("edit {i} (source {source:?})"),
                                 &e,
-                            ))
+                            )
                         })?;
                 }
             }
@@ -282,14 +292,7 @@ impl Session {
                     base_dir: self.base_dir.clone(),
                     input_limit: self.input_limit,
                 })
-                .map_err(|e| {
-                    RunError::input(located_source_error(
-                        &self.run_name(),
-                        &out.output,
-                        &context,
-                        &e,
-                    ))
-                })?;
+                .map_err(|e| self.source_error(&out.output, &context, &e))?;
             for name in &check.files {
                 check_file_name(name)
                     .map_err(|m| self.at(out.at, format!("{context} would write {name:?}: {m}")))?;
@@ -696,14 +699,10 @@ impl Session {
                 structure: parts.clone(),
                 input_limit: self.input_limit,
             };
-            let rendered = loaded.source.render(&request).map_err(|e| {
-                RunError::input(located_source_error(
-                    &self.run_name(),
-                    &out.output,
-                    &context,
-                    &e,
-                ))
-            })?;
+            let rendered = loaded
+                .source
+                .render(&request)
+                .map_err(|e| self.source_error(&out.output, &context, &e))?;
             let names: Vec<String> = rendered.iter().map(|f| f.name.clone()).collect();
             if let Some(Some(announced)) = plan.announced.get(i) {
                 if *announced != names {
