@@ -703,3 +703,20 @@ fn terrain_heights_stay_exactly_where_nothing_was_edited() {
     expected.sort_by(f64::total_cmp);
     assert_eq!(zs, expected, "every height comes out exactly as it went in");
 }
+
+#[test]
+fn a_plugin_path_that_is_not_a_file_is_refused_without_blocking() {
+    let dir = temp();
+    let fifo = dir.path().join("fifo.so");
+    let status = Command::new("mkfifo").arg(&fifo).status().expect("mkfifo");
+    assert!(status.success());
+    let start = Instant::now();
+    expect_bad_input(
+        &format!(
+            "(sources: [(name: \"p\", plugin: {:?})])",
+            fifo.display().to_string()
+        ),
+        &["not a regular file"],
+    );
+    assert!(start.elapsed() < Duration::from_secs(20));
+}

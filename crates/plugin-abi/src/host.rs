@@ -137,10 +137,20 @@ impl LoadedPlugin {
 ///
 /// Loading runs the library's initialisers: only load plugins you would run as programs.
 pub fn load(path: &Path) -> Result<LoadedPlugin, LoadError> {
-    if !path.exists() {
-        return Err(LoadError::NotFound {
-            path: path.to_path_buf(),
-        });
+    match std::fs::metadata(path) {
+        Err(_) => {
+            return Err(LoadError::NotFound {
+                path: path.to_path_buf(),
+            })
+        }
+        // The system loader would block on a FIFO and read a device without end.
+        Ok(metadata) if !metadata.is_file() => {
+            return Err(LoadError::Open {
+                path: path.to_path_buf(),
+                message: "not a regular file (a directory, FIFO or device)".into(),
+            })
+        }
+        Ok(_) => {}
     }
     // A bare file name would make the system loader search its library path instead of the
     // current directory: always hand it an absolute path.
