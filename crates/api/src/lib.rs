@@ -38,5 +38,5 @@ pub use source::{
 };
 pub use system::{
     ConstraintRow, ConstraintSystem, Coord, Origin, ParamId, Parameter, RowBody, RowId,
-    SystemError, Values,
+    ScalarEquation, SystemError, Values,
 };

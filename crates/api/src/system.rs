@@ -116,6 +116,50 @@ impl RowBody {
             RowBody::Scalar { .. } => 1,
         }
     }
+
+    /// The row as scalar equations over single coordinates: a vector row of dimension `d`
+    /// becomes `d` equations (`component: Some(k)`), a scalar row one (`component: None`). The
+    /// one place where rows are split per coordinate.
+    pub fn scalar_equations(&self) -> Vec<ScalarEquation> {
+        match self {
+            RowBody::Vector { terms, rhs } => rhs
+                .iter()
+                .enumerate()
+                .map(|(k, q)| ScalarEquation {
+                    terms: terms
+                        .iter()
+                        .map(|(p, c)| {
+                            (
+                                Coord {
+                                    param: *p,
+                                    component: k,
+                                },
+                                c.clone(),
+                            )
+                        })
+                        .collect(),
+                    rhs: q.clone(),
+                    component: Some(k),
+                })
+                .collect(),
+            RowBody::Scalar { terms, rhs } => vec![ScalarEquation {
+                terms: terms.clone(),
+                rhs: rhs.clone(),
+                component: None,
+            }],
+        }
+    }
+}
+
+/// One scalar equation `Σ c_j x_j = q` over coordinates, from [`RowBody::scalar_equations`].
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ScalarEquation {
+    /// Coefficients per coordinate.
+    pub terms: Vec<(Coord, Integer)>,
+    /// Right-hand side.
+    pub rhs: Integer,
+    /// The coordinate, for equations split from a vector row.
+    pub component: Option<usize>,
 }
 
 /// A labelled constraint row.
@@ -349,29 +393,16 @@ impl ConstraintSystem {
         let mut rhs_out = Vec::new();
         let mut origin = Vec::new();
         for (i, row) in self.rows.iter().enumerate() {
-            match &row.body {
-                RowBody::Vector { terms, rhs } => {
-                    for (k, q) in rhs.iter().enumerate() {
-                        sparse.push(
-                            terms
-                                .iter()
-                                .map(|(p, c)| (offsets[p.index()] + k, c.clone()))
-                                .collect(),
-                        );
-                        rhs_out.push(q.clone());
-                        origin.push((RowId(i as u32), k));
-                    }
-                }
-                RowBody::Scalar { terms, rhs } => {
-                    sparse.push(
-                        terms
-                            .iter()
-                            .map(|(c, v)| (offsets[c.param.index()] + c.component, v.clone()))
-                            .collect(),
-                    );
-                    rhs_out.push(rhs.clone());
-                    origin.push((RowId(i as u32), 0));
-                }
+            for equation in row.body.scalar_equations() {
+                sparse.push(
+                    equation
+                        .terms
+                        .into_iter()
+                        .map(|(c, v)| (offsets[c.param.index()] + c.component, v))
+                        .collect(),
+                );
+                rhs_out.push(equation.rhs);
+                origin.push((RowId(i as u32), equation.component.unwrap_or(0)));
             }
         }
         let matrix = IntMatrix::from_sparse(self.coordinate_count(), sparse)

@@ -1,10 +1,11 @@
 //! ECLES.Initialize and ECLES.Update (thesis, algorithms 1, 3, 4, 5).
 
 use crate::error::{Conflict, ConflictingRow, EditError};
+use crate::reduce::{reduce, ReducedSystem};
 use crate::relevant::{extract_relevant, Relevant};
 use api::{
-    ConstraintSystem, Coord, Factorization, Inconsistency, IntMatrix, Integer, LinearBackend,
-    ParamId, PreparedLeastSquares, Rational, RhsFamily, RowBody, RowId, SolveError, StrongFailure,
+    ConstraintSystem, Factorization, Inconsistency, LinearBackend,
+    ParamId, PreparedLeastSquares, Rational, RowId, SolveError, StrongFailure,
     Values,
 };
 use num_traits::{One, Zero};
@@ -119,55 +120,10 @@ pub struct Edit<F: Factorization> {
     derived_dims: Vec<usize>,
     relevant: Relevant,
     layout: Layout,
-    rows: Vec<RowRef>,
-    labels: Vec<String>,
+    reduced: ReducedSystem,
     factorization: F,
     prepared: F::LeastSquares,
     strongly_solvable: Option<bool>,
-}
-
-/// The reduced system of an edit before factoring.
-pub(crate) struct Reduced {
-    pub(crate) layout: Layout,
-    pub(crate) r_ed: IntMatrix,
-    pub(crate) family: RhsFamily,
-    pub(crate) rows: Vec<RowRef>,
-    pub(crate) labels: Vec<String>,
-}
-
-/// Scalar equations of one row: `(terms over coordinates, rhs, component)`.
-type ScalarEquation = (Vec<(Coord, Integer)>, Integer, Option<usize>);
-
-fn scalar_equations(body: &RowBody) -> Vec<ScalarEquation> {
-    match body {
-        RowBody::Vector { terms, rhs } => rhs
-            .iter()
-            .enumerate()
-            .map(|(k, q)| {
-                let terms = terms
-                    .iter()
-                    .map(|(p, c)| {
-                        (
-                            Coord {
-                                param: *p,
-                                component: k,
-                            },
-                            c.clone(),
-                        )
-                    })
-                    .collect();
-                (terms, q.clone(), Some(k))
-            })
-            .collect(),
-        RowBody::Scalar { terms, rhs } => vec![(terms.clone(), rhs.clone(), None)],
-    }
-}
-
-/// Where a parameter sits in the reduced system.
-#[derive(Clone, Copy)]
-enum Role {
-    Anchor(usize),
-    Derived(usize),
 }
 
 impl<F: Factorization> Edit<F> {
@@ -223,8 +179,7 @@ impl<F: Factorization> Edit<F> {
             derived_dims: dims(&spec.derived),
             relevant,
             layout: reduced.layout,
-            rows: reduced.rows,
-            labels: reduced.labels,
+            reduced,
             factorization,
             prepared,
             strongly_solvable,
@@ -270,6 +225,11 @@ impl<F: Factorization> Edit<F> {
         &self.relevant
     }
 
+    /// The reduced system `R_ED x = c − R_EA α` this edit factored.
+    pub fn reduced(&self) -> &ReducedSystem {
+        &self.reduced
+    }
+
     /// The factorization of `R_ED`.
     pub fn factorization(&self) -> &F {
         &self.factorization
@@ -293,10 +253,10 @@ impl<F: Factorization> Edit<F> {
             .into_iter()
             .map(|red| {
                 (
-                    self.rows[red.row],
+                    self.reduced.rows[red.row],
                     red.combination
                         .into_iter()
-                        .map(|(i, c)| (self.rows[i], c))
+                        .map(|(i, c)| (self.reduced.rows[i], c))
                         .collect(),
                 )
             })
@@ -313,7 +273,7 @@ impl<F: Factorization> Edit<F> {
                 .factorization
                 .independent_rows()
                 .into_iter()
-                .map(|i| self.rows[i])
+                .map(|i| self.reduced.rows[i])
                 .collect(),
             redundant,
             strongly_solvable: self.strongly_solvable,
@@ -433,8 +393,8 @@ impl<F: Factorization> Edit<F> {
         match e {
             SolveError::Input(e) => EditError::Backend(e),
             SolveError::Inconsistent(inc) => EditError::Conflict(Box::new(conflict(
-                &self.rows,
-                &self.labels,
+                &self.reduced.rows,
+                &self.reduced.labels,
                 self.layout,
                 column,
                 inc,
@@ -472,7 +432,7 @@ impl<F: Factorization<Scalar = Rational>> Edit<F> {
 /// anchor value can be absorbed by the derived parameters.
 fn strong_check<F: Factorization>(
     factorization: &F,
-    reduced: &Reduced,
+    reduced: &ReducedSystem,
     anchor_names: &[String],
     anchor_dims: &[usize],
 ) -> Result<(), EditError<F::Scalar>> {
@@ -608,144 +568,3 @@ pub(crate) fn validate_spec<S: std::fmt::Debug>(
     Ok(weights)
 }
 
-/// Chooses the layout and builds `R_ED`, `R_EA` and the constant parts `q_E − R_EF' P_F'`.
-pub(crate) fn reduce(
-    system: &ConstraintSystem,
-    values: &Values,
-    spec: &EditSpec,
-    relevant: &Relevant,
-) -> Reduced {
-    let dim_of = |p: &ParamId| system.params()[p.index()].dim;
-    let first_dim = dim_of(&spec.anchors[0]);
-    let uniform = spec
-        .anchors
-        .iter()
-        .chain(&spec.derived)
-        .chain(&relevant.fixed)
-        .all(|p| dim_of(p) == first_dim);
-    let all_vector = relevant.constraints.iter().all(|r| {
-        matches!(&system.rows()[r.index()].body, RowBody::Vector { rhs, .. } if rhs.len() == first_dim)
-    });
-    let layout = if uniform && all_vector {
-        Layout::Vector { dim: first_dim }
-    } else {
-        Layout::Scalar
-    };
-
-    let mut role: HashMap<ParamId, Role> = HashMap::new();
-    for (k, p) in spec.anchors.iter().enumerate() {
-        role.insert(*p, Role::Anchor(k));
-    }
-    for (k, p) in spec.derived.iter().enumerate() {
-        role.insert(*p, Role::Derived(k));
-    }
-
-    let mut ed_rows = Vec::new();
-    let mut ea_rows = Vec::new();
-    let mut rows = Vec::new();
-    let mut labels = Vec::new();
-    match layout {
-        Layout::Vector { dim } => {
-            let mut constant = vec![Vec::with_capacity(relevant.constraints.len()); dim];
-            for &id in &relevant.constraints {
-                let row = &system.rows()[id.index()];
-                let RowBody::Vector { terms, rhs } = &row.body else {
-                    unreachable!("vector layout has only vector rows")
-                };
-                let mut ed = Vec::new();
-                let mut ea = Vec::new();
-                let mut c: Vec<Rational> = rhs
-                    .iter()
-                    .map(|q| Rational::from_integer(q.clone()))
-                    .collect();
-                for (p, coeff) in terms {
-                    match role.get(p) {
-                        Some(Role::Derived(k)) => ed.push((*k, coeff.clone())),
-                        Some(Role::Anchor(k)) => ea.push((*k, coeff.clone())),
-                        None => {
-                            let coeff = Rational::from_integer(coeff.clone());
-                            for (cj, pj) in c.iter_mut().zip(values.get(*p)) {
-                                *cj -= &coeff * pj;
-                            }
-                        }
-                    }
-                }
-                for (column, cj) in constant.iter_mut().zip(c) {
-                    column.push(cj);
-                }
-                ed_rows.push(ed);
-                ea_rows.push(ea);
-                rows.push(RowRef {
-                    row: id,
-                    component: None,
-                });
-                labels.push(row.label.clone());
-            }
-            let r_ed = IntMatrix::from_sparse(spec.derived.len(), ed_rows)
-                .expect("columns index derived parameters");
-            let r_ea =
-                IntMatrix::from_sparse(spec.anchors.len(), ea_rows).expect("columns index anchors");
-            Reduced {
-                layout,
-                r_ed,
-                family: RhsFamily {
-                    constant,
-                    coefficients: r_ea,
-                },
-                rows,
-                labels,
-            }
-        }
-        Layout::Scalar => {
-            let offsets = |ids: &[ParamId]| -> (Vec<usize>, usize) {
-                let mut out = Vec::with_capacity(ids.len());
-                let mut next = 0;
-                for p in ids {
-                    out.push(next);
-                    next += dim_of(p);
-                }
-                (out, next)
-            };
-            let (d_off, d_cols) = offsets(&spec.derived);
-            let (a_off, a_cols) = offsets(&spec.anchors);
-            let mut constant = Vec::new();
-            for &id in &relevant.constraints {
-                let row = &system.rows()[id.index()];
-                for (terms, rhs, component) in scalar_equations(&row.body) {
-                    let mut ed = Vec::new();
-                    let mut ea = Vec::new();
-                    let mut c = Rational::from_integer(rhs);
-                    for (coord, coeff) in terms {
-                        match role.get(&coord.param) {
-                            Some(Role::Derived(k)) => ed.push((d_off[*k] + coord.component, coeff)),
-                            Some(Role::Anchor(k)) => ea.push((a_off[*k] + coord.component, coeff)),
-                            None => {
-                                c -= Rational::from_integer(coeff)
-                                    * &values.get(coord.param)[coord.component];
-                            }
-                        }
-                    }
-                    constant.push(c);
-                    ed_rows.push(ed);
-                    ea_rows.push(ea);
-                    rows.push(RowRef { row: id, component });
-                    labels.push(row.label.clone());
-                }
-            }
-            let r_ed =
-                IntMatrix::from_sparse(d_cols, ed_rows).expect("columns index derived coordinates");
-            let r_ea =
-                IntMatrix::from_sparse(a_cols, ea_rows).expect("columns index anchor coordinates");
-            Reduced {
-                layout,
-                r_ed,
-                family: RhsFamily {
-                    constant: vec![constant],
-                    coefficients: r_ea,
-                },
-                rows,
-                labels,
-            }
-        }
-    }
-}

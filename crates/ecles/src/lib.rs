@@ -26,10 +26,12 @@ mod drag;
 mod edit;
 mod error;
 mod moves;
+mod reduce;
 mod relevant;
 
 pub use drag::Drag;
 pub use edit::{Edit, EditReport, EditSpec, Layout, RowRef, UpdateResult};
 pub use error::{Conflict, ConflictingRow, EditError};
 pub use moves::check_moves;
+pub use reduce::{reduce_edit, ReducedSystem};
 pub use relevant::{extract_relevant, Relevant};

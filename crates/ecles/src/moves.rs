@@ -16,7 +16,8 @@
 //! are first reduced to a basis (exact elimination on vectors of anchor coordinates), so a
 //! drag of many steps costs as many checks as it has independent directions.
 
-use crate::edit::{reduce, validate_spec, Layout, Reduced};
+use crate::edit::{validate_spec, Layout};
+use crate::reduce::{reduce, ReducedSystem};
 use crate::error::{Conflict, ConflictingRow, EditError};
 use crate::relevant::extract_relevant;
 use api::{
@@ -133,7 +134,7 @@ fn basis_of(moves: &[Vec<Vec<Rational>>]) -> Vec<Vec<Vec<Rational>>> {
 /// of the basis moves (per coordinate for the vector layout), scaled to integers; with, per
 /// column, the coordinate it belongs to (vector layouts of dimension > 1).
 fn directed_family(
-    reduced: &Reduced,
+    reduced: &ReducedSystem,
     dims: &[usize],
     current: &[Vec<Rational>],
     basis: &[Vec<Vec<Rational>>],

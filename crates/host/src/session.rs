@@ -446,12 +446,9 @@ impl Session {
         report.derived = spec.derived.iter().map(|p| self.name(*p)).collect();
         report.steps = steps.len();
         let exact = execute(&self.exact, &self.system, &self.values, &spec, &steps);
-        let relevant = ecles::extract_relevant(&self.system, &spec.anchors, &spec.derived);
-        report.structure = Some(crate::structural::edit_structure(
-            &self.system,
-            &relevant.constraints,
-            &spec.derived,
-        ));
+        report.structure = ecles::reduce_edit::<Rational>(&self.system, &self.values, &spec)
+            .ok()
+            .map(|(_, reduced)| crate::structural::edit_structure(&self.system, &reduced));
         if let Some(init) = &exact.init {
             report.relevant = init.relevant;
             report.fixed_relevant = init.fixed.iter().map(|p| self.name(*p)).collect();
@@ -541,11 +538,10 @@ impl Session {
             "the constraints {} cannot all hold with the requested anchor values",
             labels.join("; ")
         )];
-        let structure = crate::structural::edit_structure(
-            &self.system,
-            &ecles::extract_relevant(&self.system, &spec.anchors, &spec.derived).constraints,
-            &spec.derived,
-        );
+        let structure = ecles::reduce_edit::<Rational>(&self.system, &self.values, spec)
+            .ok()
+            .map(|(_, reduced)| crate::structural::edit_structure(&self.system, &reduced))
+            .unwrap_or_default();
         if !structure.over_determined.is_empty() {
             lines.push(format!(
                 "structurally over-determined: {} (more constraints than the derived parameters in them can satisfy)",

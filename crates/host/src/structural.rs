@@ -263,63 +263,34 @@ pub struct EditStructure {
     pub over_determined: Vec<String>,
 }
 
-/// Dulmage–Mendelsohn view of `R_ED` for an edit with relevant rows `relevant` and derived
-/// parameters `derived`.
+/// Dulmage–Mendelsohn view of the edit's `R_ED` — exactly the matrix ECLES factors
+/// ([`ecles::ReducedSystem`]) — counted per coordinate: in the vector layout every row and
+/// column stands for one per coordinate, and the decomposition of the copies is the copy of
+/// the decomposition.
 pub fn edit_structure(
     system: &api::ConstraintSystem,
-    relevant: &[api::RowId],
-    derived: &[api::ParamId],
+    reduced: &ecles::ReducedSystem,
 ) -> EditStructure {
-    let mut column_of: std::collections::HashMap<(api::ParamId, usize), usize> =
-        std::collections::HashMap::new();
-    for p in derived {
-        for k in 0..system.params()[p.index()].dim {
-            let next = column_of.len();
-            column_of.insert((*p, k), next);
-        }
-    }
-    let mut rows: Vec<Vec<(usize, api::Integer)>> = Vec::new();
-    let mut labels = Vec::new();
-    for id in relevant {
-        let row = &system.rows()[id.index()];
-        match &row.body {
-            api::RowBody::Vector { terms, rhs } => {
-                for k in 0..rhs.len() {
-                    rows.push(
-                        terms
-                            .iter()
-                            .filter_map(|(p, c)| column_of.get(&(*p, k)).map(|&j| (j, c.clone())))
-                            .collect(),
-                    );
-                    labels.push(crate::analysis::label(system, *id, Some(k)));
-                }
-            }
-            api::RowBody::Scalar { terms, .. } => {
-                rows.push(
-                    terms
-                        .iter()
-                        .filter_map(|(c, v)| {
-                            column_of
-                                .get(&(c.param, c.component))
-                                .map(|&j| (j, v.clone()))
-                        })
-                        .collect(),
-                );
-                labels.push(row.label.clone());
-            }
-        }
-    }
-    let Ok(matrix) = api::IntMatrix::from_sparse(column_of.len(), rows) else {
-        return EditStructure::default();
+    let copies = match reduced.layout() {
+        ecles::Layout::Vector { dim } => dim,
+        ecles::Layout::Scalar => 1,
     };
-    let graph = Bipartite::from_matrix(&matrix);
+    let graph = Bipartite::from_matrix(reduced.r_ed());
     let dm = decompose(&graph);
-    let mut over: Vec<String> = dm.over.rows.iter().map(|&i| labels[i].clone()).collect();
+    let mut over: Vec<String> = Vec::new();
+    for &i in &dm.over.rows {
+        let row = reduced.rows()[i];
+        if copies > 1 {
+            over.extend((0..copies).map(|k| crate::analysis::label(system, row.row, Some(k))));
+        } else {
+            over.push(crate::analysis::label(system, row.row, row.component));
+        }
+    }
     over.dedup();
     EditStructure {
-        equations: matrix.rows(),
-        unknowns: matrix.cols(),
-        structural_rank: dm.structural_rank,
+        equations: reduced.r_ed().rows() * copies,
+        unknowns: reduced.r_ed().cols() * copies,
+        structural_rank: dm.structural_rank * copies,
         over_determined: capped(over.into_iter()),
     }
 }
