@@ -4,9 +4,8 @@ use crate::error::{Conflict, ConflictingRow, EditError};
 use crate::reduce::{reduce, ReducedSystem};
 use crate::relevant::{extract_relevant, Relevant};
 use api::{
-    ConstraintSystem, Factorization, Inconsistency, LinearBackend,
-    ParamId, PreparedLeastSquares, Rational, RowId, SolveError, StrongFailure,
-    Values,
+    ConstraintSystem, Factorization, Inconsistency, LinearBackend, ParamId, PreparedLeastSquares,
+    Rational, RowId, SolveError, StrongFailure, Values,
 };
 use num_traits::{One, Zero};
 use std::collections::HashMap;
@@ -567,4 +566,3 @@ pub(crate) fn validate_spec<S: std::fmt::Debug>(
     };
     Ok(weights)
 }
-

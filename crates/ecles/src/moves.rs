@@ -17,8 +17,8 @@
 //! drag of many steps costs as many checks as it has independent directions.
 
 use crate::edit::{validate_spec, Layout};
-use crate::reduce::{reduce, ReducedSystem};
 use crate::error::{Conflict, ConflictingRow, EditError};
+use crate::reduce::{reduce, ReducedSystem};
 use crate::relevant::extract_relevant;
 use api::{
     ConstraintSystem, Factorization, IntMatrix, Integer, LinearBackend, Rational, RhsFamily,

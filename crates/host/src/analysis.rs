@@ -143,8 +143,14 @@ pub fn label(system: &ConstraintSystem, row: RowId, component: Option<usize>) ->
     }
 }
 
-/// Analyses `system` with the exact backend and, when `tolerance` is given, the float one.
-pub fn analyse(system: &ConstraintSystem, values: &Values, tolerance: Option<f64>) -> Analysis {
+/// Analyses `system` (whose graph is `graph`) with the exact backend and, when `tolerance` is
+/// given, the float one.
+pub fn analyze(
+    system: &ConstraintSystem,
+    graph: &crate::structural::SystemGraph,
+    values: &Values,
+    tolerance: Option<f64>,
+) -> Analysis {
     let scalar_params = system.coordinate_count();
     let scalar_rows: usize = system.rows().iter().map(|r| r.body.scalar_rows()).sum();
     let violated: Vec<String> = {
@@ -162,7 +168,7 @@ pub fn analyse(system: &ConstraintSystem, values: &Values, tolerance: Option<f64
         violated,
         ..Analysis::default()
     };
-    let shape = shape(system);
+    let shape = &graph.shape;
     // Exact: sparse fraction-free elimination per connected component (identical components,
     // such as the x and y coordinates, once). Scales to large meshes.
     let rhs: Vec<Vec<Integer>> = shape
@@ -172,7 +178,7 @@ pub fn analyse(system: &ConstraintSystem, values: &Values, tolerance: Option<f64
         .collect();
     let elimination = eliminate_blockwise(&shape.matrix, &rhs, COMBINATION_LIMIT);
     analysis.rank = elimination.rank * shape.copies;
-    analysis.structure = Some(crate::structural::report(&shape, &elimination));
+    analysis.structure = Some(crate::structural::report(graph, &elimination));
     // A row is redundant only if its whole equation, right-hand side included, is the
     // combination; a row whose left side is a combination but whose right side differs
     // contradicts the others and belongs in `conflict`.
@@ -222,7 +228,7 @@ pub fn analyse(system: &ConstraintSystem, values: &Values, tolerance: Option<f64
                     ..CrossCheckReport::default()
                 }
             } else {
-                cross_check(&shape, elimination.rank, tol)
+                cross_check(shape, elimination.rank, tol)
             };
     }
     analysis

@@ -43,6 +43,9 @@ pub struct Session {
     input_limit: u64,
     /// Every file the run reads: the run file, source inputs, plugin libraries.
     inputs: Vec<PathBuf>,
+    /// The whole system's graph and Dulmage–Mendelsohn decomposition, computed once (the
+    /// system does not change after the sources are built).
+    graph: std::cell::OnceCell<crate::structural::SystemGraph>,
     last_highlight: BTreeMap<String, Highlight>,
 }
 
@@ -86,6 +89,7 @@ impl Session {
             exact: ExactLdu::new(method),
             input_limit,
             inputs: vec![run_path.to_path_buf()],
+            graph: std::cell::OnceCell::new(),
             last_highlight: BTreeMap::new(),
         };
         let entries = session.run.sources.clone();
@@ -94,6 +98,12 @@ impl Session {
         }
         session.initial = session.values.clone();
         Ok(session)
+    }
+
+    /// The graph of the whole system, built on first use.
+    fn graph(&self) -> &crate::structural::SystemGraph {
+        self.graph
+            .get_or_init(|| crate::structural::SystemGraph::new(&self.system))
     }
 
     /// The run file's name in messages.
@@ -182,7 +192,7 @@ impl Session {
 
     /// The whole-system report without edits.
     pub fn analyze(&self) -> Report {
-        let a = analysis::analyse(&self.system, &self.initial, self.tolerance);
+        let a = analysis::analyze(&self.system, self.graph(), &self.initial, self.tolerance);
         Report {
             run: self.run_path.display().to_string(),
             parameters: a.parameters,
@@ -226,7 +236,7 @@ impl Session {
                 )));
             }
         }
-        let shape = analysis::shape(&self.system);
+        let shape = &self.graph().shape;
         let mut lines = Vec::new();
         let column = match coordinate {
             // Every row holds per coordinate: the matrix has one column per parameter, and each
@@ -241,7 +251,9 @@ impl Session {
             Some(k) => format!("{base}[{k}]"),
             None => base.to_string(),
         };
-        lines.extend(crate::structural::explain_parameter(&shape, &column).unwrap_or_default());
+        lines.extend(
+            crate::structural::explain_parameter(self.graph(), &column).unwrap_or_default(),
+        );
         Ok(lines)
     }
 
@@ -677,10 +689,7 @@ impl Session {
         let parts = if self.run.outputs.is_empty() {
             None
         } else {
-            Some(crate::structural::parts(
-                &self.system,
-                &analysis::shape(&self.system),
-            ))
+            Some(crate::structural::parts(&self.system, self.graph()))
         };
         for (i, out) in self.run.outputs.iter().enumerate() {
             let loaded = self.loaded(&out.source)?;

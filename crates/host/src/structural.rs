@@ -7,7 +7,7 @@ use exact_ldu::sparse::{eliminate, SparseElimination};
 use serde::Serialize;
 use structure::{
     components, decompose, dulmage_mendelsohn, explain, maximum_matching, Bipartite,
-    DmDecomposition, PartKind,
+    DmDecomposition, Matching, PartKind,
 };
 
 /// Names listed per part or block before the report says "and N more".
@@ -96,13 +96,41 @@ fn part(shape: &Shape, dm: &DmDecomposition, kind: PartKind) -> PartReport {
     }
 }
 
-/// The structure section for `shape`, with the exact elimination of the same matrix.
-pub fn report(shape: &Shape, exact: &SparseElimination) -> StructureReport {
-    let graph = Bipartite::from_matrix(&shape.matrix);
-    let matching = maximum_matching(&graph);
-    let dm = dulmage_mendelsohn(&graph, &matching)
-        .expect("the matching of maximum_matching is a valid maximum matching");
-    let comps = components(&graph);
+/// The whole system's matrix ([`Shape`]), its bipartite graph, a maximum matching and the
+/// Dulmage–Mendelsohn decomposition: computed once per run, for the report, `explain` and
+/// pictures coloured by part.
+pub struct SystemGraph {
+    /// The matrix analysed, with labels and column names.
+    pub shape: Shape,
+    /// Its bipartite constraint graph.
+    pub graph: Bipartite,
+    /// A maximum matching (Hopcroft–Karp).
+    pub matching: Matching,
+    /// The Dulmage–Mendelsohn parts and blocks.
+    pub dm: DmDecomposition,
+}
+
+impl SystemGraph {
+    /// The graph and decomposition of `system`'s matrix.
+    pub fn new(system: &api::ConstraintSystem) -> SystemGraph {
+        let shape = crate::analysis::shape(system);
+        let graph = Bipartite::from_matrix(&shape.matrix);
+        let matching = maximum_matching(&graph);
+        let dm = dulmage_mendelsohn(&graph, &matching)
+            .expect("the matching of maximum_matching is a valid maximum matching");
+        SystemGraph {
+            shape,
+            graph,
+            matching,
+            dm,
+        }
+    }
+}
+
+/// The structure section of the system, with the exact elimination of the same matrix.
+pub fn report(system: &SystemGraph, exact: &SparseElimination) -> StructureReport {
+    let (shape, graph, matching, dm) = (&system.shape, &system.graph, &system.matching, &system.dm);
+    let comps = components(graph);
     let mut is_pivot = vec![false; shape.matrix.rows()];
     for (row, _) in &exact.pivots {
         is_pivot[*row] = true;
@@ -150,9 +178,9 @@ pub fn report(shape: &Shape, exact: &SparseElimination) -> StructureReport {
         exact_rank: exact.rank * shape.copies,
         numerical_dependency: (dm.structural_rank - exact.rank.min(dm.structural_rank))
             * shape.copies,
-        over: part(shape, &dm, PartKind::Over),
-        well: part(shape, &dm, PartKind::Well),
-        under: part(shape, &dm, PartKind::Under),
+        over: part(shape, dm, PartKind::Over),
+        well: part(shape, dm, PartKind::Well),
+        under: part(shape, dm, PartKind::Under),
         blocks: dm
             .blocks
             .iter()
@@ -172,7 +200,8 @@ pub fn report(shape: &Shape, exact: &SparseElimination) -> StructureReport {
 
 /// Lines explaining why the columns named `name` (a parameter, or one coordinate `name[k]`)
 /// are fixed, limited or free.
-pub fn explain_parameter(shape: &Shape, name: &str) -> Option<Vec<String>> {
+pub fn explain_parameter(system: &SystemGraph, name: &str) -> Option<Vec<String>> {
+    let shape = &system.shape;
     let targets: Vec<usize> = shape
         .columns
         .iter()
@@ -187,11 +216,9 @@ pub fn explain_parameter(shape: &Shape, name: &str) -> Option<Vec<String>> {
     if targets.is_empty() {
         return None;
     }
-    let graph = Bipartite::from_matrix(&shape.matrix);
-    let dm = decompose(&graph);
     let mut lines = Vec::new();
     for j in targets {
-        match explain(&dm, &graph, j, &shape.labels, &shape.columns) {
+        match explain(&system.dm, &system.graph, j, &shape.labels, &shape.columns) {
             Ok(e) => lines.extend(e.text),
             Err(e) => lines.push(format!("{}: {e}", shape.columns[j])),
         }
@@ -200,9 +227,8 @@ pub fn explain_parameter(shape: &Shape, name: &str) -> Option<Vec<String>> {
 }
 
 /// The parts of the whole system by parameter and row, for pictures coloured by part.
-pub fn parts(system: &api::ConstraintSystem, shape: &Shape) -> api::StructureParts {
-    let graph = Bipartite::from_matrix(&shape.matrix);
-    let dm = decompose(&graph);
+pub fn parts(system: &api::ConstraintSystem, graph: &SystemGraph) -> api::StructureParts {
+    let (shape, dm) = (&graph.shape, &graph.dm);
     // Column → parameter, row → system row.
     let param_of_column: Vec<api::ParamId> = if shape.columns.len() == system.params().len() {
         (0..system.params().len() as u32)
