@@ -1,0 +1,142 @@
+//! Checking every edit and output of a run before the first edit runs.
+
+use super::render::check_file_name;
+use super::Session;
+use crate::error::RunError;
+use crate::runfile::{self, EditKind, GenericEdit};
+use api::{format_rational, OperationCheckRequest, OutputCheckRequest, ParamId, Rational};
+use num_traits::Zero;
+use std::collections::BTreeSet;
+use std::path::PathBuf;
+
+/// What the outputs of a run will write and read, known before the first edit.
+#[derive(Debug, Clone, Default)]
+pub struct OutputsPlan {
+    /// File names, in output order.
+    pub files: Vec<String>,
+    /// Every input of the run: the run file, the sources' inputs, the outputs' models, the
+    /// plugin libraries.
+    pub inputs: Vec<PathBuf>,
+    /// Per output, the files its check announced (`None` from plugins built before checks
+    /// existed: their files are checked when rendered).
+    pub announced: Vec<Option<Vec<String>>>,
+}
+
+impl Session {
+    /// Checks every edit and every output before the first edit runs: generic edits here
+    /// (names, dimensions, weights, overlaps), source operations and outputs by their sources
+    /// (schemas, names, numbers and limits; outputs read and validate their models). Returns
+    /// what the outputs will write and read.
+    pub fn check(&self) -> Result<OutputsPlan, RunError> {
+        for (i, edit) in self.run.edits.iter().enumerate() {
+            match &edit.kind {
+                EditKind::Ecles(generic) => self
+                    .check_generic(generic)
+                    .map_err(|message| self.at(edit.at, format!("edit {i}: {message}")))?,
+                EditKind::Source { source, operation } => {
+                    let loaded = self.loaded(source)?;
+                    loaded
+                        .source
+                        .check_operation(&OperationCheckRequest {
+                            operation: operation.text().to_string(),
+                        })
+                        .map_err(|e| {
+                            self.source_error(
+                                operation,
+                                &format!("edit {i} (source {source:?})"),
+                                &e,
+                            )
+                        })?;
+                }
+            }
+        }
+        let mut plan = OutputsPlan {
+            files: Vec::new(),
+            inputs: self.inputs.clone(),
+            announced: Vec::new(),
+        };
+        for (i, out) in self.run.outputs.iter().enumerate() {
+            let loaded = self.loaded(&out.source)?;
+            let context = format!("output {i} (source {:?})", out.source);
+            let check = loaded
+                .source
+                .check_output(&OutputCheckRequest {
+                    output: out.output.text().to_string(),
+                    base_dir: self.base_dir.clone(),
+                    input_limit: self.input_limit,
+                })
+                .map_err(|e| self.source_error(&out.output, &context, &e))?;
+            for name in &check.files {
+                check_file_name(name)
+                    .map_err(|m| self.at(out.at, format!("{context} would write {name:?}: {m}")))?;
+                if plan.files.contains(name) {
+                    return Err(self.at(out.at, format!("{context}: two outputs write {name:?}")));
+                }
+                plan.files.push(name.clone());
+            }
+            plan.announced
+                .push(check.checked.then(|| check.files.clone()));
+            plan.inputs.extend(check.inputs);
+        }
+        Ok(plan)
+    }
+
+    /// Checks a generic edit: at least one anchor; every name a parameter; values of the right
+    /// dimension; derived parameters distinct and not anchors; hints and weights only for
+    /// derived parameters, weights positive.
+    fn check_generic(&self, edit: &GenericEdit) -> Result<(), String> {
+        if edit.anchors.is_empty() {
+            return Err("anchors is empty: an edit needs at least one anchor".into());
+        }
+        let param = |name: &str, role: &str| -> Result<ParamId, String> {
+            self.system.param_id(name).ok_or_else(|| {
+                format!("{role} {name:?} is not a parameter of the run (parameters are named source.name, e.g. \"worm.v3\")")
+            })
+        };
+        let dimension = |name: &str, id: ParamId, role: &str, value: &runfile::ValueText| {
+            let dim = self.system.params()[id.index()].dim;
+            let given = value.coordinates().len();
+            if given == dim {
+                Ok(())
+            } else {
+                Err(format!(
+                    "the {role} of {name:?} has {given} coordinates, but the parameter has {dim}"
+                ))
+            }
+        };
+        for (name, value) in &edit.anchors {
+            let id = param(name, "anchor")?;
+            dimension(name, id, "value", value)?;
+        }
+        let mut derived = BTreeSet::new();
+        for name in &edit.derived {
+            param(name, "derived parameter")?;
+            if edit.anchors.contains_key(name) {
+                return Err(format!("{name:?} is both an anchor and derived"));
+            }
+            if !derived.insert(name.as_str()) {
+                return Err(format!("{name:?} is listed twice in derived"));
+            }
+        }
+        for (name, value) in &edit.hints {
+            let id = param(name, "hinted parameter")?;
+            if !derived.contains(name.as_str()) {
+                return Err(format!("{name:?} has a hint but is not derived"));
+            }
+            dimension(name, id, "hint", value)?;
+        }
+        for (name, weight) in &edit.weights {
+            param(name, "weighted parameter")?;
+            if !derived.contains(name.as_str()) {
+                return Err(format!("{name:?} has a weight but is not derived"));
+            }
+            if weight.0 <= Rational::zero() {
+                return Err(format!(
+                    "the weight of {name:?} is {}; weights must be positive",
+                    format_rational(&weight.0)
+                ));
+            }
+        }
+        Ok(())
+    }
+}

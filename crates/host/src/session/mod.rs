@@ -1,0 +1,300 @@
+//! A run: sources built into one system, every edit and output checked before the first edit
+//! runs, edits executed with the exact backend and checked against the float backend, outputs
+//! rendered.
+
+use crate::analysis;
+use crate::error::RunError;
+use crate::registry::{self, Origin};
+use crate::report::{Report, SourceReport, Summary};
+use crate::runfile::{self, located_source_error, RunFile, Simplify};
+use api::config::TextPosition;
+use api::{
+    BuildRequest, ConstraintSource, ConstraintSystem, Highlight, ParamId, SourceInfo, Values,
+};
+use exact_ldu::{ExactLdu, Simplification};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+mod check;
+mod edit;
+mod render;
+
+pub use check::OutputsPlan;
+
+/// A built source.
+struct Loaded {
+    name: String,
+    kind: String,
+    source: Box<dyn ConstraintSource>,
+    report: SourceReport,
+}
+
+/// The state of a run.
+pub struct Session {
+    /// Run file path as given.
+    pub run_path: PathBuf,
+    base_dir: PathBuf,
+    run: RunFile,
+    sources: Vec<Loaded>,
+    system: ConstraintSystem,
+    initial: Values,
+    values: Values,
+    exact: ExactLdu,
+    tolerance: Option<f64>,
+    input_limit: u64,
+    /// Every file the run reads: the run file, source inputs, plugin libraries.
+    inputs: Vec<PathBuf>,
+    /// The whole system's graph and Dulmage–Mendelsohn decomposition, computed once (the
+    /// system does not change after the sources are built).
+    graph: std::cell::OnceCell<crate::structural::SystemGraph>,
+    last_highlight: BTreeMap<String, Highlight>,
+}
+impl Session {
+    /// Reads the run file (at most `input_limit` bytes, the limit every source's inputs get
+    /// too) and builds every source, in order.
+    pub fn build(run_path: &Path, input_limit: u64) -> Result<Session, RunError> {
+        let run =
+            runfile::read(run_path, input_limit).map_err(|e| RunError::input(e.to_string()))?;
+        let base_dir = run_path
+            .parent()
+            .map(Path::to_path_buf)
+            .unwrap_or_else(|| PathBuf::from("."));
+        let method = match run.backend.simplify {
+            Simplify::Gcd => Simplification::Gcd,
+            Simplify::Turner => Simplification::Turner,
+            Simplify::None => Simplification::None,
+        };
+        let mut session = Session {
+            run_path: run_path.to_path_buf(),
+            base_dir,
+            tolerance: run.cross_check.map(|c| c.tolerance),
+            run,
+            sources: Vec::new(),
+            system: ConstraintSystem::new(),
+            initial: Values::default(),
+            values: Values::default(),
+            exact: ExactLdu::new(method),
+            input_limit,
+            inputs: vec![run_path.to_path_buf()],
+            graph: std::cell::OnceCell::new(),
+            last_highlight: BTreeMap::new(),
+        };
+        let entries = session.run.sources.clone();
+        for entry in &entries {
+            session.build_source(entry)?;
+        }
+        session.initial = session.values.clone();
+        Ok(session)
+    }
+
+    /// The graph of the whole system, built on first use.
+    fn graph(&self) -> &crate::structural::SystemGraph {
+        self.graph
+            .get_or_init(|| crate::structural::SystemGraph::new(&self.system))
+    }
+
+    /// The run file's name in messages.
+    fn run_name(&self) -> String {
+        self.run_path.display().to_string()
+    }
+
+    /// A source's refusal of `fragment`, at its run-file position (see
+    /// [`located_source_error`]).
+    fn source_error(
+        &self,
+        fragment: &runfile::Fragment,
+        context: &str,
+        error: &api::SourceError,
+    ) -> RunError {
+        RunError::input(located_source_error(
+            &self.run_name(),
+            fragment,
+            context,
+            error,
+        ))
+    }
+
+    /// `run.ron:LINE:COL: message`.
+    fn at(&self, at: TextPosition, message: impl std::fmt::Display) -> RunError {
+        RunError::input(format!("{}:{at}: {message}", self.run_name()))
+    }
+
+    fn build_source(&mut self, entry: &runfile::SourceEntry) -> Result<(), RunError> {
+        let (mut source, origin) = registry::instantiate(&entry.plugin, &self.base_dir)
+            .map_err(|e| self.at(entry.at, format!("source {:?}: {e}", entry.name)))?;
+        let request = BuildRequest {
+            name: entry.name.clone(),
+            config: entry.config.text().to_string(),
+            base_dir: self.base_dir.clone(),
+            system: self.system.clone(),
+            values: self.values.clone(),
+            sources: self
+                .sources
+                .iter()
+                .zip(&self.run.sources)
+                .map(|(s, e)| SourceInfo {
+                    name: s.name.clone(),
+                    kind: s.kind.clone(),
+                    config: e.config.text().to_string(),
+                })
+                .collect(),
+            input_limit: self.input_limit,
+        };
+        let context = format!("source {:?} (plugin {})", entry.name, entry.plugin);
+        let contribution = source
+            .build(&request)
+            .map_err(|e| self.source_error(&entry.config, &context, &e))?;
+        contribution
+            .apply_to(&mut self.system, &mut self.values)
+            .map_err(|e| self.at(entry.at, format!("{context} contributed invalid data: {e}")))?;
+        self.inputs.extend(contribution.inputs.iter().cloned());
+        let report = SourceReport {
+            name: entry.name.clone(),
+            plugin: source.kind().to_string(),
+            version: source.version().to_string(),
+            loaded_from: match origin {
+                Origin::Builtin => "builtin".to_string(),
+                Origin::Library(path) => {
+                    self.inputs.push(PathBuf::from(&path));
+                    path
+                }
+            },
+            parameters: contribution.parameters.len(),
+            rows: contribution.rows.len(),
+            counts: contribution
+                .summary
+                .iter()
+                .map(|s| (s.key.clone(), s.value))
+                .collect(),
+            warnings: contribution.warnings.clone(),
+        };
+        self.sources.push(Loaded {
+            name: entry.name.clone(),
+            kind: source.kind().to_string(),
+            source,
+            report,
+        });
+        Ok(())
+    }
+
+    /// The whole-system report without edits.
+    pub fn analyze(&self) -> Report {
+        let a = analysis::analyze(&self.system, self.graph(), &self.initial, self.tolerance);
+        Report {
+            run: self.run_path.display().to_string(),
+            parameters: a.parameters,
+            constraints: a.constraints,
+            rank: a.rank,
+            dof: a.parameters - a.rank,
+            consistent: a.consistent,
+            satisfied: a.violated.is_empty(),
+            redundant: a.redundant,
+            conflict: a.conflict,
+            violated: a.violated,
+            sources: self.sources.iter().map(|s| s.report.clone()).collect(),
+            cross_check: a.cross_check,
+            structure: a.structure,
+            edits: Vec::new(),
+            outputs: Vec::new(),
+            output_notes: Vec::new(),
+            summary: Summary::default(),
+        }
+    }
+
+    /// Why the parameter (or coordinate `name[k]`) is fixed, limited or free, in lines of
+    /// text. An unknown parameter, or a coordinate beyond the parameter's dimension, is bad
+    /// input.
+    pub fn explain(&self, name: &str) -> Result<Vec<String>, RunError> {
+        let (base, coordinate) = split_coordinate(name);
+        let id = self.system.param_id(base).ok_or_else(|| {
+            RunError::input(format!(
+                "{}: no parameter named {base:?} (parameters are named source.name, e.g. \"worm.v3\"; one coordinate is name[k])",
+                self.run_name()
+            ))
+        })?;
+        let dim = self.system.params()[id.index()].dim;
+        if let Some(k) = coordinate {
+            if k >= dim {
+                return Err(RunError::input(format!(
+                    "{}: {name:?}: coordinate {k} is out of range, {base:?} has {dim} coordinate{} (0{})",
+                    self.run_name(),
+                    if dim == 1 { "" } else { "s" },
+                    if dim == 1 { String::new() } else { format!(" to {}", dim - 1) }
+                )));
+            }
+        }
+        let shape = &self.graph().shape;
+        let mut lines = Vec::new();
+        let column = match coordinate {
+            // Every row holds per coordinate: the matrix has one column per parameter, and each
+            // coordinate is constrained exactly as the whole parameter.
+            Some(k) if shape.copies > 1 => {
+                lines.push(format!(
+                    "every row of this system holds coordinate by coordinate, so {base}[{k}] is constrained as {base} is:"
+                ));
+                base.to_string()
+            }
+            Some(_) if dim == 1 => base.to_string(),
+            Some(k) => format!("{base}[{k}]"),
+            None => base.to_string(),
+        };
+        lines.extend(
+            crate::structural::explain_parameter(self.graph(), &column).unwrap_or_default(),
+        );
+        Ok(lines)
+    }
+
+    /// Number of edits in the run file.
+    pub fn edit_count(&self) -> usize {
+        self.run.edits.len()
+    }
+
+    /// The built source named `name`.
+    fn loaded(&self, name: &str) -> Result<&Loaded, RunError> {
+        self.sources
+            .iter()
+            .find(|s| s.name == name)
+            .ok_or_else(|| RunError::input(format!("{}: unknown source {name:?}", self.run_name())))
+    }
+
+    fn param(&self, name: &str) -> Result<ParamId, RunError> {
+        self.system
+            .param_id(name)
+            .ok_or_else(|| RunError::input(format!("unknown parameter {name:?}")))
+    }
+
+    fn name(&self, id: ParamId) -> String {
+        self.system.params()[id.index()].name.clone()
+    }
+}
+
+/// `"name[k]"` as `("name", Some(k))`; any other text as `(text, None)`.
+fn split_coordinate(name: &str) -> (&str, Option<usize>) {
+    if let Some(inner) = name.strip_suffix(']') {
+        if let Some((base, k)) = inner.rsplit_once('[') {
+            if let Ok(k) = k.parse::<usize>() {
+                return (base, Some(k));
+            }
+        }
+    }
+    (name, None)
+}
+
+/// A one-line description of a system report.
+pub fn describe(report: &Report) -> String {
+    format!(
+        "{} parameters, {} constraints, rank {}, {} redundant, {}",
+        report.parameters,
+        report.constraints,
+        report.rank,
+        report.redundant.len(),
+        if report.consistent {
+            "consistent".to_string()
+        } else {
+            format!(
+                "INCONSISTENT ({})",
+                report.conflict.clone().unwrap_or_default().join(", ")
+            )
+        }
+    )
+}
