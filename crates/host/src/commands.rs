@@ -9,7 +9,8 @@ use crate::error::{RunError, EXIT_EDIT_FAILED};
 use crate::outputs;
 use crate::registry;
 use crate::report::{self, Report};
-use crate::session::{describe, Session};
+use crate::session::{describe, OutputsPlan, Session};
+use api::OutputFile;
 use std::path::{Path, PathBuf};
 
 /// Options of `ecles run`.
@@ -36,6 +37,80 @@ pub fn default_out_dir(run: &Path) -> PathBuf {
     run.with_file_name(format!("{stem}.out"))
 }
 
+/// A run that passed every check, ready to execute: the session, the whole-system report
+/// and what the outputs will write.
+pub struct PreparedRun {
+    /// The built session.
+    pub session: Session,
+    /// The whole-system report (edits are added by [`PreparedRun::execute`]).
+    pub report: Report,
+    /// What the outputs write and read.
+    pub outputs: OutputsPlan,
+}
+
+impl PreparedRun {
+    /// Builds the session, checks every edit and output, analyses the system, and refuses
+    /// contradicting constraints and initial values that violate them.
+    pub fn prepare(run: &Path, max_input_bytes: u64) -> Result<PreparedRun, RunError> {
+        let session = Session::build(run, max_input_bytes)?;
+        // Every edit and output is checked before any work on the system.
+        let outputs = session.check()?;
+        let report = session.analyze();
+        let run_name = run.display().to_string();
+        if !report.consistent {
+            return Err(RunError::input(format!(
+                "{run_name}: the constraints contradict each other: {}",
+                report.conflict.clone().unwrap_or_default().join(", ")
+            )));
+        }
+        if !report.violated.is_empty() {
+            return Err(RunError::input(format!(
+                "{run_name}: the initial values violate {}",
+                report.violated.join(", ")
+            )));
+        }
+        Ok(PreparedRun {
+            session,
+            report,
+            outputs,
+        })
+    }
+
+    /// Runs every edit (calling `after_edit` after each), renders the outputs and completes
+    /// the report. Nothing is written.
+    pub fn execute(
+        mut self,
+        mut after_edit: impl FnMut(),
+    ) -> Result<(Report, Vec<OutputFile>), RunError> {
+        let mut report = self.report;
+        for i in 0..self.session.edit_count() {
+            let edit = self.session.run_edit(i)?;
+            after_edit();
+            report.edits.push(edit);
+        }
+        let files = self.session.render_outputs(&self.outputs)?;
+        report.summary.edits = report.edits.len();
+        report.summary.failed = report.edits.iter().filter(|e| !e.solvable).count();
+        report.summary.disagreements = report.cross_check.disagreements.len()
+            + report
+                .edits
+                .iter()
+                .map(|e| e.disagreements.len())
+                .sum::<usize>();
+        report.outputs = files.iter().map(|f| f.name.clone()).collect();
+        report.output_notes = files
+            .iter()
+            .flat_map(|f| {
+                f.notes.iter().map(|note| report::OutputNote {
+                    file: f.name.clone(),
+                    note: note.clone(),
+                })
+            })
+            .collect();
+        Ok((report, files))
+    }
+}
+
 /// `ecles run`: checks everything, runs the edits, renders the outputs and writes them with
 /// the report, all or nothing.
 pub fn run(options: &RunOptions, console: &mut Console<'_>) -> Result<u8, RunError> {
@@ -45,32 +120,16 @@ pub fn run(options: &RunOptions, console: &mut Console<'_>) -> Result<u8, RunErr
         .unwrap_or_else(|| default_out_dir(&options.run));
     // A failed run must not leave the previous run's report behind.
     outputs::remove_stale_report(&out_dir)?;
-    let mut session = Session::build(&options.run, options.max_input_bytes)?;
-    // Every edit and output is checked before any work on the system.
-    let plan = session.check()?;
-    outputs::check_targets(&out_dir, &plan.files, &plan.inputs)?;
-    let mut report = session.analyze();
-    let run_name = options.run.display().to_string();
-    if !report.consistent {
-        return Err(RunError::input(format!(
-            "{run_name}: the constraints contradict each other: {}",
-            report.conflict.clone().unwrap_or_default().join(", ")
-        )));
-    }
-    if !report.violated.is_empty() {
-        return Err(RunError::input(format!(
-            "{run_name}: the initial values violate {}",
-            report.violated.join(", ")
-        )));
-    }
+    let prepared = PreparedRun::prepare(&options.run, options.max_input_bytes)?;
+    outputs::check_targets(&out_dir, &prepared.outputs.files, &prepared.outputs.inputs)?;
     if !options.quiet {
-        print_system(&report, console)?;
+        print_system(&prepared.report, console)?;
         console.flush()?;
     }
     let progress = if options.quiet {
         indicatif::ProgressBar::hidden()
     } else {
-        let bar = indicatif::ProgressBar::new(session.edit_count() as u64);
+        let bar = indicatif::ProgressBar::new(prepared.session.edit_count() as u64);
         if let Ok(style) =
             indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} edits {msg}")
         {
@@ -78,40 +137,13 @@ pub fn run(options: &RunOptions, console: &mut Console<'_>) -> Result<u8, RunErr
         }
         bar
     };
-    for i in 0..session.edit_count() {
-        let edit = session.run_edit(i)?;
-        progress.inc(1);
-        report.edits.push(edit);
-    }
+    let (report, files) = prepared.execute(|| progress.inc(1))?;
     progress.finish_and_clear();
-    let files = session.render_outputs(&plan)?;
-    report.summary.edits = report.edits.len();
-    report.summary.failed = report.edits.iter().filter(|e| !e.solvable).count();
-    report.summary.disagreements = report.cross_check.disagreements.len()
-        + report
-            .edits
-            .iter()
-            .map(|e| e.disagreements.len())
-            .sum::<usize>();
-    report.outputs = files.iter().map(|f| f.name.clone()).collect();
-    report.output_notes = files
-        .iter()
-        .flat_map(|f| {
-            f.notes.iter().map(|note| report::OutputNote {
-                file: f.name.clone(),
-                note: note.clone(),
-            })
-        })
-        .collect();
     let json = serde_json::to_string_pretty(&report)
         .map_err(|e| RunError::environment(format!("cannot encode the report: {e}")))?
         + "\n";
     outputs::create_dir(&out_dir)?;
-    let contents: Vec<(String, Vec<u8>)> = files
-        .iter()
-        .map(|f| (f.name.clone(), f.bytes.clone()))
-        .collect();
-    drop(files);
+    let contents: Vec<(String, Vec<u8>)> = files.into_iter().map(|f| (f.name, f.bytes)).collect();
     outputs::write_all(&out_dir, &contents, json.as_bytes())?;
     if !options.quiet {
         print_edits(&report, &out_dir, console)?;

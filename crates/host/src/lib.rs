@@ -23,3 +23,5 @@ pub mod report;
 pub mod runfile;
 pub mod session;
 pub mod structural;
+#[cfg(test)]
+mod testutil;

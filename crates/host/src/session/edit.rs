@@ -11,72 +11,181 @@ use api::{
     PlanRequest, PlannedStep, Rational, Value, Values,
 };
 use ecles::{Edit, EditError, EditSpec, UpdateResult};
+use exact_ldu::ExactFactorization;
 use float_qr::FloatQr;
 use num_traits::One;
+use std::collections::BTreeMap;
 
 impl Session {
+    /// Plans edit `index` of the run file: a generic edit from its names and values, a source
+    /// operation by its source (whose plan is checked before anything uses it). A source's
+    /// refusal at this point is [`Planning::Refused`]; bad input is an error.
+    pub fn plan_edit(&self, index: usize) -> Result<Planning, RunError> {
+        let entry = self
+            .run
+            .edits
+            .get(index)
+            .ok_or_else(|| RunError::input(format!("the run has no edit {index}")))?;
+        match &entry.kind {
+            EditKind::Ecles(generic) => {
+                let (spec, steps) = self
+                    .generic_plan(generic)
+                    .map_err(|e| self.at(entry.at, format!("edit {index}: {e}")))?;
+                Ok(Planning::Planned(PlannedEdit {
+                    spec,
+                    steps,
+                    source: None,
+                    summary: BTreeMap::new(),
+                }))
+            }
+            EditKind::Source { source, operation } => self
+                .plan_operation(source, operation.text())
+                .map_err(|e| match e {
+                    RunError::Input(message) => {
+                        self.at(operation.start(), format!("edit {index}: {message}"))
+                    }
+                    other => other,
+                }),
+        }
+    }
+
+    /// Plans an operation of source `source` (RON text in the source's schema) on the current
+    /// values: what an editor calls for every new operation. The plan is checked against the
+    /// system ([`api::OperationPlan::validate`]) before it is returned.
+    pub fn plan_operation(&self, source: &str, operation: &str) -> Result<Planning, RunError> {
+        let loaded = self.loaded(source)?;
+        let request = PlanRequest {
+            operation: operation.to_string(),
+            system: self.system.clone(),
+            values: self.values.clone(),
+        };
+        match loaded.source.plan(&request) {
+            Ok(plan) => {
+                // A plugin's answer is outside data: nothing indexes with its ids before they
+                // are checked.
+                plan.validate(&self.system).map_err(|problem| {
+                    RunError::input(format!(
+                        "source {source:?} planned an edit that cannot run: {problem}"
+                    ))
+                })?;
+                Ok(Planning::Planned(PlannedEdit {
+                    summary: plan
+                        .summary
+                        .iter()
+                        .map(|s| (s.key.clone(), s.value))
+                        .collect(),
+                    spec: EditSpec {
+                        anchors: plan.anchors,
+                        derived: plan.derived,
+                        weights: Some(plan.weights),
+                        strong: plan.strong,
+                    },
+                    steps: plan.steps,
+                    source: Some(source.to_string()),
+                }))
+            }
+            Err(e) => Ok(Planning::Refused(e.message)),
+        }
+    }
+
+    /// ECLES.Initialize of a planned edit on the current values, with the exact backend.
+    pub fn initialize(&self, plan: &PlannedEdit) -> Result<ActiveEdit, EditError<Rational>> {
+        let edit = Edit::initialize(&self.exact, &self.system, &self.values, &plan.spec)?;
+        Ok(ActiveEdit {
+            edit,
+            generation: self.generation,
+            source: plan.source.clone(),
+        })
+    }
+
+    /// Commits an update of `edit` (from [`ActiveEdit::update`]): the anchors and derived
+    /// parameters take its values, the previous values can be restored with
+    /// [`Session::undo`]. Refused when the values changed since the edit was initialised.
+    pub fn apply(
+        &mut self,
+        edit: &ActiveEdit,
+        result: &UpdateResult<Rational>,
+    ) -> Result<(), RunError> {
+        if edit.generation != self.generation {
+            return Err(RunError::input(
+                "the edit was initialised on values that have changed since; initialise it again",
+            ));
+        }
+        let report = edit.edit.report();
+        let mut independent: Vec<api::RowId> = report.independent.iter().map(|r| r.row).collect();
+        independent.sort();
+        independent.dedup();
+        let highlight = edit.source.clone().map(|source| {
+            (
+                source,
+                Highlight {
+                    anchors: edit.edit.anchors().to_vec(),
+                    derived: edit.edit.derived().to_vec(),
+                    independent_rows: independent,
+                },
+            )
+        });
+        self.commit(result, highlight);
+        Ok(())
+    }
+
+    /// Restores the values before the last committed edit; `false` when there is none.
+    pub fn undo(&mut self) -> bool {
+        match self.history.pop() {
+            Some((values, highlight)) => {
+                self.values = values;
+                self.last_highlight = highlight;
+                self.generation += 1;
+                true
+            }
+            None => false,
+        }
+    }
+
+    /// Writes a result into the values, keeping the previous state for [`Session::undo`].
+    fn commit(&mut self, result: &UpdateResult<Rational>, highlight: Option<(String, Highlight)>) {
+        self.history
+            .push((self.values.clone(), self.last_highlight.clone()));
+        let mut updates = result.anchors.clone();
+        updates.extend(result.derived.iter().cloned());
+        self.values.replace_all(updates);
+        if let Some((source, highlight)) = highlight {
+            self.last_highlight.insert(source, highlight);
+        }
+        self.generation += 1;
+    }
+
     /// Runs edit `index`; the report says whether it was solvable. Values change only when
     /// every step succeeded.
     pub fn run_edit(&mut self, index: usize) -> Result<EditReport, RunError> {
-        let entry = self.run.edits[index].clone();
         let mut report = EditReport {
             index,
             ..EditReport::default()
         };
-        let (spec, steps) = match &entry.kind {
-            EditKind::Ecles(generic) => {
-                report.kind = "ecles".into();
-                self.generic_plan(generic)
-                    .map_err(|e| self.at(entry.at, format!("edit {index}: {e}")))?
-            }
-            EditKind::Source { source, operation } => {
-                report.kind = "source".into();
+        let planned = self.plan_edit(index)?;
+        report.kind = match &self.run.edits[index].kind {
+            EditKind::Ecles(_) => "ecles".into(),
+            EditKind::Source { source, .. } => {
                 report.source = Some(source.clone());
-                let loaded = self.loaded(source)?;
-                let request = PlanRequest {
-                    operation: operation.text().to_string(),
-                    system: self.system.clone(),
-                    values: self.values.clone(),
-                };
-                match loaded.source.plan(&request) {
-                    Ok(plan) => {
-                        // A plugin's answer is outside data: nothing indexes with its ids
-                        // before they are checked.
-                        plan.validate(&self.system).map_err(|problem| {
-                            self.at(
-                                operation.start(),
-                                format!(
-                                    "edit {index}: source {source:?} planned an edit that cannot run: {problem}"
-                                ),
-                            )
-                        })?;
-                        report.plan = plan
-                            .summary
-                            .iter()
-                            .map(|s| (s.key.clone(), s.value))
-                            .collect();
-                        let spec = EditSpec {
-                            anchors: plan.anchors,
-                            derived: plan.derived,
-                            weights: Some(plan.weights),
-                            strong: plan.strong,
-                        };
-                        (spec, plan.steps)
-                    }
-                    Err(e) => {
-                        report.solvable = false;
-                        report.error = Some(format!("planning failed: {}", e.message));
-                        report.max_residual = max_residual(&self.system, &self.values);
-                        return Ok(report);
-                    }
-                }
+                "source".into()
             }
         };
+        let plan = match planned {
+            Planning::Planned(plan) => plan,
+            Planning::Refused(message) => {
+                report.solvable = false;
+                report.error = Some(format!("planning failed: {message}"));
+                report.max_residual = max_residual(&self.system, &self.values);
+                return Ok(report);
+            }
+        };
+        report.plan = plan.summary.clone();
+        let (spec, steps) = (&plan.spec, &plan.steps);
         report.anchors = spec.anchors.iter().map(|p| self.name(*p)).collect();
         report.derived = spec.derived.iter().map(|p| self.name(*p)).collect();
         report.steps = steps.len();
-        let exact = execute(&self.exact, &self.system, &self.values, &spec, &steps);
-        report.structure = ecles::reduce_edit::<Rational>(&self.system, &self.values, &spec)
+        let exact = execute(&self.exact, &self.system, &self.values, spec, steps);
+        report.structure = ecles::reduce_edit::<Rational>(&self.system, &self.values, spec)
             .ok()
             .map(|(_, reduced)| crate::structural::edit_structure(&self.system, &reduced));
         if let Some(init) = &exact.init {
@@ -87,44 +196,44 @@ impl Session {
         }
         // The float run starts from the same state as the exact one.
         if let Some(tol) = self.tolerance {
-            self.cross_check_edit(&mut report, &spec, &steps, &exact, tol);
+            self.cross_check_edit(&mut report, spec, steps, &exact, tol);
         }
         match &exact.outcome {
             Ok(results) => {
                 report.solvable = true;
                 if let Some(last) = results.last() {
-                    let mut updates = last.anchors.clone();
-                    updates.extend(last.derived.iter().cloned());
-                    report.values = updates
+                    report.values = last
+                        .anchors
                         .iter()
+                        .chain(&last.derived)
                         .map(|(id, v)| ValueReport {
                             name: self.name(*id),
                             exact: v.iter().map(format_rational).collect(),
                             approx: v.iter().map(Value::to_f64).collect(),
                         })
                         .collect();
-                    self.values.replace_all(updates);
-                }
-                if let EditKind::Source { source, .. } = &entry.kind {
-                    self.last_highlight.insert(
-                        source.clone(),
-                        Highlight {
-                            anchors: spec.anchors.clone(),
-                            derived: spec.derived.clone(),
-                            independent_rows: exact
-                                .init
-                                .as_ref()
-                                .map(|i| i.independent.clone())
-                                .unwrap_or_default(),
-                        },
-                    );
+                    let highlight = plan.source.clone().map(|source| {
+                        (
+                            source,
+                            Highlight {
+                                anchors: spec.anchors.clone(),
+                                derived: spec.derived.clone(),
+                                independent_rows: exact
+                                    .init
+                                    .as_ref()
+                                    .map(|i| i.independent.clone())
+                                    .unwrap_or_default(),
+                            },
+                        )
+                    });
+                    self.commit(last, highlight);
                 }
             }
             Err(e) => {
                 report.solvable = false;
                 report.error = Some(e.to_string());
                 report.conflict = conflict_labels(&self.system, e);
-                report.explanation = self.explain_conflict(&spec, e);
+                report.explanation = self.explain_conflict(spec, e);
             }
         }
         report.max_residual = max_residual(&self.system, &self.values);
@@ -301,6 +410,59 @@ impl Session {
     }
 }
 
+/// An edit ready to initialise: the ECLES spec, the anchor values and hints of each step, and
+/// what the source's planning found.
+#[derive(Debug, Clone)]
+pub struct PlannedEdit {
+    /// Anchors, derived parameters, weights, strong check.
+    pub spec: EditSpec,
+    /// Anchor values and hints per step of the drag (each from the state at initialisation).
+    pub steps: Vec<PlannedStep>,
+    /// The source that planned it (`None` for generic edits).
+    pub source: Option<String>,
+    /// The source's facts about the planning (for the report).
+    pub summary: BTreeMap<String, u64>,
+}
+
+/// The outcome of planning.
+#[derive(Debug, Clone)]
+pub enum Planning {
+    /// An edit to run.
+    Planned(PlannedEdit),
+    /// The source refused the operation at its turn (its message).
+    Refused(String),
+}
+
+/// An initialised edit on the exact backend: update and preview as often as needed (a drag),
+/// then [`Session::apply`] the result to commit it.
+pub struct ActiveEdit {
+    edit: Edit<ExactFactorization>,
+    /// The session's generation at initialisation: applying is refused once values changed.
+    generation: u64,
+    source: Option<String>,
+}
+
+impl ActiveEdit {
+    /// ECLES.Update: exact values of the anchors and derived parameters for one step.
+    pub fn update(
+        &self,
+        step: &PlannedStep,
+    ) -> Result<UpdateResult<Rational>, EditError<Rational>> {
+        self.edit.update(&step.anchors, &step.hints)
+    }
+
+    /// The same verdict as [`ActiveEdit::update`] with the derived values as `f64`, cheaper
+    /// (for drag frames).
+    pub fn preview(&self, step: &PlannedStep) -> Result<Vec<Vec<f64>>, EditError<Rational>> {
+        self.edit.preview(&step.anchors, &step.hints)
+    }
+
+    /// The ECLES edit (its report, reduced system, factorization).
+    pub fn edit(&self) -> &Edit<ExactFactorization> {
+        &self.edit
+    }
+}
+
 /// What initialising an edit found.
 struct InitFacts {
     relevant: usize,
@@ -367,4 +529,78 @@ fn conflict_labels<S: std::fmt::Debug>(
             .map(|r| label(system, r.row.row, r.row.component))
             .collect(),
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::testutil::{check, example, session};
+
+    const WORM: &str =
+        r#"(sources: [(name: "worm", plugin: "spline2d", config: (mesh: "meshes/worm.obj"))])"#;
+
+    #[test]
+    fn an_editor_plans_initialises_drags_applies_and_undoes() {
+        let (_dir, mut session) = session(WORM);
+        let before = session.values.clone();
+        let Planning::Planned(plan) = session
+            .plan_operation(
+                "worm",
+                r#"(anchors: ["v3"], neighborhood: 2, translate: ("0", "6"), steps: 3)"#,
+            )
+            .expect("plans")
+        else {
+            panic!("refused");
+        };
+        assert_eq!(plan.steps.len(), 3);
+        let edit = session.initialize(&plan).expect("initialises");
+        // Drag frames: previews agree with the exact updates.
+        for step in &plan.steps {
+            let exact = edit.update(step).expect("solvable");
+            let preview = edit.preview(step).expect("solvable");
+            for ((_, e), p) in exact.derived.iter().zip(&preview) {
+                for (x, y) in e.iter().zip(p) {
+                    assert!((api::exact::rational_to_f64(x) - y).abs() < 1e-9);
+                }
+            }
+        }
+        let last = edit
+            .update(plan.steps.last().expect("steps"))
+            .expect("solvable");
+        session.apply(&edit, &last).expect("applies");
+        assert!(session.system.violations(&session.values).is_empty());
+        assert_ne!(session.values, before);
+        // The edit is stale now: applying it again is refused.
+        assert!(session.apply(&edit, &last).is_err());
+        assert!(session.undo());
+        assert_eq!(session.values, before);
+        assert!(!session.undo());
+    }
+
+    #[test]
+    fn runs_report_solutions_refusals_and_located_errors() {
+        let report = check(&example("worm.ron")).expect("runs");
+        assert_eq!(report.edits.len(), 3);
+        assert!(report
+            .edits
+            .iter()
+            .all(|e| e.solvable && e.max_residual == "0"));
+        assert_eq!(report.summary.failed, 0);
+        let report = check(&example("pumps.ron")).expect("runs");
+        assert_eq!(report.summary.failed, 1);
+        assert_eq!(
+            report.edits[1].conflict.as_deref(),
+            Some(&["p4 - p3 = 5".to_string()][..])
+        );
+        let error = check(
+            "(\n  sources: [(name: \"worm\", plugin: \"spline2d\", config: (mesh: \"meshes/worm.obj\"))],\n  edits: [Ecles(anchors: {\"worm.v99\": (\"1\", \"2\")})],\n)",
+        )
+        .expect_err("unknown parameter");
+        assert!(
+            error
+                .to_string()
+                .contains(":3:11: edit 0: anchor \"worm.v99\" is not a parameter"),
+            "{error}"
+        );
+    }
 }

@@ -20,6 +20,7 @@ mod edit;
 mod render;
 
 pub use check::OutputsPlan;
+pub use edit::{ActiveEdit, PlannedEdit, Planning};
 
 /// A built source.
 struct Loaded {
@@ -47,6 +48,10 @@ pub struct Session {
     /// The whole system's graph and Dulmage–Mendelsohn decomposition, computed once (the
     /// system does not change after the sources are built).
     graph: std::cell::OnceCell<crate::structural::SystemGraph>,
+    /// Values and highlights before each committed edit, for undo.
+    history: Vec<(Values, BTreeMap<String, Highlight>)>,
+    /// Counts commits and undos: an edit initialised at another generation is stale.
+    generation: u64,
     last_highlight: BTreeMap<String, Highlight>,
 }
 impl Session {
@@ -77,6 +82,8 @@ impl Session {
             input_limit,
             inputs: vec![run_path.to_path_buf()],
             graph: std::cell::OnceCell::new(),
+            history: Vec::new(),
+            generation: 0,
             last_highlight: BTreeMap::new(),
         };
         let entries = session.run.sources.clone();
