@@ -73,7 +73,7 @@ pub struct RowRef {
 
 /// What initialisation found out about an edit.
 #[derive(Debug, Clone, PartialEq)]
-pub struct EditReport<S> {
+pub struct InitReport<S> {
     /// Name of the backend.
     pub backend: &'static str,
     /// `E`, the relevant constraints.
@@ -245,7 +245,7 @@ impl<F: Factorization> Edit<F> {
     }
 
     /// Relevant and redundant constraints, rank, layout and strong-solvability verdict.
-    pub fn report(&self) -> EditReport<F::Scalar> {
+    pub fn report(&self) -> InitReport<F::Scalar> {
         let redundant = self
             .factorization
             .redundancies()
@@ -260,7 +260,7 @@ impl<F: Factorization> Edit<F> {
                 )
             })
             .collect();
-        EditReport {
+        InitReport {
             backend: self.backend,
             relevant: self.relevant.constraints.clone(),
             fixed_relevant: self.relevant.fixed.clone(),

@@ -43,7 +43,7 @@ pub struct Analysis {
 }
 
 /// The matrix analysed, with row labels and column names.
-pub struct Shape {
+pub struct SystemMatrix {
     /// The matrix analysed.
     pub matrix: IntMatrix,
     /// Right-hand sides, one column per coordinate.
@@ -59,7 +59,7 @@ pub struct Shape {
 /// The matrix the analysis works on: one column per parameter when every row is a vector row
 /// of the parameters' common dimension (the coordinates then share one matrix), one column per
 /// coordinate otherwise.
-pub fn shape(system: &ConstraintSystem) -> Shape {
+pub fn shape(system: &ConstraintSystem) -> SystemMatrix {
     let dims: BTreeSet<usize> = system.params().iter().map(|p| p.dim).collect();
     let vector_dim = match (dims.len(), dims.iter().next()) {
         (1, Some(&d)) => system
@@ -96,7 +96,7 @@ pub fn shape(system: &ConstraintSystem) -> Shape {
                         .collect()
                 })
                 .collect();
-            Shape {
+            SystemMatrix {
                 matrix,
                 rhs,
                 labels: system.rows().iter().map(|r| r.label.clone()).collect(),
@@ -123,7 +123,7 @@ pub fn shape(system: &ConstraintSystem) -> Shape {
                     })
                 })
                 .collect();
-            Shape {
+            SystemMatrix {
                 matrix,
                 rhs: vec![rhs.into_iter().map(Rational::from_integer).collect()],
                 labels,
@@ -234,7 +234,7 @@ pub fn analyze(
     analysis
 }
 
-fn cross_check(shape: &Shape, exact_rank: usize, tolerance: f64) -> CrossCheckReport {
+fn cross_check(shape: &SystemMatrix, exact_rank: usize, tolerance: f64) -> CrossCheckReport {
     let mut report = CrossCheckReport {
         enabled: true,
         tolerance: Some(tolerance),

@@ -35,7 +35,7 @@ pub fn builtins() -> Vec<Builtin> {
 
 /// Where an instantiated source came from.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub enum Origin {
+pub enum LoadedFrom {
     /// Compiled in.
     Builtin,
     /// Loaded from this library.
@@ -83,19 +83,19 @@ pub fn library_path(plugin: &str, base_dir: &Path) -> PathBuf {
 pub fn instantiate(
     plugin: &str,
     base_dir: &Path,
-) -> Result<(Box<dyn ConstraintSource>, Origin), RegistryError> {
+) -> Result<(Box<dyn ConstraintSource>, LoadedFrom), RegistryError> {
     if is_library(plugin) {
         let path = library_path(plugin, base_dir);
         let loaded = load(&path)?;
         return Ok((
             Box::new(loaded.instantiate()),
-            Origin::Library(path.display().to_string()),
+            LoadedFrom::Library(path.display().to_string()),
         ));
     }
     builtins()
         .into_iter()
         .find(|b| b.kind == plugin)
-        .map(|b| ((b.make)(), Origin::Builtin))
+        .map(|b| ((b.make)(), LoadedFrom::Builtin))
         .ok_or_else(|| RegistryError::Unknown {
             plugin: plugin.to_string(),
             known: builtins()
@@ -119,7 +119,7 @@ mod tests {
         assert!(err.to_string().contains("\"linear\""), "{err}");
         let (source, origin) = instantiate("linear", Path::new(".")).expect("builtin");
         assert_eq!(source.kind(), "linear");
-        assert_eq!(origin, Origin::Builtin);
+        assert_eq!(origin, LoadedFrom::Builtin);
     }
 
     #[test]

@@ -2,7 +2,7 @@
 //! Dulmage–Mendelsohn parts and blocks (crate `structure`), and where the exact rank falls short
 //! of the structural rank.
 
-use crate::analysis::Shape;
+use crate::analysis::SystemMatrix;
 use exact_ldu::sparse::{eliminate, SparseElimination};
 use serde::Serialize;
 use structure::{
@@ -86,7 +86,7 @@ fn capped(names: impl Iterator<Item = String>) -> Vec<String> {
     names.take(LIST_LIMIT).collect()
 }
 
-fn part(shape: &Shape, dm: &DmDecomposition, kind: PartKind) -> PartReport {
+fn part(shape: &SystemMatrix, dm: &DmDecomposition, kind: PartKind) -> PartReport {
     let p = dm.part(kind);
     PartReport {
         rows: p.rows.len(),
@@ -96,12 +96,12 @@ fn part(shape: &Shape, dm: &DmDecomposition, kind: PartKind) -> PartReport {
     }
 }
 
-/// The whole system's matrix ([`Shape`]), its bipartite graph, a maximum matching and the
+/// The whole system's matrix ([`SystemMatrix`]), its bipartite graph, a maximum matching and the
 /// Dulmage–Mendelsohn decomposition: computed once per run, for the report, `explain` and
 /// pictures coloured by part.
 pub struct SystemGraph {
     /// The matrix analysed, with labels and column names.
-    pub shape: Shape,
+    pub shape: SystemMatrix,
     /// Its bipartite constraint graph.
     pub graph: Bipartite,
     /// A maximum matching (Hopcroft–Karp).

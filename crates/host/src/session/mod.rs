@@ -4,7 +4,7 @@
 
 use crate::analysis;
 use crate::error::RunError;
-use crate::registry::{self, Origin};
+use crate::registry::{self, LoadedFrom};
 use crate::report::{Report, SourceReport, Summary};
 use crate::runfile::{self, located_source_error, RunFile, Simplify};
 use api::config::TextPosition;
@@ -160,8 +160,8 @@ impl Session {
             plugin: source.kind().to_string(),
             version: source.version().to_string(),
             loaded_from: match origin {
-                Origin::Builtin => "builtin".to_string(),
-                Origin::Library(path) => {
+                LoadedFrom::Builtin => "builtin".to_string(),
+                LoadedFrom::Library(path) => {
                     self.inputs.push(PathBuf::from(&path));
                     path
                 }
