@@ -229,6 +229,7 @@ pub struct Samples {
 /// the current directory.
 pub fn request(name: &str, config: &str) -> BuildRequest {
     BuildRequest {
+        schema: crate::source::SCHEMA_VERSION,
         name: name.to_string(),
         config: config.to_string(),
         base_dir: ".".into(),
@@ -434,6 +435,7 @@ pub fn check_plan_and_render(
     for operation in operations {
         let call = format!("check of {name:?} for the operation {operation:?}");
         let check = OperationCheckRequest {
+            schema: crate::source::SCHEMA_VERSION,
             operation: operation.clone(),
         };
         if let Err(e) = no_panic(call.clone(), || source.check_operation(&check))? {
@@ -441,6 +443,7 @@ pub fn check_plan_and_render(
         }
         let call = format!("plan of {name:?} for {operation:?}");
         let request = PlanRequest {
+            schema: crate::source::SCHEMA_VERSION,
             operation: operation.clone(),
             system: system.clone(),
             values: values.clone(),
@@ -453,6 +456,7 @@ pub fn check_plan_and_render(
     for output in outputs {
         let call = format!("check of {name:?} for the output {output:?}");
         let check = OutputCheckRequest {
+            schema: crate::source::SCHEMA_VERSION,
             output: output.clone(),
             base_dir: ".".into(),
             input_limit: crate::input::DEFAULT_MAX_INPUT_BYTES,
@@ -466,6 +470,7 @@ pub fn check_plan_and_render(
         };
         let call = format!("render of {name:?} for {output:?}");
         let request = RenderRequest {
+            schema: crate::source::SCHEMA_VERSION,
             output: output.clone(),
             base_dir: ".".into(),
             system: system.clone(),

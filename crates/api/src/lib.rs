@@ -31,6 +31,7 @@ pub use backend::{
 };
 pub use exact::{format_rational, parse_rational, Integer, ParseRationalError, Rational};
 pub use matrix::{IntMatrix, MatrixError};
+pub use source::SCHEMA_VERSION;
 pub use source::{
     BuildRequest, ConstraintSource, Contribution, Highlight, NewParameter, OperationCheckRequest,
     OperationPlan, OutputCheck, OutputCheckRequest, OutputFile, PlanRequest, PlannedStep,

@@ -16,6 +16,17 @@ use crate::system::{ConstraintRow, ConstraintSystem, ParamId, Values};
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
 
+/// The version of the JSON payloads (requests and answers) exchanged with sources, in process
+/// and across the plugin ABI. It changes whenever a request or answer type changes its
+/// serialised form (the golden fixtures of `plugin-abi` fail until it does); plugins refuse
+/// requests of a newer schema than they know, naming both. History: 1, the first payloads;
+/// 2, input limits, the checks before the first edit, error positions, source inputs.
+pub const SCHEMA_VERSION: u32 = 2;
+
+fn schema_v1() -> u32 {
+    1
+}
+
 /// An earlier source of the same run, for sources that build on another one.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
 pub struct SourceInfo {
@@ -30,6 +41,10 @@ pub struct SourceInfo {
 /// What a source is built from.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct BuildRequest {
+    /// The payload schema the host speaks ([`SCHEMA_VERSION`]; 1 when absent, from hosts
+    /// before the field existed).
+    #[serde(default = "schema_v1")]
+    pub schema: u32,
     /// Instance name: the prefix of the source's parameter names and row labels.
     pub name: String,
     /// Configuration as RON text.
@@ -116,6 +131,10 @@ impl Contribution {
 /// A source-specific edit to plan (the operation as RON text in the source's own schema).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct PlanRequest {
+    /// The payload schema the host speaks ([`SCHEMA_VERSION`]; 1 when absent, from hosts
+    /// before the field existed).
+    #[serde(default = "schema_v1")]
+    pub schema: u32,
     /// The operation.
     pub operation: String,
     /// The whole system.
@@ -212,6 +231,10 @@ impl OperationPlan {
 /// Outputs to render for the current state.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct RenderRequest {
+    /// The payload schema the host speaks ([`SCHEMA_VERSION`]; 1 when absent, from hosts
+    /// before the field existed).
+    #[serde(default = "schema_v1")]
+    pub schema: u32,
     /// What to render, as RON text in the source's own schema.
     pub output: String,
     /// Directory relative paths in the request are resolved against.
@@ -236,6 +259,10 @@ pub struct RenderRequest {
 /// their limits).
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
 pub struct OperationCheckRequest {
+    /// The payload schema the host speaks ([`SCHEMA_VERSION`]; 1 when absent, from hosts
+    /// before the field existed).
+    #[serde(default = "schema_v1")]
+    pub schema: u32,
     /// The operation, as RON text in the source's own schema.
     pub operation: String,
 }
@@ -244,6 +271,10 @@ pub struct OperationCheckRequest {
 /// reads (which are read and validated now) and writes.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
 pub struct OutputCheckRequest {
+    /// The payload schema the host speaks ([`SCHEMA_VERSION`]; 1 when absent, from hosts
+    /// before the field existed).
+    #[serde(default = "schema_v1")]
+    pub schema: u32,
     /// What to render, as RON text in the source's own schema.
     pub output: String,
     /// Directory relative paths in the request are resolved against.

@@ -138,6 +138,7 @@ fn terrain_source() -> (TerrainSource, ConstraintSystem, Values) {
     let mut source = TerrainSource::default();
     let contribution = source
         .build(&BuildRequest {
+            schema: api::SCHEMA_VERSION,
             input_limit: api::input::DEFAULT_MAX_INPUT_BYTES,
             name: "t".into(),
             config,
@@ -201,6 +202,7 @@ fn z_edit(c: &mut Criterion) {
     // The top surface's control point at the middle vertex of the grid.
     let middle = (GRID / 2) * (GRID + 1) + GRID / 2;
     let request = PlanRequest {
+        schema: api::SCHEMA_VERSION,
         operation: format!(r#"(mode: "z1", anchors: ["v{middle}"], neighborhood: 3, dz: "7/2")"#),
         system,
         values,

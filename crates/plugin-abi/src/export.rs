@@ -327,6 +327,25 @@ fn run<Req: DeserializeOwned, Ans: Serialize>(
     what: &str,
     method: impl FnOnce(Req) -> Result<Ans, SourceError>,
 ) -> (i32, Vec<u8>) {
+    // A request of a newer payload schema may mean something this plugin cannot know:
+    // refuse it, naming both versions, rather than read it half.
+    #[derive(serde::Deserialize)]
+    struct SchemaProbe {
+        #[serde(default = "schema_v1")]
+        schema: u32,
+    }
+    fn schema_v1() -> u32 {
+        1
+    }
+    if let Ok(probe) = serde_json::from_slice::<SchemaProbe>(input) {
+        if probe.schema > api::SCHEMA_VERSION {
+            return bad_input(format!(
+                "the {what} has payload schema {}, newer than this plugin's {}; rebuild the plugin against a matching api",
+                probe.schema,
+                api::SCHEMA_VERSION
+            ));
+        }
+    }
     let request: Req = match serde_json::from_slice(input) {
         Ok(request) => request,
         Err(e) => return bad_input(format!("input is not a JSON {what}: {e}")),
@@ -391,6 +410,7 @@ mod tests {
     #[test]
     fn checks_answer_through_the_abi() {
         let ok = serde_json::to_vec(&OperationCheckRequest {
+            schema: api::SCHEMA_VERSION,
             operation: "ok".into(),
         })
         .expect("serialise");
@@ -399,6 +419,7 @@ mod tests {
             (STATUS_OK, "null".into())
         );
         let no = serde_json::to_vec(&OperationCheckRequest {
+            schema: api::SCHEMA_VERSION,
             operation: "turn".into(),
         })
         .expect("serialise");
@@ -406,6 +427,7 @@ mod tests {
         assert_eq!(status, STATUS_SOURCE_ERROR);
         assert!(text.contains("no operations"), "{text}");
         let output = serde_json::to_vec(&OutputCheckRequest {
+            schema: api::SCHEMA_VERSION,
             output: "()".into(),
             base_dir: ".".into(),
             input_limit: 1,
@@ -427,6 +449,7 @@ mod tests {
 
     fn request(name: &str) -> Vec<u8> {
         let request = BuildRequest {
+            schema: api::SCHEMA_VERSION,
             input_limit: api::input::DEFAULT_MAX_INPUT_BYTES,
             name: name.into(),
             config: String::new(),
@@ -538,6 +561,7 @@ mod tests {
     #[test]
     fn a_non_string_panic_payload_is_described() {
         let input = serde_json::to_vec(&RenderRequest {
+            schema: api::SCHEMA_VERSION,
             input_limit: api::input::DEFAULT_MAX_INPUT_BYTES,
             output: String::new(),
             base_dir: ".".into(),

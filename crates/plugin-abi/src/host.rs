@@ -623,6 +623,7 @@ mod tests {
 
     fn build(source: &mut DynamicSource, config: &str) -> Result<Contribution, SourceError> {
         source.build(&BuildRequest {
+            schema: api::SCHEMA_VERSION,
             input_limit: api::input::DEFAULT_MAX_INPUT_BYTES,
             name: "f".into(),
             config: config.into(),

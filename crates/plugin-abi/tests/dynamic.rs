@@ -141,6 +141,7 @@ fn build_request(config: &str) -> BuildRequest {
     let mut system = ConstraintSystem::new();
     system.add_parameter("earlier", 2).expect("fresh name");
     BuildRequest {
+        schema: api::SCHEMA_VERSION,
         input_limit: api::input::DEFAULT_MAX_INPUT_BYTES,
         name: "ex".into(),
         config: config.into(),
@@ -228,11 +229,13 @@ fn refusals_cross_the_boundary_unchanged() {
     dynamic.build(&good).expect("build");
     fixed.build(&good).expect("build");
     let plan = PlanRequest {
+        schema: api::SCHEMA_VERSION,
         operation: "(move: 1)".into(),
         system: good.system.clone(),
         values: good.values.clone(),
     };
     let render = RenderRequest {
+        schema: api::SCHEMA_VERSION,
         input_limit: api::input::DEFAULT_MAX_INPUT_BYTES,
         output: "(svg: true)".into(),
         base_dir: ".".into(),

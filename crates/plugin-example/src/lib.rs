@@ -153,6 +153,7 @@ mod tests {
         let mut system = ConstraintSystem::new();
         system.add_parameter("earlier", 1).expect("fresh name");
         ExampleSource::default().build(&BuildRequest {
+            schema: api::SCHEMA_VERSION,
             input_limit: api::input::DEFAULT_MAX_INPUT_BYTES,
             name: "ex".into(),
             config: config.into(),

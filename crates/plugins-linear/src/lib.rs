@@ -95,6 +95,7 @@
 //!     values: Values::default(),
 //!     sources: vec![],
 //!     input_limit: api::input::DEFAULT_MAX_INPUT_BYTES,
+//!     schema: api::SCHEMA_VERSION,
 //! };
 //! let contribution = LinearSource::new().build(&request).unwrap();
 //! let (mut system, mut values) = (ConstraintSystem::new(), Values::default());

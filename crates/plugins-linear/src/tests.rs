@@ -6,6 +6,7 @@ use api::{ConstraintSystem, RowId, Values};
 fn request(name: &str, config: &str, system: ConstraintSystem) -> BuildRequest {
     let values = Values::zeros(&system);
     BuildRequest {
+        schema: api::SCHEMA_VERSION,
         input_limit: api::input::DEFAULT_MAX_INPUT_BYTES,
         name: name.into(),
         config: config.into(),
@@ -379,6 +380,7 @@ fn plan_and_render_are_refused() {
     let values = Values::default();
     let e = source
         .plan(&PlanRequest {
+            schema: api::SCHEMA_VERSION,
             operation: "()".into(),
             system: system.clone(),
             values: values.clone(),
@@ -387,6 +389,7 @@ fn plan_and_render_are_refused() {
     assert_eq!(e.message, "the linear source has no operations");
     let e = source
         .render(&RenderRequest {
+            schema: api::SCHEMA_VERSION,
             input_limit: api::input::DEFAULT_MAX_INPUT_BYTES,
             output: "()".into(),
             base_dir: ".".into(),

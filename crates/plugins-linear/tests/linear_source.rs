@@ -10,6 +10,7 @@ use proptest::prelude::*;
 
 fn request(name: &str, config: &str, system: &ConstraintSystem, values: &Values) -> BuildRequest {
     BuildRequest {
+        schema: api::SCHEMA_VERSION,
         input_limit: api::input::DEFAULT_MAX_INPUT_BYTES,
         name: name.into(),
         config: config.into(),

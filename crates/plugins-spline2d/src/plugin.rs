@@ -661,6 +661,7 @@ mod tests {
         assert_eq!(count("interior_vertices"), Some(1));
         let plan = source
             .plan(&PlanRequest {
+                schema: api::SCHEMA_VERSION,
                 operation:
                     r#"(anchors: ["v4"], neighborhood: 2, translate: ("1", "1/2"), steps: 2)"#
                         .into(),
@@ -693,6 +694,7 @@ mod tests {
         source.build(&request(SQUARE)).expect("build");
         let plan = |op: &str| {
             source.plan(&PlanRequest {
+                schema: api::SCHEMA_VERSION,
                 operation: op.into(),
                 system: ConstraintSystem::new(),
                 values: Values::default(),
@@ -757,6 +759,7 @@ mod tests {
         let op = |text: &str| {
             source
                 .check_operation(&OperationCheckRequest {
+                    schema: api::SCHEMA_VERSION,
                     operation: text.into(),
                 })
                 .map_err(|e| e.message)
@@ -808,6 +811,7 @@ mod tests {
         let out = |text: &str| {
             source
                 .check_output(&OutputCheckRequest {
+                    schema: api::SCHEMA_VERSION,
                     output: text.into(),
                     base_dir: ".".into(),
                     input_limit: api::input::DEFAULT_MAX_INPUT_BYTES,

@@ -736,6 +736,7 @@ mod tests {
     ) {
         let plan = source
             .plan(&PlanRequest {
+                schema: api::SCHEMA_VERSION,
                 operation: operation.into(),
                 system: system.clone(),
                 values: values.clone(),
@@ -858,6 +859,7 @@ mod tests {
         let plan = |op: &str| {
             source
                 .plan(&PlanRequest {
+                    schema: api::SCHEMA_VERSION,
                     operation: op.into(),
                     system: system.clone(),
                     values: values.clone(),
@@ -896,6 +898,7 @@ mod tests {
         let (source, system, values) = built(true);
         let message = source
             .plan(&PlanRequest {
+                schema: api::SCHEMA_VERSION,
                 operation: r#"(mode: "xy", anchors: ["v4"], dz: "1")"#.into(),
                 system,
                 values: values.clone(),
@@ -906,6 +909,7 @@ mod tests {
         let render = |output: &str| {
             source
                 .render(&RenderRequest {
+                    schema: api::SCHEMA_VERSION,
                     input_limit: api::input::DEFAULT_MAX_INPUT_BYTES,
                     output: output.into(),
                     base_dir: PathBuf::from("."),
@@ -927,6 +931,7 @@ mod tests {
         assert!(render("(model: \"t.asc\", size: 100000)").contains("picture width"));
         let message = TerrainSource::default()
             .render(&RenderRequest {
+                schema: api::SCHEMA_VERSION,
                 input_limit: api::input::DEFAULT_MAX_INPUT_BYTES,
                 output: "(model: \"t.asc\")".into(),
                 base_dir: PathBuf::from("."),
@@ -1184,6 +1189,7 @@ mod tests {
         };
         let render = |output: &str| {
             source.render(&RenderRequest {
+                schema: api::SCHEMA_VERSION,
                 input_limit: api::input::DEFAULT_MAX_INPUT_BYTES,
                 output: output.into(),
                 base_dir: dir.path().to_path_buf(),

@@ -38,6 +38,7 @@ impl Session {
                     loaded
                         .source
                         .check_operation(&OperationCheckRequest {
+                            schema: api::SCHEMA_VERSION,
                             operation: operation.text().to_string(),
                         })
                         .map_err(|e| {
@@ -61,6 +62,7 @@ impl Session {
             let check = loaded
                 .source
                 .check_output(&OutputCheckRequest {
+                    schema: api::SCHEMA_VERSION,
                     output: out.output.text().to_string(),
                     base_dir: self.base_dir.clone(),
                     input_limit: self.input_limit,

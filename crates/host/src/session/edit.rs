@@ -55,6 +55,7 @@ impl Session {
     pub fn plan_operation(&self, source: &str, operation: &str) -> Result<Planning, RunError> {
         let loaded = self.loaded(source)?;
         let request = PlanRequest {
+            schema: api::SCHEMA_VERSION,
             operation: operation.to_string(),
             system: self.system.clone(),
             values: self.values.clone(),

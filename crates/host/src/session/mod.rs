@@ -130,6 +130,7 @@ impl Session {
         let (mut source, origin) = registry::instantiate(&entry.plugin, &self.base_dir)
             .map_err(|e| self.at(entry.at, format!("source {:?}: {e}", entry.name)))?;
         let request = BuildRequest {
+            schema: api::SCHEMA_VERSION,
             name: entry.name.clone(),
             config: entry.config.text().to_string(),
             base_dir: self.base_dir.clone(),

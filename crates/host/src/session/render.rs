@@ -18,6 +18,7 @@ impl Session {
             let loaded = self.loaded(&out.source)?;
             let context = format!("output {i} (source {:?})", out.source);
             let request = RenderRequest {
+                schema: api::SCHEMA_VERSION,
                 output: out.output.text().to_string(),
                 base_dir: self.base_dir.clone(),
                 system: self.system.clone(),
