@@ -4,7 +4,7 @@
 //! source built after it finds it among the earlier sources ([`api::BuildRequest::sources`]),
 //! re-reads its mesh from its configuration text (paths resolved against
 //! [`api::BuildRequest::base_dir`], parsed exactly as `spline2d` does with
-//! [`plugins_spline2d::plugin::spline_from_config`]), builds the degree-`d` spline with
+//! [`spline2d::config::spline_from_config`]), builds the degree-`d` spline with
 //! smoothness 2 and contributes **only the order-2 conditions**, as vector rows of dimension 2
 //! on the existing control points `{spline}.{point name}`. The two sources together carry the
 //! full `C²` system: its rank is `control points − dim S²_d` (Schumaker's formula, exact for
@@ -36,9 +36,9 @@ use api::{
     OperationPlan, Origin, OutputCheck, OutputCheckRequest, OutputFile, ParamId, PlanRequest,
     RenderRequest, RowBody, SourceError, SummaryItem,
 };
-use plugins_spline2d::plugin::spline_from_config_text;
-use plugins_spline2d::spline::Spline;
 use serde::Deserialize;
+use spline2d::config::spline_from_config_text;
+use spline2d::spline::Spline;
 use std::collections::HashMap;
 
 /// Smallest degree accepted without `allow_low_degree`: `C²` splines have local control from

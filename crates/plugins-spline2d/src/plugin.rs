@@ -2,18 +2,9 @@
 //! rendered outputs.
 //!
 //! # Configuration (RON)
-//! ```ron
-//! (
-//!     mesh: "meshes/worm.obj",     // OBJ file relative to the run file, or inline:
-//!     // mesh: (vertices: [("0", "0"), ("10", "0"), ("0", "10")], triangles: [(0, 1, 2)]),
-//!     degree: 5,                   // default 5
-//!     smoothness: 1,               // C^r, default 1
-//!     snap: "1/1000",              // optional: round coordinates to this grid
-//!     orientation: "fix",          // "fix" (default) flips clockwise triangles, "reject" refuses
-//! )
-//! ```
-//! Numbers that must be exact are written as strings (`"0.1"` is exactly 1/10) or integers;
-//! floating-point literals are refused.
+//! The schema of [`spline2d::config::SplineConfig`]: `mesh` (an OBJ file relative to the run
+//! file, or inline vertices and triangles), `degree` (default 5), `smoothness` (`C^r`, default
+//! 1), `snap` and `orientation`.
 //!
 //! # Operations (RON)
 //! ```ron
@@ -22,7 +13,7 @@
 //!     neighborhood: 3,             // δ_max on the control net, or "all"
 //!     translate: ("3/2", "-1"),    // or rotate: (center: ("0", "0"), degrees: "30", precision: 1000)
 //!                                  // or scale: (center: ("0", "0"), factor: "3/2", precision: 1000)
-//!                                  // precision: 1..=10^12, default 10^6 (see `crate::motion`)
+//!                                  // precision: 1..=10^12, default 10^6 (see `spline2d::motion`)
 //!     steps: 4,                    // default 1
 //! )
 //! ```
@@ -36,110 +27,28 @@
 //! )
 //! ```
 
-use crate::edit::{Neighborhood, Operation, SelectError, SplineEditor};
-use crate::eval::{FloatSpline, Locator};
-use crate::mesh_io::{self, MeshOptions, OrientationPolicy};
-use crate::model::{deform_model, load_model, write_obj, Model};
-use crate::net::ControlNet;
-use crate::operation::{
-    checked_steps, default_steps, find_anchors, motion, operation_plan, ExactList,
-    NeighborhoodConfig, RotateConfig, ScaleConfig,
-};
-use crate::source::SplineParams;
-use crate::spline::Spline;
 use crate::svg::{before_after, Picture};
-use api::config::from_ron;
-use api::exact::Exact;
+use api::config::{check_output_file_name, from_ron};
 use api::{
     BuildRequest, ConstraintSource, Contribution, OperationCheckRequest, OperationPlan,
     OutputCheck, OutputCheckRequest, OutputFile, PlanRequest, RenderRequest, SourceError,
     SummaryItem,
 };
-use serde::de::{self, Deserializer, MapAccess, Visitor};
 use serde::Deserialize;
-use std::fmt;
+use spline2d::config::{spline_from_config_text, SplineRead};
+use spline2d::edit::{Neighborhood, Operation, SelectError, SplineEditor};
+use spline2d::eval::{FloatSpline, Locator};
+use spline2d::model::{
+    deform_model, deformed_name, left_in_place_note, load_model, write_obj, Model,
+};
+use spline2d::net::ControlNet;
+use spline2d::operation::{
+    checked_steps, default_steps, find_anchors, motion, operation_plan, ExactList,
+    NeighborhoodConfig, RotateConfig, ScaleConfig,
+};
+use spline2d::params::SplineParams;
+use spline2d::spline::Spline;
 use std::path::{Path, PathBuf};
-
-/// Vertices and triangles written in the configuration.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct InlineMesh {
-    /// Exact vertex coordinates.
-    pub vertices: Vec<(Exact, Exact)>,
-    /// Triangles as 0-based vertex indices.
-    pub triangles: Vec<[usize; 3]>,
-}
-
-/// Where the reference mesh comes from: an OBJ file (relative to the run file) or
-/// `(vertices: [...], triangles: [...])` written inline.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub enum MeshSpec {
-    /// An OBJ file.
-    File(String),
-    /// Inline data.
-    Inline(InlineMesh),
-}
-
-impl<'de> Deserialize<'de> for MeshSpec {
-    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
-        struct MeshVisitor;
-        impl<'de> Visitor<'de> for MeshVisitor {
-            type Value = MeshSpec;
-            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-                f.write_str("an OBJ path or (vertices: [...], triangles: [...])")
-            }
-            fn visit_str<E: de::Error>(self, v: &str) -> Result<MeshSpec, E> {
-                Ok(MeshSpec::File(v.to_string()))
-            }
-            fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<MeshSpec, A::Error> {
-                const FIELDS: &[&str] = &["vertices", "triangles"];
-                let (mut vertices, mut triangles) = (None, None);
-                while let Some(key) = map.next_key::<String>()? {
-                    match key.as_str() {
-                        "vertices" if vertices.is_none() => vertices = Some(map.next_value()?),
-                        "triangles" if triangles.is_none() => triangles = Some(map.next_value()?),
-                        "vertices" | "triangles" => {
-                            return Err(de::Error::custom(format!("{key} is given twice")))
-                        }
-                        other => return Err(de::Error::unknown_field(other, FIELDS)),
-                    }
-                }
-                Ok(MeshSpec::Inline(InlineMesh {
-                    vertices: vertices.ok_or_else(|| de::Error::missing_field("vertices"))?,
-                    triangles: triangles.ok_or_else(|| de::Error::missing_field("triangles"))?,
-                }))
-            }
-        }
-        deserializer.deserialize_any(MeshVisitor)
-    }
-}
-
-/// The configuration of a `spline2d` source (and of the reference spline of a terrain).
-#[derive(Debug, Clone, PartialEq, Eq, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct SplineConfig {
-    /// The reference mesh.
-    pub mesh: MeshSpec,
-    /// Degree `d` (default 5; at most [`crate::spline::MAX_DEGREE`]).
-    #[serde(default = "default_degree")]
-    pub degree: usize,
-    /// Smoothness `C^r` (default 1; below the degree).
-    #[serde(default = "default_smoothness")]
-    pub smoothness: usize,
-    /// Round coordinates to this grid.
-    #[serde(default)]
-    pub snap: Option<Exact>,
-    /// `"fix"` (default) flips clockwise triangles, `"reject"` refuses them.
-    #[serde(default)]
-    pub orientation: Option<String>,
-}
-
-fn default_degree() -> usize {
-    5
-}
-
-fn default_smoothness() -> usize {
-    1
-}
 
 /// A `spline2d` operation as written.
 #[derive(Debug, Clone, Deserialize)]
@@ -218,40 +127,6 @@ impl CheckedOutput {
     }
 }
 
-/// Checks that `name` is a plain file name (no directories, not hidden) ending in `.{ext}`.
-pub fn check_file_name(name: &str, field: &str, ext: &str) -> Result<(), String> {
-    let plain = !name.is_empty()
-        && !name.starts_with('.')
-        && !name.contains(['/', '\\'])
-        && Path::new(name).file_name().is_some_and(|f| f == name);
-    if !plain {
-        return Err(format!(
-            "{field} {name:?} must be a plain file name (no directories), written to the output directory"
-        ));
-    }
-    let has_ext = Path::new(name)
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case(ext));
-    let stem_ok = Path::new(name).file_stem().is_some_and(|s| !s.is_empty());
-    if !has_ext || !stem_ok {
-        return Err(format!(
-            "{field} {name:?} must end in .{ext} (the file is written as {})",
-            ext.to_uppercase()
-        ));
-    }
-    Ok(())
-}
-
-/// The output file of a deformed model: `<stem>-deformed.obj` for the model at `path`.
-pub fn deformed_name(path: &str) -> String {
-    let stem = Path::new(path)
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .filter(|s| !s.is_empty() && !s.starts_with('.'))
-        .unwrap_or_else(|| "model".into());
-    format!("{stem}-deformed.obj")
-}
-
 /// The `spline2d` source.
 #[derive(Debug, Clone, Default)]
 pub struct Spline2dSource {
@@ -305,7 +180,7 @@ impl Spline2dSource {
         let config: OutputConfig = from_ron(text, &what)?;
         let error = |message: String| SourceError::new(format!("{what}: {message}"));
         if let Some(name) = &config.picture {
-            check_file_name(name, "picture", "svg").map_err(error)?;
+            check_output_file_name(name, "picture", "svg").map_err(error)?;
         }
         let (model, loaded) = match &config.model {
             Some(path) => {
@@ -332,93 +207,6 @@ impl Spline2dSource {
         }
         Ok((checked, loaded))
     }
-}
-
-/// Reads the mesh of a configuration (an OBJ path is resolved against `base_dir` and read
-/// with at most `limit` bytes); returns it with the file read, if any.
-fn read_mesh(
-    config: &SplineConfig,
-    name: &str,
-    base_dir: &Path,
-    limit: u64,
-) -> Result<(mesh_io::MeshRead, Option<PathBuf>), SourceError> {
-    let orientation = match config.orientation.as_deref() {
-        None | Some("fix") => OrientationPolicy::Fix,
-        Some("reject") => OrientationPolicy::Reject,
-        Some(other) => {
-            return Err(SourceError::new(format!(
-                "{name}: orientation must be \"fix\" or \"reject\", not {other:?}"
-            )))
-        }
-    };
-    let options = MeshOptions {
-        snap: config.snap.as_ref().map(|s| s.0.clone()),
-        orientation,
-    };
-    let (read, file) = match &config.mesh {
-        MeshSpec::File(path) => {
-            let full = base_dir.join(path);
-            (mesh_io::read_obj(&full, &options, limit), Some(full))
-        }
-        MeshSpec::Inline(inline) => (
-            mesh_io::from_points(
-                inline
-                    .vertices
-                    .iter()
-                    .map(|(x, y)| [x.0.clone(), y.0.clone()])
-                    .collect(),
-                inline.triangles.clone(),
-                &options,
-            ),
-            None,
-        ),
-    };
-    let read = read.map_err(|e| SourceError::new(format!("{name}: {e}")))?;
-    Ok((read, file))
-}
-
-/// A spline as a configuration describes it, with the mesh warnings and the mesh file read.
-#[derive(Debug, Clone)]
-pub struct SplineRead {
-    /// The spline.
-    pub spline: Spline,
-    /// What the mesh reader repaired or found odd.
-    pub warnings: Vec<mesh_io::MeshWarning>,
-    /// The OBJ file read, if the mesh is not inline.
-    pub file: Option<PathBuf>,
-}
-
-/// Builds the spline a `spline2d` configuration describes, as [`Spline2dSource::build`] does:
-/// reads the mesh (an OBJ path is resolved against `base_dir`, at most `limit` bytes) and builds
-/// the spline of the configured degree and smoothness. Errors are prefixed with `name`.
-pub fn spline_from_config(
-    name: &str,
-    config: &SplineConfig,
-    base_dir: &Path,
-    limit: u64,
-) -> Result<SplineRead, SourceError> {
-    let (read, file) = read_mesh(config, name, base_dir, limit)?;
-    let spline = Spline::new(read.mesh, config.degree, config.smoothness)
-        .map_err(|e| SourceError::new(format!("{name}: {e}")))?;
-    Ok(SplineRead {
-        spline,
-        warnings: read.warnings,
-        file,
-    })
-}
-
-/// [`spline_from_config`] from the configuration's RON text, for plugins that build on a
-/// `spline2d` source of the same run: its name and configuration text are in
-/// [`api::BuildRequest::sources`], and its control points are the parameters
-/// `{name}.{point name}` (see [`crate::spline::ControlPoint::name`]).
-pub fn spline_from_config_text(
-    name: &str,
-    config: &str,
-    base_dir: &Path,
-    limit: u64,
-) -> Result<SplineRead, SourceError> {
-    let config: SplineConfig = from_ron(config, &format!("{name} config"))?;
-    spline_from_config(name, &config, base_dir, limit)
 }
 
 impl ConstraintSource for Spline2dSource {
@@ -549,7 +337,7 @@ impl ConstraintSource for Spline2dSource {
             }
             write_obj(&deformed.model, &mut bytes).map_err(|e| error(&e))?;
             let mut file = OutputFile::new(name.clone(), bytes);
-            file.notes.extend(crate::model::left_in_place_note(
+            file.notes.extend(left_in_place_note(
                 &deformed.outside,
                 "outside the reference mesh",
             ));

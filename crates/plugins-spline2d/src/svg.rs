@@ -8,7 +8,8 @@
 //! picture is flipped), and the view box is fitted to the drawn data with a margin.
 //!
 //! ```no_run
-//! # use plugins_spline2d::{spline::Spline, svg::Picture};
+//! # use plugins_spline2d::svg::Picture;
+//! # use spline2d::spline::Spline;
 //! # fn show(spline: &Spline, positions: &[Vec<api::Rational>]) -> Result<(), Box<dyn std::error::Error>> {
 //! let svg = Picture::new(spline)
 //!     .positions(positions)
@@ -20,12 +21,12 @@
 //! # Ok(()) }
 //! ```
 
-use crate::eval::{check_positions, EvalError, FloatSpline};
-use crate::model::Model;
-use crate::net::ControlNet;
-use crate::spline::Spline;
 use api::exact::rational_to_f64;
 use api::Rational;
+use spline2d::eval::{check_positions, EvalError, FloatSpline};
+use spline2d::model::Model;
+use spline2d::net::ControlNet;
+use spline2d::spline::Spline;
 use std::collections::BTreeSet;
 use std::fmt::Write as _;
 
@@ -826,7 +827,16 @@ fn escape(text: &str) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::spline::tests::{grid, q};
+    use spline2d::mesh::Mesh;
+
+    fn q(n: i64) -> Rational {
+        Rational::from_integer(n.into())
+    }
+
+    /// A grid of `n × n` squares of side 10.
+    fn grid(n: usize, perturb: bool) -> Mesh {
+        spline2d::mesh::grid(n, 10, perturb)
+    }
 
     #[test]
     fn element_counts_follow_the_options() {

@@ -20,9 +20,9 @@
 use crate::prism::{Layer, Surfaces};
 use api::exact::rational_to_f64_nearest;
 use api::Rational;
-use plugins_spline2d::eval::{check_positions, EvalError, FloatSpline, Locator, Reference};
-use plugins_spline2d::model::Model;
-use plugins_spline2d::spline::Spline;
+use spline2d::eval::{check_positions, EvalError, FloatSpline, Locator, Reference};
+use spline2d::model::Model;
+use spline2d::spline::Spline;
 
 /// Relative tolerance on `z` (in units of `b − a`): points that far above the top or below the
 /// bottom still count as inside, so vertices on the faces are deformed despite rounding.
@@ -333,8 +333,8 @@ pub(crate) mod tests {
     use super::*;
     use crate::prism::psi_exact;
     use api::exact::{rational_from_f64, rational_to_f64};
-    use plugins_spline2d::eval::locate_exact;
-    use plugins_spline2d::mesh::grid;
+    use spline2d::eval::locate_exact;
+    use spline2d::mesh::grid;
 
     /// The unit roundoff `u = 2^-53`.
     const U: f64 = 1.0 / 9_007_199_254_740_992.0;

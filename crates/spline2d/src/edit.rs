@@ -15,7 +15,7 @@
 
 use crate::motion;
 use crate::net::ControlNet;
-use crate::source::SplineParams;
+use crate::params::SplineParams;
 use crate::spline::{PointType, Spline};
 use api::{ConstraintSystem, ParamId, Rational, Values};
 use ecles::{Edit, EditError, EditSpec};
