@@ -6,9 +6,11 @@
 //! library; this crate is the glue around it:
 //!
 //! * [`plugin`]: the [`api::ConstraintSource`] implementation (configuration, build, checks,
-//!   plan, render);
+//!   plan), with its outputs (checking and rendering the deformed model and the picture) in
+//!   `output.rs`;
 //! * [`svg`]: deterministic SVG pictures (meshes, control net, anchors, conditions, models,
 //!   before/after), the source's picture output.
 
+mod output;
 pub mod plugin;
 pub mod svg;

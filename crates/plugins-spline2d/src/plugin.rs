@@ -26,21 +26,18 @@
 //!     parts: false,                      // colour by Dulmage–Mendelsohn part
 //! )
 //! ```
+//! Checked and rendered in `output.rs`.
 
-use crate::svg::{before_after, Picture};
-use api::config::{check_output_file_name, from_ron};
+use crate::output;
+use api::config::from_ron;
 use api::{
     BuildRequest, ConstraintSource, Contribution, OperationCheckRequest, OperationPlan,
-    OutputCheck, OutputCheckRequest, OutputFile, PlanRequest, RenderRequest, SourceError,
-    SummaryItem,
+    OutputCheck, OutputCheckRequest, OutputFile, ParamId, PlanRequest, RenderRequest, RowId,
+    SourceError, SummaryItem,
 };
 use serde::Deserialize;
 use spline2d::config::{spline_from_config_text, SplineRead};
 use spline2d::edit::{Neighborhood, Operation, SelectError, SplineEditor};
-use spline2d::eval::{FloatSpline, Locator};
-use spline2d::model::{
-    deform_model, deformed_name, left_in_place_note, load_model, write_obj, Model,
-};
 use spline2d::net::ControlNet;
 use spline2d::operation::{
     checked_steps, default_steps, find_anchors, motion, operation_plan, ExactList,
@@ -48,7 +45,6 @@ use spline2d::operation::{
 };
 use spline2d::params::SplineParams;
 use spline2d::spline::Spline;
-use std::path::{Path, PathBuf};
 
 /// A `spline2d` operation as written.
 #[derive(Debug, Clone, Deserialize)]
@@ -77,52 +73,31 @@ struct CheckedOperation {
 
 /// What a built source keeps.
 #[derive(Debug, Clone)]
-struct Built {
-    name: String,
-    spline: Spline,
+pub(crate) struct Built {
+    /// The source's name (prefix of its parameters and rows).
+    pub(crate) name: String,
+    pub(crate) spline: Spline,
     net: ControlNet,
-    params: SplineParams,
+    /// Where the control points live in the system.
+    pub(crate) params: SplineParams,
     /// Id of the row of the first condition (conditions are consecutive rows).
     first_row: usize,
 }
 
-/// What to render.
-#[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct OutputConfig {
-    /// Before/after picture file name (`.svg`).
-    #[serde(default)]
-    picture: Option<String>,
-    /// A model to deform (OBJ, relative to the run file); written as `<stem>-deformed.obj`.
-    #[serde(default)]
-    model: Option<String>,
-    /// Draw the control net (default true).
-    #[serde(default = "default_true")]
-    control_net: bool,
-    /// Colour the "after" panel by Dulmage–Mendelsohn part: over-determined points and
-    /// conditions red, well-determined orange (default false).
-    #[serde(default)]
-    parts: bool,
-}
+impl Built {
+    /// The control points among `ids` (parameters of other sources are left out).
+    pub(crate) fn points_of(&self, ids: &[ParamId]) -> Vec<usize> {
+        ids.iter()
+            .filter_map(|id| self.params.point_of(*id))
+            .collect()
+    }
 
-fn default_true() -> bool {
-    true
-}
-
-/// An output checked: the files it writes, in render order, and the model it reads.
-struct CheckedOutput {
-    config: OutputConfig,
-    /// `<stem>-deformed.obj` with the model's full path.
-    model: Option<(String, PathBuf)>,
-    picture: Option<String>,
-}
-
-impl CheckedOutput {
-    fn files(&self) -> Vec<String> {
-        self.model
-            .iter()
-            .map(|(name, _)| name.clone())
-            .chain(self.picture.clone())
+    /// The conditions (indices into the spline's conditions) among `rows` (rows of other
+    /// sources are left out).
+    pub(crate) fn conditions_of(&self, rows: &[RowId]) -> Vec<usize> {
+        rows.iter()
+            .filter_map(|r| r.index().checked_sub(self.first_row))
+            .filter(|&c| c < self.spline.conditions().len())
             .collect()
     }
 }
@@ -166,46 +141,6 @@ impl Spline2dSource {
             operation,
             steps,
         })
-    }
-
-    /// Parses and checks an output; the model file must be a model.
-    fn check_output_text(
-        &self,
-        text: &str,
-        base_dir: &Path,
-        limit: u64,
-    ) -> Result<(CheckedOutput, Option<Model>), SourceError> {
-        let built = self.built()?;
-        let what = format!("{} output", built.name);
-        let config: OutputConfig = from_ron(text, &what)?;
-        let error = |message: String| SourceError::new(format!("{what}: {message}"));
-        if let Some(name) = &config.picture {
-            check_output_file_name(name, "picture", "svg").map_err(error)?;
-        }
-        let (model, loaded) = match &config.model {
-            Some(path) => {
-                let full = base_dir.join(path);
-                let model = load_model(&full, limit).map_err(|e| error(e.to_string()))?;
-                (Some((deformed_name(path), full)), Some(model))
-            }
-            None => (None, None),
-        };
-        if config.picture.is_none() && model.is_none() {
-            return Err(error("nothing to render; give picture and/or model".into()));
-        }
-        let checked = CheckedOutput {
-            picture: config.picture.clone(),
-            config,
-            model,
-        };
-        if let [first, second] = checked.files().as_slice() {
-            if first == second {
-                return Err(error(format!(
-                    "picture and deformed model are both named {first:?}"
-                )));
-            }
-        }
-        Ok((checked, loaded))
     }
 }
 
@@ -274,8 +209,12 @@ impl ConstraintSource for Spline2dSource {
     }
 
     fn check_output(&self, request: &OutputCheckRequest) -> Result<OutputCheck, SourceError> {
-        let (checked, _) =
-            self.check_output_text(&request.output, &request.base_dir, request.input_limit)?;
+        let (checked, _) = output::check_output(
+            self.built()?,
+            &request.output,
+            &request.base_dir,
+            request.input_limit,
+        )?;
         Ok(OutputCheck::new(
             checked.files(),
             checked.model.iter().map(|(_, path)| path.clone()).collect(),
@@ -306,113 +245,7 @@ impl ConstraintSource for Spline2dSource {
     }
 
     fn render(&self, request: &RenderRequest) -> Result<Vec<OutputFile>, SourceError> {
-        let built = self.built()?;
-        let what = format!("{} output", built.name);
-        let (checked, model) =
-            self.check_output_text(&request.output, &request.base_dir, request.input_limit)?;
-        let config = &checked.config;
-        let error = |e: &dyn std::fmt::Display| SourceError::new(format!("{what}: {e}"));
-        let before = built.params.positions(&request.initial);
-        let after = built.params.positions(&request.values);
-        let mut files = Vec::new();
-        let deformed = match &model {
-            Some(model) => {
-                let spline = FloatSpline::new(&built.spline, &after).map_err(|e| error(&e))?;
-                let locator = Locator::new(built.spline.mesh());
-                Some(deform_model(model, &spline, &locator).map_err(|e| error(&e))?)
-            }
-            None => None,
-        };
-        if let (Some((name, _)), Some(deformed)) = (&checked.model, &deformed) {
-            let mut bytes = Vec::new();
-            if !deformed.outside.is_empty() {
-                bytes.extend(
-                    format!(
-                        "# {} vertices lie outside the reference mesh and were left in place: {:?}\n",
-                        deformed.outside.len(),
-                        deformed.outside
-                    )
-                    .into_bytes(),
-                );
-            }
-            write_obj(&deformed.model, &mut bytes).map_err(|e| error(&e))?;
-            let mut file = OutputFile::new(name.clone(), bytes);
-            file.notes.extend(left_in_place_note(
-                &deformed.outside,
-                "outside the reference mesh",
-            ));
-            files.push(file);
-        }
-        if let Some(name) = &config.picture {
-            let highlight = request.highlight.clone().unwrap_or_default();
-            let points = |ids: &[api::ParamId]| -> Vec<usize> {
-                ids.iter()
-                    .filter_map(|id| built.params.point_of(*id))
-                    .collect()
-            };
-            let anchors = points(&highlight.anchors);
-            let derived = points(&highlight.derived);
-            let conditions: Vec<usize> = highlight
-                .independent_rows
-                .iter()
-                .filter_map(|r| r.index().checked_sub(built.first_row))
-                .filter(|&c| c < built.spline.conditions().len())
-                .collect();
-            let mut before_picture = Picture::new(&built.spline)
-                .positions(&before)
-                .title(format!("{}: before", built.name))
-                .reference_mesh(true)
-                .deformed_mesh(true)
-                .control_points(true)
-                .control_net(config.control_net);
-            let mut after_picture = Picture::new(&built.spline)
-                .positions(&after)
-                .title(format!("{}: after", built.name))
-                .reference_mesh(true)
-                .deformed_mesh(true)
-                .control_points(true)
-                .control_net(config.control_net)
-                .anchors(&anchors)
-                .derived(&derived)
-                .conditions(&conditions);
-            if let (true, Some(parts)) = (config.parts, &request.structure) {
-                let over_points = points(&parts.over);
-                let well_points = points(&parts.well);
-                let conditions_of = |rows: &[api::RowId]| -> Vec<usize> {
-                    rows.iter()
-                        .filter_map(|r| r.index().checked_sub(built.first_row))
-                        .filter(|&c| c < built.spline.conditions().len())
-                        .collect()
-                };
-                after_picture = after_picture
-                    .group(
-                        "well-determined",
-                        "#ff7f0e",
-                        &well_points,
-                        &conditions_of(&parts.well_rows),
-                    )
-                    .group(
-                        "over-determined",
-                        "#d62728",
-                        &over_points,
-                        &conditions_of(&parts.over_rows),
-                    );
-            }
-            if let Some(model) = &model {
-                before_picture = before_picture.model(model, false, true);
-            }
-            if let Some(deformed) = &deformed {
-                after_picture = after_picture.model(&deformed.model, false, true);
-            }
-            let svg = before_after(&before_picture, &after_picture).map_err(|e| error(&e))?;
-            files.push(OutputFile::new(name.clone(), svg.into_bytes()));
-        }
-        if files.is_empty() {
-            return Err(SourceError::new(format!(
-                "{what}: nothing to render; give picture and/or model"
-            )));
-        }
-        Ok(files)
+        output::render(self.built()?, request)
     }
 }
 

@@ -165,6 +165,15 @@ fn factorial(n: usize) -> Integer {
     (1..=n).fold(Integer::one(), |acc, k| acc * Integer::from(k))
 }
 
+/// The multinomial coefficients `d!/(i! j! k!)` in [`multi_indices`] order.
+pub fn multinomials(d: usize) -> Vec<Integer> {
+    let fd = factorial(d);
+    multi_indices(d)
+        .into_iter()
+        .map(|[i, j, k]| &fd / (factorial(i) * factorial(j) * factorial(k)))
+        .collect()
+}
+
 /// Canonical key of a nominal position: `(vertex, weight)` pairs with positive weight, sorted,
 /// padded with `(usize::MAX, 0)` (a fixed-size key: no allocation per lookup).
 type PositionKey = [(usize, usize); 3];
