@@ -8,6 +8,8 @@
 //! * [`eval`]: evaluating the spline at points, exactly and fast in `f64` (point location grid,
 //!   allocation-free evaluation).
 //! * [`model`]: loading OBJ models and point clouds, deforming them, writing them back.
+//!   Both OBJ readers (the exact mesh reader and the float model reader) share their lexical
+//!   layer: statements, tokens with columns and face corners (`obj_text.rs`).
 //! * [`params`]: declaring control points and conditions in a shared constraint system.
 //! * [`edit`]: the 2DSD operations: selection, ExpandDerived, relative magnitudes, soft
 //!   translation / rotation / scaling turned into ECLES edits.
@@ -23,6 +25,7 @@ pub mod mesh_io;
 pub mod model;
 pub mod motion;
 pub mod net;
+mod obj_text;
 pub mod operation;
 pub mod params;
 pub mod spline;

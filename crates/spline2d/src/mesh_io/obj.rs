@@ -5,6 +5,7 @@ use super::error::{MeshErrorKind, Origins};
 use super::validate::validate;
 use super::{check_options, coordinate_name, snap, MeshError, MeshOptions, MeshRead};
 use crate::mesh::Point;
+use crate::obj_text::{statements, tokens, FaceCorner, IndexError};
 use api::{parse_rational, Rational};
 use std::path::Path;
 
@@ -28,33 +29,6 @@ pub fn read_obj(path: &Path, options: &MeshOptions, limit: u64) -> Result<MeshRe
         }
     })?;
     parse_obj(&text, &name, options)
-}
-
-/// Whitespace-separated tokens of a line with their 1-based character columns.
-fn tokens(line: &str) -> Vec<(usize, &str)> {
-    let mut out = Vec::new();
-    let mut start: Option<(usize, usize)> = None; // (byte, column)
-    let mut column = 0;
-    for (byte, c) in line.char_indices() {
-        column += 1;
-        if c.is_whitespace() {
-            if let Some((b, col)) = start.take() {
-                out.push((col, &line[b..byte]));
-            }
-        } else if start.is_none() {
-            start = Some((byte, column));
-        }
-    }
-    if let Some((b, col)) = start {
-        out.push((col, &line[b..]));
-    }
-    out
-}
-
-/// True for `[+-]digits`.
-fn is_integer_text(text: &str) -> bool {
-    let digits = text.strip_prefix(['+', '-']).unwrap_or(text);
-    !digits.is_empty() && digits.bytes().all(|b| b.is_ascii_digit())
 }
 
 /// A face corner whose index is resolved to a 0-based vertex, or a positive index checked once
@@ -88,7 +62,6 @@ pub fn parse_obj(
     options: &MeshOptions,
 ) -> Result<MeshRead, MeshError> {
     check_options(options, file_name)?;
-    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let mut origins = Origins {
         source: file_name.to_string(),
         vertex_lines: Vec::new(),
@@ -96,13 +69,8 @@ pub fn parse_obj(
     };
     let mut vertices: Vec<Point> = Vec::new();
     let mut faces: Vec<(usize, Vec<Corner>)> = Vec::new();
-    for (number, raw_line) in text.lines().enumerate() {
-        let line_no = number + 1;
-        let content = match raw_line.find('#') {
-            Some(hash) => &raw_line[..hash],
-            None => raw_line,
-        };
-        let toks = tokens(content);
+    for (line_no, content) in statements(text) {
+        let toks: Vec<(usize, &str)> = tokens(content).collect();
         let Some(&(_, keyword)) = toks.first() else {
             continue;
         };
@@ -216,22 +184,13 @@ fn parse_corner(
             MeshErrorKind::Syntax(message),
         )
     };
-    let parts: Vec<&str> = token.split('/').collect();
-    if parts.len() > 3
-        || parts[1..]
-            .iter()
-            .any(|p| !p.is_empty() && !is_integer_text(p))
-    {
+    let corner = FaceCorner::new(token);
+    if !corner.references_are_integers() {
         return Err(syntax(format!(
             "invalid face corner {token:?}: expected i, i/t, i//n or i/t/n with integer indices"
         )));
     }
-    let index_text = parts[0];
-    if !is_integer_text(index_text) {
-        return Err(syntax(format!(
-            "invalid vertex index {index_text:?} in face corner {token:?}"
-        )));
-    }
+    let index_text = corner.index;
     let out_of_range = |hint: String| {
         origins.error(
             Some(line_no),
@@ -243,29 +202,27 @@ fn parse_corner(
             },
         )
     };
-    let vertex = match index_text.parse::<i64>() {
-        Ok(0) => {
+    let before_the_first = || {
+        out_of_range(format!(
+            "only {defined} vertices are defined before this face"
+        ))
+    };
+    let vertex = match corner.vertex(defined) {
+        Err(IndexError::NotAnInteger) => {
+            return Err(syntax(format!(
+                "invalid vertex index {index_text:?} in face corner {token:?}"
+            )))
+        }
+        Err(IndexError::Zero) => {
             return Err(out_of_range(
                 "OBJ indices start at 1; -1 is the last vertex defined".into(),
             ))
         }
-        Ok(i) if i > 0 => usize::try_from(i - 1).unwrap_or(usize::MAX),
-        Ok(i) => {
-            let back = usize::try_from(i.unsigned_abs()).unwrap_or(usize::MAX);
-            if back > defined {
-                return Err(out_of_range(format!(
-                    "only {defined} vertices are defined before this face"
-                )));
-            }
-            defined - back
-        }
-        Err(_) if index_text.starts_with('-') => {
-            return Err(out_of_range(format!(
-                "only {defined} vertices are defined before this face"
-            )))
-        }
+        Err(IndexError::TooLarge { negative: true }) => return Err(before_the_first()),
         // Too large for i64: certainly beyond the vertex count, reported once all are known.
-        Err(_) => usize::MAX,
+        Err(IndexError::TooLarge { negative: false }) => usize::MAX,
+        Ok(v) if v < 0 => return Err(before_the_first()),
+        Ok(v) => usize::try_from(v).unwrap_or(usize::MAX),
     };
     Ok(Corner {
         vertex,
@@ -421,11 +378,5 @@ mod tests {
             dir.to_string(),
             "/: the mesh must be a regular file, but this is a directory"
         );
-    }
-
-    #[test]
-    fn tokens_have_character_columns() {
-        assert_eq!(tokens("  é b\tc "), vec![(3, "é"), (5, "b"), (7, "c")]);
-        assert!(tokens("   ").is_empty());
     }
 }

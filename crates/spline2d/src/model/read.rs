@@ -2,6 +2,7 @@
 //! vertex numbering (point clouds included).
 
 use super::{Model, ModelError};
+use crate::obj_text::{statements, tokens, FaceCorner};
 use std::path::Path;
 
 /// Reads a model from an OBJ file of at most `limit` bytes (see [`parse_model`] for what is
@@ -51,20 +52,17 @@ pub fn parse_model(text: &str, file: &str) -> Result<Model, ModelError> {
         line,
         message,
     };
-    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let mut positions: Vec<[f64; 3]> = Vec::new();
     // (line, corner indices 0-based but not yet range-checked)
     let mut faces: Vec<(usize, Vec<i64>)> = Vec::new();
-    for (number, raw) in text.lines().enumerate() {
-        let line = number + 1;
-        let content = raw.split('#').next().unwrap_or("");
-        let mut tokens = content.split_whitespace();
+    for (line, content) in statements(text) {
+        let mut tokens = tokens(content);
         match tokens.next() {
-            Some("v") => {
+            Some((_, "v")) => {
                 // At most 7 numbers (x y z and a colour with alpha); no allocation per line.
                 let mut buffer = [0.0f64; 7];
                 let mut found = 0;
-                for tok in tokens {
+                for (_, tok) in tokens {
                     let value = tok
                         .parse::<f64>()
                         .ok()
@@ -100,19 +98,16 @@ pub fn parse_model(text: &str, file: &str) -> Result<Model, ModelError> {
                 };
                 positions.push(position);
             }
-            Some("f") => {
-                let defined = positions.len() as i64;
+            Some((_, "f")) => {
+                let defined = positions.len();
                 let corners: Vec<i64> = tokens
-                    .map(|tok| {
-                        let index = tok.split('/').next().unwrap_or("");
-                        match index.parse::<i64>() {
-                            Ok(0) | Err(_) => Err(error(
+                    .map(|(_, tok)| {
+                        FaceCorner::new(tok).vertex(defined).map_err(|_| {
+                            error(
                                 line,
                                 format!("invalid face corner {tok:?} (vertex indices start at 1)"),
-                            )),
-                            Ok(i) if i < 0 => Ok(defined + i),
-                            Ok(i) => Ok(i - 1),
-                        }
+                            )
+                        })
                     })
                     .collect::<Result<_, _>>()?;
                 if corners.len() < 3 {
@@ -123,11 +118,8 @@ pub fn parse_model(text: &str, file: &str) -> Result<Model, ModelError> {
                 }
                 faces.push((line, corners));
             }
-            Some(keyword) if IGNORED_STATEMENTS.contains(&keyword) => {}
-            Some(keyword) => {
-                let column = content
-                    .find(keyword)
-                    .map_or(1, |at| content[..at].chars().count() + 1);
+            Some((_, keyword)) if IGNORED_STATEMENTS.contains(&keyword) => {}
+            Some((column, keyword)) => {
                 let shown: String = keyword.chars().take(40).collect();
                 return Err(error(
                     line,
