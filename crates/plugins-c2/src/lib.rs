@@ -192,6 +192,24 @@ impl C2Source {
         }
     }
 
+    /// The refusal of an operation (`operation` as written): the spline is edited through its
+    /// own source.
+    fn no_operations(&self, operation: &str) -> SourceError {
+        SourceError::new(format!(
+            "{}: c2 sources have no operations; edit the spline through its own source (asked for {operation:?})",
+            self.describe(),
+        ))
+    }
+
+    /// The refusal of an output (`output` as written): the spline is rendered through its own
+    /// source.
+    fn no_outputs(&self, output: &str) -> SourceError {
+        SourceError::new(format!(
+            "{}: c2 sources have no outputs; render the spline through its own source (asked for {output:?})",
+            self.describe(),
+        ))
+    }
+
     fn contribute(&self, request: &BuildRequest) -> Result<(Contribution, Built), C2Error> {
         let name = request.name.clone();
         let config = parse_config(&name, &request.config)?;
@@ -358,35 +376,19 @@ impl ConstraintSource for C2Source {
     }
 
     fn plan(&self, request: &PlanRequest) -> Result<OperationPlan, SourceError> {
-        Err(SourceError::new(format!(
-            "{}: c2 sources have no operations; edit the spline through its own source (asked for {:?})",
-            self.describe(),
-            request.operation
-        )))
+        Err(self.no_operations(&request.operation))
     }
 
     fn render(&self, request: &RenderRequest) -> Result<Vec<OutputFile>, SourceError> {
-        Err(SourceError::new(format!(
-            "{}: c2 sources have no outputs; render the spline through its own source (asked for {:?})",
-            self.describe(),
-            request.output
-        )))
+        Err(self.no_outputs(&request.output))
     }
 
     fn check_operation(&self, request: &OperationCheckRequest) -> Result<(), SourceError> {
-        Err(SourceError::new(format!(
-            "{}: c2 sources have no operations; edit the spline through its own source (asked for {:?})",
-            self.describe(),
-            request.operation
-        )))
+        Err(self.no_operations(&request.operation))
     }
 
     fn check_output(&self, request: &OutputCheckRequest) -> Result<OutputCheck, SourceError> {
-        Err(SourceError::new(format!(
-            "{}: c2 sources have no outputs; render the spline through its own source (asked for {:?})",
-            self.describe(),
-            request.output
-        )))
+        Err(self.no_outputs(&request.output))
     }
 }
 

@@ -450,29 +450,14 @@ impl ConstraintSource for TerrainSource {
             contribution.parameters.extend(part.parameters);
             contribution.rows.extend(part.rows);
         }
-        let topology = spline.topology();
         let surfaces = if config.xy { 3 } else { 2 };
-        let mut summary = vec![
-            ("vertices", spline.mesh().vertices().len()),
-            ("edges", topology.edges.len()),
-            ("interior_edges", topology.interior_edges()),
-            ("interior_vertices", topology.interior_vertices()),
-            ("triangles", spline.mesh().triangles().len()),
-            ("degree", spline.degree()),
-            ("smoothness", spline.smoothness()),
+        let mut summary = spline.summary_counts();
+        summary.extend([
             ("surfaces", surfaces),
             ("control_points_per_surface", n),
             ("conditions_per_surface", spline.conditions().len()),
-            ("spline_space_dimension", spline.spline_space_dimension()),
-        ];
-        summary.sort();
-        contribution.summary = summary
-            .into_iter()
-            .map(|(key, value)| SummaryItem {
-                key: key.to_string(),
-                value: value as u64,
-            })
-            .collect();
+        ]);
+        contribution.summary = SummaryItem::sorted(summary);
         contribution.warnings = warnings.iter().map(|w| w.to_string()).collect();
         contribution.inputs = file.into_iter().collect();
         let net = ControlNet::new(&spline);

@@ -96,6 +96,35 @@ pub struct FloatSpline {
     corners: Vec<[[f64; 2]; 3]>,
 }
 
+/// The unit roundoff `u = 2^-53` of `f64` arithmetic, the unit of [`FloatSpline`]'s error
+/// bound.
+pub const UNIT_ROUNDOFF: f64 = 1.0 / 9_007_199_254_740_992.0;
+
+/// `δ_β` of [`FloatSpline`]'s error bound: how far the float barycentric coordinates of the
+/// [`Locator`](super::Locator) may be off for `p` in the triangle with these corners (rounded
+/// to nearest), `7u·h(2L + 3h)/A` with `h` the longest edge, `A` twice the area and `L` the
+/// largest magnitude of a coordinate of `p` or of a corner.
+pub fn barycentric_error_bound(corners: [[f64; 2]; 3], p: [f64; 2]) -> f64 {
+    let [a, b, c] = corners;
+    let length = |u: [f64; 2], v: [f64; 2]| (u[0] - v[0]).hypot(u[1] - v[1]);
+    let h = length(a, b).max(length(b, c)).max(length(c, a));
+    let area = ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])).abs();
+    let l = corners
+        .iter()
+        .chain(std::iter::once(&p))
+        .flatten()
+        .fold(0.0f64, |m, x| m.max(x.abs()));
+    7.0 * UNIT_ROUNDOFF * h * (2.0 * l + 3.0 * h) / area
+}
+
+/// `K = (N + d + 5)·u + 9·d·δ_β` of [`FloatSpline`]'s error bound for degree `d`
+/// (`N = (d+1)(d+2)/2`) and barycentric error `delta` ([`barycentric_error_bound`]): the
+/// computed displacement is within `K·M_c` of the exact one.
+pub fn displacement_error_factor(degree: usize, delta: f64) -> f64 {
+    let n = (degree + 1) * (degree + 2) / 2;
+    (n + degree + 5) as f64 * UNIT_ROUNDOFF + 9.0 * degree as f64 * delta
+}
+
 impl FloatSpline {
     /// Converts a spline with control points at `positions` (one per control point, all with
     /// the same number of coordinates; see [`check_positions`]). Values with two coordinates

@@ -25,7 +25,9 @@ mod float;
 mod locate;
 
 pub use exact::{barycentric, evaluate_exact, evaluate_in_triangle, locate_exact};
-pub use float::{FloatSpline, Reference};
+pub use float::{
+    barycentric_error_bound, displacement_error_factor, FloatSpline, Reference, UNIT_ROUNDOFF,
+};
 pub use locate::{Locator, LOCATE_TOLERANCE};
 
 use crate::mesh::Mesh;

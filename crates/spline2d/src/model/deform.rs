@@ -147,37 +147,16 @@ mod tests {
         ));
     }
 
-    /// The unit roundoff `u = 2^-53`.
-    const U: f64 = 1.0 / 9_007_199_254_740_992.0;
-
-    /// `δ_β` of [`FloatSpline`]'s error bound for `p` in the triangle with these corners:
-    /// `7u·h(2L + 3h)/A`.
-    fn barycentric_error(corners: [[f64; 2]; 3], p: [f64; 2]) -> f64 {
-        let [a, b, c] = corners;
-        let length = |u: [f64; 2], v: [f64; 2]| (u[0] - v[0]).hypot(u[1] - v[1]);
-        let h = length(a, b).max(length(b, c)).max(length(c, a));
-        let area = ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])).abs();
-        let l = corners
-            .iter()
-            .chain(std::iter::once(&p))
-            .flatten()
-            .fold(0.0f64, |m, x| m.max(x.abs()));
-        7.0 * U * h * (2.0 * l + 3.0 * h) / area
-    }
-
-    /// `K = (N + d + 5)·u + 9·d·δ_β` of [`FloatSpline`]'s error bound.
-    fn factor(d: usize, delta: f64) -> f64 {
-        let n = (d + 1) * (d + 2) / 2;
-        (n + d + 5) as f64 * U + 9.0 * d as f64 * delta
-    }
-
     /// The identity leaves every vertex bit-identical, awkward coordinates included (the
     /// nominal positions of this perturbed mesh have denominator 5, so they are not `f64`s);
     /// after a local edit, vertices in triangles whose control points did not move are
     /// bit-identical and the others agree with the exact `φ` within the stated bound.
     #[test]
     fn identity_and_local_edits_leave_unmoved_vertices_bit_identical() {
-        use crate::eval::{evaluate_exact, locate_exact};
+        use crate::eval::{
+            barycentric_error_bound, displacement_error_factor, evaluate_exact, locate_exact,
+            UNIT_ROUNDOFF as U,
+        };
         use api::exact::{rational_from_f64, rational_to_f64};
         let spline = Spline::new(crate::mesh::grid(4, 5000, true), 5, 1).expect("spline");
         let nominal = identity(&spline);
@@ -272,9 +251,9 @@ mod tests {
                         *mc = mc.max(d.abs());
                     }
                 }
-                delta = delta.max(barycentric_error(corners(s), [p[0], p[1]]));
+                delta = delta.max(barycentric_error_bound(corners(s), [p[0], p[1]]));
             }
-            let k = factor(spline.degree(), delta);
+            let k = displacement_error_factor(spline.degree(), delta);
             for c in 0..2 {
                 let exact_c = &exact[c];
                 let error = rational_from_f64(image[c]).expect("finite") - exact_c;
