@@ -163,7 +163,8 @@ impl<'a> Picture<'a> {
         self
     }
 
-    /// Whether to draw the global control net (dotted), see [`ControlNet`].
+    /// Whether to draw the global control net (dotted), see
+    /// [`ControlNet`](spline2d::net::ControlNet).
     pub fn control_net(mut self, on: bool) -> Self {
         self.control_net = on;
         self

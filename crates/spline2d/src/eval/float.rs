@@ -57,7 +57,7 @@ enum Base {
 /// the exact displacement `δ_i = q_i − r_i`, multiplied by the point's multinomial coefficient
 /// `w_i = d!/(i! j! k!)`, is rounded to the nearest `f64` once
 /// ([`api::exact::rational_to_f64_nearest`]); triangle `t`'s values are stored contiguously in
-/// [`multi_indices`] order. Then `φ_c = r_c + D_c` with
+/// [`multi_indices`](crate::spline::multi_indices) order. Then `φ_c = r_c + D_c` with
 /// `D_c(β) = Σ β0^i β1^j β2^k · stored_{ijk}`, and the identity reference is evaluated at the
 /// point itself ([`FloatSpline::evaluate_point_into`]) or as `Σ βk·vk`
 /// ([`FloatSpline::evaluate_into`]). A triangle whose displacements are all zero is marked
@@ -70,12 +70,13 @@ enum Base {
 /// triangle, of both triangles). If the float barycentric coordinates are off by at most `δ_β`
 /// each, the computed displacement satisfies
 ///
-/// `|D̂_c − D_c(p)| ≤ K·M_c` with `K = (N + d + 5)·u + 9·d·δ_β`,
+/// `|D̂_c − D_c(p)| ≤ K·M_c` with `K = (N + d + 5)·u + 9·d·δ_β` ([`displacement_error_factor`]),
 ///
 /// and the value at the point, `x̂' = fl(x + D̂_x)` for an identity reference, satisfies
 /// `|x̂' − x'| ≤ u·|x'| + 1.01·K·M_x`, where `x' = x + D_x(p)` is the exact value at the
-/// rational value of the `f64` input. For the barycentric coordinates of [`Locator`] (corners
-/// rounded to nearest, `p` inside `t`), `δ_β ≤ 7u·h(2L + 3h)/A`, with `h` the longest edge of
+/// rational value of the `f64` input. For the barycentric coordinates of
+/// [`Locator`](super::Locator) (corners rounded to nearest, `p` inside `t`),
+/// `δ_β ≤ 7u·h(2L + 3h)/A` ([`barycentric_error_bound`]), with `h` the longest edge of
 /// `t`, `A` twice its area and `L` the largest magnitude of a coordinate of `p` or of `t`'s
 /// corners: for well-shaped triangles whose size is that of the coordinates, `K` is a few
 /// hundred `u` at degree 5. In particular `M_c = 0` gives the reference value exactly.

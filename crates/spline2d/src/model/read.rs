@@ -43,7 +43,7 @@ const IGNORED_STATEMENTS: [&str; 31] = [
 ///   three corners are fan-triangulated from their first corner. Indices may refer to vertices
 ///   defined later in the file and are checked at the end.
 /// * The other statements of the format (`vt`, `vn`, `o`, `g`, `s`, `usemtl`, `mtllib`, `l`,
-///   `p`, free-form geometry, see [`IGNORED_STATEMENTS`]) and comments are ignored, so a file
+///   `p`, free-form geometry, see `IGNORED_STATEMENTS`) and comments are ignored, so a file
 ///   with vertices only is a point cloud. Any other statement is an error naming its line and
 ///   column, and so is a file without vertices.
 pub fn parse_model(text: &str, file: &str) -> Result<Model, ModelError> {
