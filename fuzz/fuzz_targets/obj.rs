@@ -3,7 +3,7 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use plugins_spline2d::mesh_io::{parse_obj, MeshOptions, OrientationPolicy};
+use spline2d::mesh_io::{parse_obj, MeshOptions, OrientationPolicy};
 
 fuzz_target!(|data: &[u8]| {
     let text = String::from_utf8_lossy(data);
@@ -16,7 +16,7 @@ fuzz_target!(|data: &[u8]| {
             assert!(e.to_string().starts_with("fuzz.obj"), "{e}");
         }
     }
-    if let Err(e) = plugins_spline2d::model::parse_model(&text, "fuzz.obj") {
+    if let Err(e) = spline2d::model::parse_model(&text, "fuzz.obj") {
         assert!(e.to_string().starts_with("fuzz.obj"), "{e}");
     }
 });

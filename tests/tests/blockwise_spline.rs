@@ -3,12 +3,12 @@
 
 use api::{ConstraintSystem, Factorization, LinearBackend, Rational, Values};
 use exact_ldu::{BlockwiseLdu, ExactLdu};
-use plugins_spline2d::spline::Spline;
+use spline2d::spline::Spline;
 use std::collections::BTreeSet;
 
 #[test]
 fn blockwise_factoring_of_a_spline_system_equals_one_factoring() {
-    let spline = Spline::new(plugins_spline2d::mesh::grid(2, 10, true), 5, 1).expect("spline");
+    let spline = Spline::new(spline2d::mesh::grid(2, 10, true), 5, 1).expect("spline");
     let mut system = ConstraintSystem::new();
     let mut values = Values::default();
     spline

@@ -10,7 +10,9 @@
 //! (`#[serde(deny_unknown_fields)]`); [`unique_map`] refuses duplicate map keys.
 //!
 //! Optional fields may be written without `Some(..)` (RON's `implicit_some` extension), as
-//! everywhere in run files.
+//! everywhere in run files. Values a schema cannot check alone are checked with messages
+//! naming their field: counts ([`bounded_count`]) and output file names
+//! ([`check_output_file_name`]).
 
 use crate::source::SourceError;
 use serde::de::{self, DeserializeOwned, Deserializer, MapAccess, Visitor};
@@ -18,6 +20,7 @@ use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::fmt;
 use std::marker::PhantomData;
+use std::path::Path;
 
 /// A 1-based line and column (in characters) in a text.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
@@ -134,6 +137,33 @@ pub fn bounded_count(value: u64, field: &str, min: u64, max: u64) -> Result<usiz
     usize::try_from(value).map_err(|_| format!("{field} {value} does not fit this machine"))
 }
 
+/// An output file name written in a configuration (`picture: "worm.svg"`), refused with a
+/// message naming the field unless it is a plain file name (no directories, not hidden, so the
+/// host writes it into the output directory) ending in `.{ext}` (any case) after a non-empty
+/// stem.
+pub fn check_output_file_name(name: &str, field: &str, ext: &str) -> Result<(), String> {
+    let plain = !name.is_empty()
+        && !name.starts_with('.')
+        && !name.contains(['/', '\\'])
+        && Path::new(name).file_name().is_some_and(|f| f == name);
+    if !plain {
+        return Err(format!(
+            "{field} {name:?} must be a plain file name (no directories), written to the output directory"
+        ));
+    }
+    let has_ext = Path::new(name)
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case(ext));
+    let stem_ok = Path::new(name).file_stem().is_some_and(|s| !s.is_empty());
+    if !has_ext || !stem_ok {
+        return Err(format!(
+            "{field} {name:?} must end in .{ext} (the file is written as {})",
+            ext.to_uppercase()
+        ));
+    }
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -201,5 +231,23 @@ mod tests {
         let message = bounded_count(0, "steps", 1, 10).expect_err("zero");
         assert_eq!(message, "steps is 0, but must be between 1 and 10");
         assert!(bounded_count(u64::MAX, "steps", 1, 10).is_err());
+    }
+
+    #[test]
+    fn output_file_names_are_plain_with_the_extension() {
+        assert_eq!(check_output_file_name("a.svg", "picture", "svg"), Ok(()));
+        assert_eq!(check_output_file_name("A.SVG", "picture", "svg"), Ok(()));
+        for (name, needle) in [
+            ("../a.svg", "plain file name"),
+            ("dir/a.svg", "plain file name"),
+            (".svg", "plain file name"),
+            ("", "plain file name"),
+            ("a.png", "must end in .svg (the file is written as SVG)"),
+            ("a", "must end in .svg"),
+        ] {
+            let message = check_output_file_name(name, "picture", "svg").expect_err(name);
+            assert!(message.contains(needle), "{name}: {message}");
+            assert!(message.starts_with("picture "), "{message}");
+        }
     }
 }

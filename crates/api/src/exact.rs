@@ -4,6 +4,7 @@
 //! user typed is the value the solver sees.
 
 use num_bigint::BigInt;
+use num_integer::Integer as _;
 use num_rational::BigRational;
 use num_traits::{One, Zero};
 use serde::de::{self, Deserializer, Visitor};
@@ -296,6 +297,35 @@ impl<'de> Deserialize<'de> for Exact {
     }
 }
 
+/// Rational values scaled by one positive factor to coprime integers: multiplied by the least
+/// common multiple of their denominators, then divided by the greatest common divisor of the
+/// products. Signs, zeros and the ratios between the values are kept, so the data of a row
+/// `Σ c_j x_j = q` becomes that of an equivalent integer row (see [`crate::system`]); values
+/// that are all zero come back as zeros. The values are read twice, hence the `Clone`
+/// iterator.
+pub fn coprime_integers<'a, I>(values: I) -> Vec<Integer>
+where
+    I: IntoIterator<Item = &'a Rational>,
+    I::IntoIter: Clone,
+{
+    let values = values.into_iter();
+    let lcm = values.clone().fold(Integer::one(), |acc, v| {
+        if v.denom().is_one() {
+            acc
+        } else {
+            acc.lcm(v.denom())
+        }
+    });
+    let mut ints: Vec<Integer> = values.map(|v| v.numer() * (&lcm / v.denom())).collect();
+    let gcd = ints.iter().fold(Integer::zero(), |acc, v| acc.gcd(v));
+    if !gcd.is_zero() && !gcd.is_one() {
+        for v in &mut ints {
+            *v = &*v / &gcd;
+        }
+    }
+    ints
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -429,5 +459,16 @@ mod tests {
         assert!((rational_to_f64(&big) - 1.5).abs() < 1e-15);
         assert_eq!(rational_to_f64(&q(-95, 2)), -47.5);
         assert_eq!(rational_from_f64(0.5), Some(q(1, 2)));
+    }
+
+    #[test]
+    fn rationals_scale_to_coprime_integers_keeping_signs_and_zeros() {
+        let ints = |values: &[Rational]| coprime_integers(values);
+        let i = |v: &[i64]| v.iter().map(|&x| Integer::from(x)).collect::<Vec<_>>();
+        assert_eq!(ints(&[q(1, 2), q(-1, 3), q(0, 1)]), i(&[3, -2, 0]));
+        assert_eq!(ints(&[q(-4, 1), q(6, 1)]), i(&[-2, 3]));
+        assert_eq!(ints(&[q(5, 7)]), i(&[1]));
+        assert_eq!(ints(&[q(0, 1), q(0, 1)]), i(&[0, 0]));
+        assert!(ints(&[]).is_empty());
     }
 }

@@ -29,7 +29,9 @@ pub use backend::{
     BackendError, Factorization, Inconsistency, LinearBackend, PreparedLeastSquares, RankMargin,
     Redundancy, RhsFamily, SolveError, StrongFailure, Value,
 };
-pub use exact::{format_rational, parse_rational, Integer, ParseRationalError, Rational};
+pub use exact::{
+    coprime_integers, format_rational, parse_rational, Integer, ParseRationalError, Rational,
+};
 pub use matrix::{IntMatrix, MatrixError};
 pub use source::SCHEMA_VERSION;
 pub use source::{

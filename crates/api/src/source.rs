@@ -84,6 +84,22 @@ pub struct SummaryItem {
     pub value: u64,
 }
 
+impl SummaryItem {
+    /// Summary items from `(key, count)` pairs, sorted by key: the order reports list a
+    /// contribution's facts in, whatever order a source gathers them.
+    pub fn sorted<'a>(pairs: impl IntoIterator<Item = (&'a str, usize)>) -> Vec<SummaryItem> {
+        let mut pairs: Vec<(&str, usize)> = pairs.into_iter().collect();
+        pairs.sort();
+        pairs
+            .into_iter()
+            .map(|(key, value)| SummaryItem {
+                key: key.to_string(),
+                value: value as u64,
+            })
+            .collect()
+    }
+}
+
 /// What a source adds to the system.
 ///
 /// Rows refer to existing parameters by their ids and to new ones by

@@ -9,7 +9,8 @@
 //! * a **scalar row** `Σ c_j p_j[k_j] = q` over single coordinates (alignment constraints mix
 //!   coordinates, and scalar parameters are their own single coordinate).
 //!
-//! Coefficients and right-hand sides are integers: sources scale rational data to integers.
+//! Coefficients and right-hand sides are integers: sources scale rational data to integers
+//! ([`crate::exact::coprime_integers`]).
 
 use crate::exact::{Integer, Rational};
 use crate::matrix::IntMatrix;

@@ -13,9 +13,9 @@ use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use ecles::Edit;
 use exact_ldu::ExactLdu;
 use float_qr::FloatQr;
-use plugins_spline2d::edit::{Neighborhood, Operation, SplineEditor};
-use plugins_spline2d::net::ControlNet;
-use plugins_spline2d::spline::Spline;
+use spline2d::edit::{Neighborhood, Operation, SplineEditor};
+use spline2d::net::ControlNet;
+use spline2d::spline::Spline;
 use std::hint::black_box;
 
 fn build(c: &mut Criterion) {

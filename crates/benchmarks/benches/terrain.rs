@@ -18,11 +18,11 @@ use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Through
 use ecles::{Edit, EditSpec};
 use exact_ldu::ExactLdu;
 use float_qr::FloatQr;
-use plugins_spline2d::model::Model;
-use plugins_spline2d::spline::Spline;
 use plugins_terrain::deform::Psi;
 use plugins_terrain::plugin::TerrainSource;
 use plugins_terrain::prism::{Layer, Surfaces};
+use spline2d::model::Model;
+use spline2d::spline::Spline;
 use std::hint::black_box;
 
 /// Squares per side of the reference mesh: 2 · 22² = 968 triangles over [0, 220]².

@@ -103,8 +103,8 @@ pub fn banded_system(n: usize, seed: u64) -> (ConstraintSystem, Vec<ParamId>, Va
 
 /// A reference mesh of `n × n` squares of side 10, each split by its rising diagonal, interior
 /// vertices displaced by up to 2 units: `2 n²` triangles, `(n + 1)²` vertices.
-pub fn perturbed_grid(n: usize) -> plugins_spline2d::mesh::Mesh {
-    plugins_spline2d::mesh::grid(n, 10, true)
+pub fn perturbed_grid(n: usize) -> spline2d::mesh::Mesh {
+    spline2d::mesh::grid(n, 10, true)
 }
 
 /// Anchor and derived sets for an edit of a banded system: the anchor is the middle parameter of

@@ -40,11 +40,11 @@
 
 use api::exact::{format_rational, Exact};
 use api::{
-    BuildRequest, ConstraintRow, ConstraintSource, ConstraintSystem, Contribution, Coord, Integer,
-    OperationCheckRequest, OperationPlan, Origin, OutputCheck, OutputCheckRequest, OutputFile,
-    ParamId, PlanRequest, Rational, RenderRequest, RowBody, SourceError, SummaryItem,
+    coprime_integers, BuildRequest, ConstraintRow, ConstraintSource, ConstraintSystem,
+    Contribution, Coord, Integer, OperationCheckRequest, OperationPlan, Origin, OutputCheck,
+    OutputCheckRequest, OutputFile, ParamId, PlanRequest, Rational, RenderRequest, RowBody,
+    SourceError, SummaryItem,
 };
-use num_integer::Integer as _;
 use num_traits::{One, Signed, Zero};
 use serde::Deserialize;
 
@@ -221,37 +221,18 @@ pub fn parse_config(name: &str, text: &str) -> Result<AlignConfig, AlignError> {
     })
 }
 
-/// Scales `Σ c_j x_j = q` with rational data to coprime integers (positive first coefficient).
+/// Scales `Σ c_j x_j = q` with rational data to coprime integers ([`api::coprime_integers`]),
+/// dropping zero coefficients, with a positive first coefficient.
 fn integer_row(terms: Vec<(Coord, Rational)>, rhs: Rational) -> (Vec<(Coord, Integer)>, Integer) {
-    let denominators = terms
-        .iter()
-        .map(|(_, c)| c.denom())
-        .chain(std::iter::once(rhs.denom()));
-    let lcm = denominators.fold(Integer::one(), |acc, d| acc.lcm(d));
-    let scale = |v: &Rational| v.numer() * (&lcm / v.denom());
-    let mut ints: Vec<(Coord, Integer)> = terms
-        .iter()
-        .filter(|(_, v)| !v.is_zero())
-        .map(|(c, v)| (*c, scale(v)))
-        .collect();
-    let mut q = scale(&rhs);
-    let gcd = ints
-        .iter()
-        .map(|(_, v)| v)
-        .chain(std::iter::once(&q))
-        .fold(Integer::zero(), |acc, v| acc.gcd(v));
-    let negative = ints
-        .iter()
-        .find(|(_, v)| !v.is_zero())
-        .is_some_and(|(_, v)| v.is_negative());
-    let divisor = if negative { -gcd } else { gcd };
-    if !divisor.is_zero() && !divisor.is_one() {
-        for (_, v) in ints.iter_mut() {
-            *v = &*v / &divisor;
+    let terms: Vec<(Coord, Rational)> = terms.into_iter().filter(|(_, v)| !v.is_zero()).collect();
+    let mut ints = coprime_integers(terms.iter().map(|(_, v)| v).chain(std::iter::once(&rhs)));
+    if !terms.is_empty() && ints[0].is_negative() {
+        for v in ints.iter_mut() {
+            *v = -&*v;
         }
-        q /= &divisor;
     }
-    (ints, q)
+    let q = ints.pop().unwrap_or_default();
+    (terms.into_iter().map(|(c, _)| c).zip(ints).collect(), q)
 }
 
 /// Text of an exact number in labels.
@@ -432,6 +413,22 @@ impl AlignSource {
             .as_ref()
             .map_or("align (not built)", |b| b.name.as_str())
     }
+
+    /// The refusal of an operation (`operation` as written): align sources have none.
+    fn no_operations(&self, operation: &str) -> SourceError {
+        SourceError::new(format!(
+            "{}: align sources have no operations; edit the points through their own source or a generic edit (asked for {operation:?})",
+            self.name(),
+        ))
+    }
+
+    /// The refusal of an output (`output` as written): align sources have none.
+    fn no_outputs(&self, output: &str) -> SourceError {
+        SourceError::new(format!(
+            "{}: align sources have no outputs (asked for {output:?})",
+            self.name(),
+        ))
+    }
 }
 
 impl ConstraintSource for AlignSource {
@@ -455,7 +452,6 @@ impl ConstraintSource for AlignSource {
             let count = config.constraints.iter().filter(|c| c.key() == key).count();
             summary.push((key, count));
         }
-        summary.sort();
         let warnings = if config.constraints.is_empty() {
             vec!["no constraints declared".to_string()]
         } else {
@@ -466,47 +462,25 @@ impl ConstraintSource for AlignSource {
             inputs: Vec::new(),
             parameters: Vec::new(),
             rows,
-            summary: summary
-                .into_iter()
-                .map(|(key, value)| SummaryItem {
-                    key: key.to_string(),
-                    value: value as u64,
-                })
-                .collect(),
+            summary: SummaryItem::sorted(summary),
             warnings,
         })
     }
 
     fn plan(&self, request: &PlanRequest) -> Result<OperationPlan, SourceError> {
-        Err(SourceError::new(format!(
-            "{}: align sources have no operations; edit the points through their own source or a generic edit (asked for {:?})",
-            self.name(),
-            request.operation
-        )))
+        Err(self.no_operations(&request.operation))
     }
 
     fn render(&self, request: &RenderRequest) -> Result<Vec<OutputFile>, SourceError> {
-        Err(SourceError::new(format!(
-            "{}: align sources have no outputs (asked for {:?})",
-            self.name(),
-            request.output
-        )))
+        Err(self.no_outputs(&request.output))
     }
 
     fn check_operation(&self, request: &OperationCheckRequest) -> Result<(), SourceError> {
-        Err(SourceError::new(format!(
-            "{}: align sources have no operations; edit the points through their own source or a generic edit (asked for {:?})",
-            self.name(),
-            request.operation
-        )))
+        Err(self.no_operations(&request.operation))
     }
 
     fn check_output(&self, request: &OutputCheckRequest) -> Result<OutputCheck, SourceError> {
-        Err(SourceError::new(format!(
-            "{}: align sources have no outputs (asked for {:?})",
-            self.name(),
-            request.output
-        )))
+        Err(self.no_outputs(&request.output))
     }
 }
 

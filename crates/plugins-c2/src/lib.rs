@@ -4,7 +4,7 @@
 //! source built after it finds it among the earlier sources ([`api::BuildRequest::sources`]),
 //! re-reads its mesh from its configuration text (paths resolved against
 //! [`api::BuildRequest::base_dir`], parsed exactly as `spline2d` does with
-//! [`plugins_spline2d::plugin::spline_from_config`]), builds the degree-`d` spline with
+//! [`spline2d::config::spline_from_config`]), builds the degree-`d` spline with
 //! smoothness 2 and contributes **only the order-2 conditions**, as vector rows of dimension 2
 //! on the existing control points `{spline}.{point name}`. The two sources together carry the
 //! full `C²` system: its rank is `control points − dim S²_d` (Schumaker's formula, exact for
@@ -36,9 +36,9 @@ use api::{
     OperationPlan, Origin, OutputCheck, OutputCheckRequest, OutputFile, ParamId, PlanRequest,
     RenderRequest, RowBody, SourceError, SummaryItem,
 };
-use plugins_spline2d::plugin::spline_from_config_text;
-use plugins_spline2d::spline::Spline;
 use serde::Deserialize;
+use spline2d::config::spline_from_config_text;
+use spline2d::spline::Spline;
 use std::collections::HashMap;
 
 /// Smallest degree accepted without `allow_low_degree`: `C²` splines have local control from
@@ -190,6 +190,24 @@ impl C2Source {
             Some(b) => format!("{} (C2 conditions of {:?})", b.name, b.spline),
             None => "c2 (not built)".to_string(),
         }
+    }
+
+    /// The refusal of an operation (`operation` as written): the spline is edited through its
+    /// own source.
+    fn no_operations(&self, operation: &str) -> SourceError {
+        SourceError::new(format!(
+            "{}: c2 sources have no operations; edit the spline through its own source (asked for {operation:?})",
+            self.describe(),
+        ))
+    }
+
+    /// The refusal of an output (`output` as written): the spline is rendered through its own
+    /// source.
+    fn no_outputs(&self, output: &str) -> SourceError {
+        SourceError::new(format!(
+            "{}: c2 sources have no outputs; render the spline through its own source (asked for {output:?})",
+            self.describe(),
+        ))
     }
 
     fn contribute(&self, request: &BuildRequest) -> Result<(Contribution, Built), C2Error> {
@@ -358,35 +376,19 @@ impl ConstraintSource for C2Source {
     }
 
     fn plan(&self, request: &PlanRequest) -> Result<OperationPlan, SourceError> {
-        Err(SourceError::new(format!(
-            "{}: c2 sources have no operations; edit the spline through its own source (asked for {:?})",
-            self.describe(),
-            request.operation
-        )))
+        Err(self.no_operations(&request.operation))
     }
 
     fn render(&self, request: &RenderRequest) -> Result<Vec<OutputFile>, SourceError> {
-        Err(SourceError::new(format!(
-            "{}: c2 sources have no outputs; render the spline through its own source (asked for {:?})",
-            self.describe(),
-            request.output
-        )))
+        Err(self.no_outputs(&request.output))
     }
 
     fn check_operation(&self, request: &OperationCheckRequest) -> Result<(), SourceError> {
-        Err(SourceError::new(format!(
-            "{}: c2 sources have no operations; edit the spline through its own source (asked for {:?})",
-            self.describe(),
-            request.operation
-        )))
+        Err(self.no_operations(&request.operation))
     }
 
     fn check_output(&self, request: &OutputCheckRequest) -> Result<OutputCheck, SourceError> {
-        Err(SourceError::new(format!(
-            "{}: c2 sources have no outputs; render the spline through its own source (asked for {:?})",
-            self.describe(),
-            request.output
-        )))
+        Err(self.no_outputs(&request.output))
     }
 }
 

@@ -5,10 +5,10 @@ use api::conformance::{self, Samples};
 use api::{format_rational, ConstraintSystem, IntMatrix, Rational, SourceInfo, Values};
 use api::{BuildRequest, ConstraintSource, Integer, RowBody};
 use plugins_c2::*;
-use plugins_spline2d::mesh::{grid, Mesh};
-use plugins_spline2d::mesh_io::{from_points, MeshOptions};
 use plugins_spline2d::plugin::Spline2dSource;
-use plugins_spline2d::spline::Spline;
+use spline2d::mesh::{grid, Mesh};
+use spline2d::mesh_io::{from_points, MeshOptions};
+use spline2d::spline::Spline;
 use std::path::PathBuf;
 
 /// The inline `spline2d` configuration of a mesh.

@@ -2,18 +2,9 @@
 //! rendered outputs.
 //!
 //! # Configuration (RON)
-//! ```ron
-//! (
-//!     mesh: "meshes/worm.obj",     // OBJ file relative to the run file, or inline:
-//!     // mesh: (vertices: [("0", "0"), ("10", "0"), ("0", "10")], triangles: [(0, 1, 2)]),
-//!     degree: 5,                   // default 5
-//!     smoothness: 1,               // C^r, default 1
-//!     snap: "1/1000",              // optional: round coordinates to this grid
-//!     orientation: "fix",          // "fix" (default) flips clockwise triangles, "reject" refuses
-//! )
-//! ```
-//! Numbers that must be exact are written as strings (`"0.1"` is exactly 1/10) or integers;
-//! floating-point literals are refused.
+//! The schema of [`spline2d::config::SplineConfig`]: `mesh` (an OBJ file relative to the run
+//! file, or inline vertices and triangles), `degree` (default 5), `smoothness` (`C^r`, default
+//! 1), `snap` and `orientation`.
 //!
 //! # Operations (RON)
 //! ```ron
@@ -22,7 +13,7 @@
 //!     neighborhood: 3,             // δ_max on the control net, or "all"
 //!     translate: ("3/2", "-1"),    // or rotate: (center: ("0", "0"), degrees: "30", precision: 1000)
 //!                                  // or scale: (center: ("0", "0"), factor: "3/2", precision: 1000)
-//!                                  // precision: 1..=10^12, default 10^6 (see `crate::motion`)
+//!                                  // precision: 1..=10^12, default 10^6 (see `spline2d::motion`)
 //!     steps: 4,                    // default 1
 //! )
 //! ```
@@ -35,111 +26,25 @@
 //!     parts: false,                      // colour by Dulmage–Mendelsohn part
 //! )
 //! ```
+//! Checked and rendered in `output.rs`.
 
-use crate::edit::{Neighborhood, Operation, SelectError, SplineEditor};
-use crate::eval::{FloatSpline, Locator};
-use crate::mesh_io::{self, MeshOptions, OrientationPolicy};
-use crate::model::{deform_model, load_model, write_obj, Model};
-use crate::net::ControlNet;
-use crate::operation::{
+use crate::output;
+use api::config::from_ron;
+use api::{
+    BuildRequest, ConstraintSource, Contribution, OperationCheckRequest, OperationPlan,
+    OutputCheck, OutputCheckRequest, OutputFile, ParamId, PlanRequest, RenderRequest, RowId,
+    SourceError, SummaryItem,
+};
+use serde::Deserialize;
+use spline2d::config::{spline_from_config_text, SplineRead};
+use spline2d::edit::{Neighborhood, Operation, SelectError, SplineEditor};
+use spline2d::net::ControlNet;
+use spline2d::operation::{
     checked_steps, default_steps, find_anchors, motion, operation_plan, ExactList,
     NeighborhoodConfig, RotateConfig, ScaleConfig,
 };
-use crate::source::SplineParams;
-use crate::spline::Spline;
-use crate::svg::{before_after, Picture};
-use api::config::from_ron;
-use api::exact::Exact;
-use api::{
-    BuildRequest, ConstraintSource, Contribution, OperationCheckRequest, OperationPlan,
-    OutputCheck, OutputCheckRequest, OutputFile, PlanRequest, RenderRequest, SourceError,
-    SummaryItem,
-};
-use serde::de::{self, Deserializer, MapAccess, Visitor};
-use serde::Deserialize;
-use std::fmt;
-use std::path::{Path, PathBuf};
-
-/// Vertices and triangles written in the configuration.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct InlineMesh {
-    /// Exact vertex coordinates.
-    pub vertices: Vec<(Exact, Exact)>,
-    /// Triangles as 0-based vertex indices.
-    pub triangles: Vec<[usize; 3]>,
-}
-
-/// Where the reference mesh comes from: an OBJ file (relative to the run file) or
-/// `(vertices: [...], triangles: [...])` written inline.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub enum MeshSpec {
-    /// An OBJ file.
-    File(String),
-    /// Inline data.
-    Inline(InlineMesh),
-}
-
-impl<'de> Deserialize<'de> for MeshSpec {
-    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
-        struct MeshVisitor;
-        impl<'de> Visitor<'de> for MeshVisitor {
-            type Value = MeshSpec;
-            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-                f.write_str("an OBJ path or (vertices: [...], triangles: [...])")
-            }
-            fn visit_str<E: de::Error>(self, v: &str) -> Result<MeshSpec, E> {
-                Ok(MeshSpec::File(v.to_string()))
-            }
-            fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<MeshSpec, A::Error> {
-                const FIELDS: &[&str] = &["vertices", "triangles"];
-                let (mut vertices, mut triangles) = (None, None);
-                while let Some(key) = map.next_key::<String>()? {
-                    match key.as_str() {
-                        "vertices" if vertices.is_none() => vertices = Some(map.next_value()?),
-                        "triangles" if triangles.is_none() => triangles = Some(map.next_value()?),
-                        "vertices" | "triangles" => {
-                            return Err(de::Error::custom(format!("{key} is given twice")))
-                        }
-                        other => return Err(de::Error::unknown_field(other, FIELDS)),
-                    }
-                }
-                Ok(MeshSpec::Inline(InlineMesh {
-                    vertices: vertices.ok_or_else(|| de::Error::missing_field("vertices"))?,
-                    triangles: triangles.ok_or_else(|| de::Error::missing_field("triangles"))?,
-                }))
-            }
-        }
-        deserializer.deserialize_any(MeshVisitor)
-    }
-}
-
-/// The configuration of a `spline2d` source (and of the reference spline of a terrain).
-#[derive(Debug, Clone, PartialEq, Eq, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct SplineConfig {
-    /// The reference mesh.
-    pub mesh: MeshSpec,
-    /// Degree `d` (default 5; at most [`crate::spline::MAX_DEGREE`]).
-    #[serde(default = "default_degree")]
-    pub degree: usize,
-    /// Smoothness `C^r` (default 1; below the degree).
-    #[serde(default = "default_smoothness")]
-    pub smoothness: usize,
-    /// Round coordinates to this grid.
-    #[serde(default)]
-    pub snap: Option<Exact>,
-    /// `"fix"` (default) flips clockwise triangles, `"reject"` refuses them.
-    #[serde(default)]
-    pub orientation: Option<String>,
-}
-
-fn default_degree() -> usize {
-    5
-}
-
-fn default_smoothness() -> usize {
-    1
-}
+use spline2d::params::SplineParams;
+use spline2d::spline::Spline;
 
 /// A `spline2d` operation as written.
 #[derive(Debug, Clone, Deserialize)]
@@ -168,88 +73,33 @@ struct CheckedOperation {
 
 /// What a built source keeps.
 #[derive(Debug, Clone)]
-struct Built {
-    name: String,
-    spline: Spline,
+pub(crate) struct Built {
+    /// The source's name (prefix of its parameters and rows).
+    pub(crate) name: String,
+    pub(crate) spline: Spline,
     net: ControlNet,
-    params: SplineParams,
+    /// Where the control points live in the system.
+    pub(crate) params: SplineParams,
     /// Id of the row of the first condition (conditions are consecutive rows).
     first_row: usize,
 }
 
-/// What to render.
-#[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct OutputConfig {
-    /// Before/after picture file name (`.svg`).
-    #[serde(default)]
-    picture: Option<String>,
-    /// A model to deform (OBJ, relative to the run file); written as `<stem>-deformed.obj`.
-    #[serde(default)]
-    model: Option<String>,
-    /// Draw the control net (default true).
-    #[serde(default = "default_true")]
-    control_net: bool,
-    /// Colour the "after" panel by Dulmage–Mendelsohn part: over-determined points and
-    /// conditions red, well-determined orange (default false).
-    #[serde(default)]
-    parts: bool,
-}
-
-fn default_true() -> bool {
-    true
-}
-
-/// An output checked: the files it writes, in render order, and the model it reads.
-struct CheckedOutput {
-    config: OutputConfig,
-    /// `<stem>-deformed.obj` with the model's full path.
-    model: Option<(String, PathBuf)>,
-    picture: Option<String>,
-}
-
-impl CheckedOutput {
-    fn files(&self) -> Vec<String> {
-        self.model
-            .iter()
-            .map(|(name, _)| name.clone())
-            .chain(self.picture.clone())
+impl Built {
+    /// The control points among `ids` (parameters of other sources are left out).
+    pub(crate) fn points_of(&self, ids: &[ParamId]) -> Vec<usize> {
+        ids.iter()
+            .filter_map(|id| self.params.point_of(*id))
             .collect()
     }
-}
 
-/// Checks that `name` is a plain file name (no directories, not hidden) ending in `.{ext}`.
-pub fn check_file_name(name: &str, field: &str, ext: &str) -> Result<(), String> {
-    let plain = !name.is_empty()
-        && !name.starts_with('.')
-        && !name.contains(['/', '\\'])
-        && Path::new(name).file_name().is_some_and(|f| f == name);
-    if !plain {
-        return Err(format!(
-            "{field} {name:?} must be a plain file name (no directories), written to the output directory"
-        ));
+    /// The conditions (indices into the spline's conditions) among `rows` (rows of other
+    /// sources are left out).
+    pub(crate) fn conditions_of(&self, rows: &[RowId]) -> Vec<usize> {
+        rows.iter()
+            .filter_map(|r| r.index().checked_sub(self.first_row))
+            .filter(|&c| c < self.spline.conditions().len())
+            .collect()
     }
-    let has_ext = Path::new(name)
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case(ext));
-    let stem_ok = Path::new(name).file_stem().is_some_and(|s| !s.is_empty());
-    if !has_ext || !stem_ok {
-        return Err(format!(
-            "{field} {name:?} must end in .{ext} (the file is written as {})",
-            ext.to_uppercase()
-        ));
-    }
-    Ok(())
-}
-
-/// The output file of a deformed model: `<stem>-deformed.obj` for the model at `path`.
-pub fn deformed_name(path: &str) -> String {
-    let stem = Path::new(path)
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .filter(|s| !s.is_empty() && !s.starts_with('.'))
-        .unwrap_or_else(|| "model".into());
-    format!("{stem}-deformed.obj")
 }
 
 /// The `spline2d` source.
@@ -292,133 +142,6 @@ impl Spline2dSource {
             steps,
         })
     }
-
-    /// Parses and checks an output; the model file must be a model.
-    fn check_output_text(
-        &self,
-        text: &str,
-        base_dir: &Path,
-        limit: u64,
-    ) -> Result<(CheckedOutput, Option<Model>), SourceError> {
-        let built = self.built()?;
-        let what = format!("{} output", built.name);
-        let config: OutputConfig = from_ron(text, &what)?;
-        let error = |message: String| SourceError::new(format!("{what}: {message}"));
-        if let Some(name) = &config.picture {
-            check_file_name(name, "picture", "svg").map_err(error)?;
-        }
-        let (model, loaded) = match &config.model {
-            Some(path) => {
-                let full = base_dir.join(path);
-                let model = load_model(&full, limit).map_err(|e| error(e.to_string()))?;
-                (Some((deformed_name(path), full)), Some(model))
-            }
-            None => (None, None),
-        };
-        if config.picture.is_none() && model.is_none() {
-            return Err(error("nothing to render; give picture and/or model".into()));
-        }
-        let checked = CheckedOutput {
-            picture: config.picture.clone(),
-            config,
-            model,
-        };
-        if let [first, second] = checked.files().as_slice() {
-            if first == second {
-                return Err(error(format!(
-                    "picture and deformed model are both named {first:?}"
-                )));
-            }
-        }
-        Ok((checked, loaded))
-    }
-}
-
-/// Reads the mesh of a configuration (an OBJ path is resolved against `base_dir` and read
-/// with at most `limit` bytes); returns it with the file read, if any.
-fn read_mesh(
-    config: &SplineConfig,
-    name: &str,
-    base_dir: &Path,
-    limit: u64,
-) -> Result<(mesh_io::MeshRead, Option<PathBuf>), SourceError> {
-    let orientation = match config.orientation.as_deref() {
-        None | Some("fix") => OrientationPolicy::Fix,
-        Some("reject") => OrientationPolicy::Reject,
-        Some(other) => {
-            return Err(SourceError::new(format!(
-                "{name}: orientation must be \"fix\" or \"reject\", not {other:?}"
-            )))
-        }
-    };
-    let options = MeshOptions {
-        snap: config.snap.as_ref().map(|s| s.0.clone()),
-        orientation,
-    };
-    let (read, file) = match &config.mesh {
-        MeshSpec::File(path) => {
-            let full = base_dir.join(path);
-            (mesh_io::read_obj(&full, &options, limit), Some(full))
-        }
-        MeshSpec::Inline(inline) => (
-            mesh_io::from_points(
-                inline
-                    .vertices
-                    .iter()
-                    .map(|(x, y)| [x.0.clone(), y.0.clone()])
-                    .collect(),
-                inline.triangles.clone(),
-                &options,
-            ),
-            None,
-        ),
-    };
-    let read = read.map_err(|e| SourceError::new(format!("{name}: {e}")))?;
-    Ok((read, file))
-}
-
-/// A spline as a configuration describes it, with the mesh warnings and the mesh file read.
-#[derive(Debug, Clone)]
-pub struct SplineRead {
-    /// The spline.
-    pub spline: Spline,
-    /// What the mesh reader repaired or found odd.
-    pub warnings: Vec<mesh_io::MeshWarning>,
-    /// The OBJ file read, if the mesh is not inline.
-    pub file: Option<PathBuf>,
-}
-
-/// Builds the spline a `spline2d` configuration describes, as [`Spline2dSource::build`] does:
-/// reads the mesh (an OBJ path is resolved against `base_dir`, at most `limit` bytes) and builds
-/// the spline of the configured degree and smoothness. Errors are prefixed with `name`.
-pub fn spline_from_config(
-    name: &str,
-    config: &SplineConfig,
-    base_dir: &Path,
-    limit: u64,
-) -> Result<SplineRead, SourceError> {
-    let (read, file) = read_mesh(config, name, base_dir, limit)?;
-    let spline = Spline::new(read.mesh, config.degree, config.smoothness)
-        .map_err(|e| SourceError::new(format!("{name}: {e}")))?;
-    Ok(SplineRead {
-        spline,
-        warnings: read.warnings,
-        file,
-    })
-}
-
-/// [`spline_from_config`] from the configuration's RON text, for plugins that build on a
-/// `spline2d` source of the same run: its name and configuration text are in
-/// [`api::BuildRequest::sources`], and its control points are the parameters
-/// `{name}.{point name}` (see [`crate::spline::ControlPoint::name`]).
-pub fn spline_from_config_text(
-    name: &str,
-    config: &str,
-    base_dir: &Path,
-    limit: u64,
-) -> Result<SplineRead, SourceError> {
-    let config: SplineConfig = from_ron(config, &format!("{name} config"))?;
-    spline_from_config(name, &config, base_dir, limit)
 }
 
 impl ConstraintSource for Spline2dSource {
@@ -447,27 +170,12 @@ impl ConstraintSource for Spline2dSource {
             request.system.params().len(),
             spline.identity_positions(),
         );
-        let topology = spline.topology();
-        let mut summary = vec![
-            ("vertices", spline.mesh().vertices().len()),
-            ("edges", topology.edges.len()),
-            ("interior_edges", topology.interior_edges()),
-            ("interior_vertices", topology.interior_vertices()),
-            ("triangles", spline.mesh().triangles().len()),
-            ("degree", spline.degree()),
-            ("smoothness", spline.smoothness()),
+        let mut summary = spline.summary_counts();
+        summary.extend([
             ("control_points", spline.points().len()),
             ("conditions", spline.conditions().len()),
-            ("spline_space_dimension", spline.spline_space_dimension()),
-        ];
-        summary.sort();
-        contribution.summary = summary
-            .into_iter()
-            .map(|(key, value)| SummaryItem {
-                key: key.to_string(),
-                value: value as u64,
-            })
-            .collect();
+        ]);
+        contribution.summary = SummaryItem::sorted(summary);
         contribution.warnings = warnings.iter().map(|w| w.to_string()).collect();
         contribution.inputs = file.into_iter().collect();
         let net = ControlNet::new(&spline);
@@ -486,8 +194,12 @@ impl ConstraintSource for Spline2dSource {
     }
 
     fn check_output(&self, request: &OutputCheckRequest) -> Result<OutputCheck, SourceError> {
-        let (checked, _) =
-            self.check_output_text(&request.output, &request.base_dir, request.input_limit)?;
+        let (checked, _) = output::check_output(
+            self.built()?,
+            &request.output,
+            &request.base_dir,
+            request.input_limit,
+        )?;
         Ok(OutputCheck::new(
             checked.files(),
             checked.model.iter().map(|(_, path)| path.clone()).collect(),
@@ -518,113 +230,7 @@ impl ConstraintSource for Spline2dSource {
     }
 
     fn render(&self, request: &RenderRequest) -> Result<Vec<OutputFile>, SourceError> {
-        let built = self.built()?;
-        let what = format!("{} output", built.name);
-        let (checked, model) =
-            self.check_output_text(&request.output, &request.base_dir, request.input_limit)?;
-        let config = &checked.config;
-        let error = |e: &dyn std::fmt::Display| SourceError::new(format!("{what}: {e}"));
-        let before = built.params.positions(&request.initial);
-        let after = built.params.positions(&request.values);
-        let mut files = Vec::new();
-        let deformed = match &model {
-            Some(model) => {
-                let spline = FloatSpline::new(&built.spline, &after).map_err(|e| error(&e))?;
-                let locator = Locator::new(built.spline.mesh());
-                Some(deform_model(model, &spline, &locator).map_err(|e| error(&e))?)
-            }
-            None => None,
-        };
-        if let (Some((name, _)), Some(deformed)) = (&checked.model, &deformed) {
-            let mut bytes = Vec::new();
-            if !deformed.outside.is_empty() {
-                bytes.extend(
-                    format!(
-                        "# {} vertices lie outside the reference mesh and were left in place: {:?}\n",
-                        deformed.outside.len(),
-                        deformed.outside
-                    )
-                    .into_bytes(),
-                );
-            }
-            write_obj(&deformed.model, &mut bytes).map_err(|e| error(&e))?;
-            let mut file = OutputFile::new(name.clone(), bytes);
-            file.notes.extend(crate::model::left_in_place_note(
-                &deformed.outside,
-                "outside the reference mesh",
-            ));
-            files.push(file);
-        }
-        if let Some(name) = &config.picture {
-            let highlight = request.highlight.clone().unwrap_or_default();
-            let points = |ids: &[api::ParamId]| -> Vec<usize> {
-                ids.iter()
-                    .filter_map(|id| built.params.point_of(*id))
-                    .collect()
-            };
-            let anchors = points(&highlight.anchors);
-            let derived = points(&highlight.derived);
-            let conditions: Vec<usize> = highlight
-                .independent_rows
-                .iter()
-                .filter_map(|r| r.index().checked_sub(built.first_row))
-                .filter(|&c| c < built.spline.conditions().len())
-                .collect();
-            let mut before_picture = Picture::new(&built.spline)
-                .positions(&before)
-                .title(format!("{}: before", built.name))
-                .reference_mesh(true)
-                .deformed_mesh(true)
-                .control_points(true)
-                .control_net(config.control_net);
-            let mut after_picture = Picture::new(&built.spline)
-                .positions(&after)
-                .title(format!("{}: after", built.name))
-                .reference_mesh(true)
-                .deformed_mesh(true)
-                .control_points(true)
-                .control_net(config.control_net)
-                .anchors(&anchors)
-                .derived(&derived)
-                .conditions(&conditions);
-            if let (true, Some(parts)) = (config.parts, &request.structure) {
-                let over_points = points(&parts.over);
-                let well_points = points(&parts.well);
-                let conditions_of = |rows: &[api::RowId]| -> Vec<usize> {
-                    rows.iter()
-                        .filter_map(|r| r.index().checked_sub(built.first_row))
-                        .filter(|&c| c < built.spline.conditions().len())
-                        .collect()
-                };
-                after_picture = after_picture
-                    .group(
-                        "well-determined",
-                        "#ff7f0e",
-                        &well_points,
-                        &conditions_of(&parts.well_rows),
-                    )
-                    .group(
-                        "over-determined",
-                        "#d62728",
-                        &over_points,
-                        &conditions_of(&parts.over_rows),
-                    );
-            }
-            if let Some(model) = &model {
-                before_picture = before_picture.model(model, false, true);
-            }
-            if let Some(deformed) = &deformed {
-                after_picture = after_picture.model(&deformed.model, false, true);
-            }
-            let svg = before_after(&before_picture, &after_picture).map_err(|e| error(&e))?;
-            files.push(OutputFile::new(name.clone(), svg.into_bytes()));
-        }
-        if files.is_empty() {
-            return Err(SourceError::new(format!(
-                "{what}: nothing to render; give picture and/or model"
-            )));
-        }
-        Ok(files)
+        output::render(self.built()?, request)
     }
 }
 

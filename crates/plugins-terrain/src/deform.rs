@@ -20,9 +20,9 @@
 use crate::prism::{Layer, Surfaces};
 use api::exact::rational_to_f64_nearest;
 use api::Rational;
-use plugins_spline2d::eval::{check_positions, EvalError, FloatSpline, Locator, Reference};
-use plugins_spline2d::model::Model;
-use plugins_spline2d::spline::Spline;
+use spline2d::eval::{check_positions, EvalError, FloatSpline, Locator, Reference};
+use spline2d::model::Model;
+use spline2d::spline::Spline;
 
 /// Relative tolerance on `z` (in units of `b − a`): points that far above the top or below the
 /// bottom still count as inside, so vertices on the faces are deformed despite rounding.
@@ -333,25 +333,10 @@ pub(crate) mod tests {
     use super::*;
     use crate::prism::psi_exact;
     use api::exact::{rational_from_f64, rational_to_f64};
-    use plugins_spline2d::eval::locate_exact;
-    use plugins_spline2d::mesh::grid;
-
-    /// The unit roundoff `u = 2^-53`.
-    const U: f64 = 1.0 / 9_007_199_254_740_992.0;
-
-    /// `δ_β` of the error bound for `p` in the triangle with these corners: `7u·h(2L + 3h)/A`.
-    fn barycentric_error(corners: [[f64; 2]; 3], p: [f64; 2]) -> f64 {
-        let [a, b, c] = corners;
-        let length = |u: [f64; 2], v: [f64; 2]| (u[0] - v[0]).hypot(u[1] - v[1]);
-        let h = length(a, b).max(length(b, c)).max(length(c, a));
-        let area = ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])).abs();
-        let l = corners
-            .iter()
-            .chain(std::iter::once(&p))
-            .flatten()
-            .fold(0.0f64, |m, x| m.max(x.abs()));
-        7.0 * U * h * (2.0 * l + 3.0 * h) / area
-    }
+    use spline2d::eval::{
+        barycentric_error_bound, displacement_error_factor, locate_exact, UNIT_ROUNDOFF as U,
+    };
+    use spline2d::mesh::grid;
 
     /// What [`check_against_exact`] found.
     #[derive(Debug, Default)]
@@ -431,7 +416,6 @@ pub(crate) mod tests {
         );
         let eta = 5.0 * U + 2.0 * U * (a.abs() + b.abs()) / (b - a);
         let d = spline.degree();
-        let n = (d + 1) * (d + 2) / 2;
         let mut checked = Checked::default();
         for (p, image) in points.iter().zip(&deformed.model.positions) {
             let Ok((t, _, _)) = psi.locate(*p) else {
@@ -467,9 +451,9 @@ pub(crate) mod tests {
                         *mc = mc.max(rational_to_f64(dc).abs());
                     }
                 }
-                delta = delta.max(barycentric_error(corners(s), [p[0], p[1]]));
+                delta = delta.max(barycentric_error_bound(corners(s), [p[0], p[1]]));
             }
-            let k = (n + d + 5) as f64 * U + 9.0 * d as f64 * delta;
+            let k = displacement_error_factor(d, delta);
             let budgets = [k * m[0], k * m[1], (k + eta) * (m[2] + m[3])];
             for c in 0..3 {
                 let error = rational_from_f64(image[c]).expect("finite") - &exact[c];

@@ -29,7 +29,7 @@
 use api::exact::rational_to_f64;
 use api::{parse_rational, Rational};
 use num_traits::{Signed, Zero};
-use plugins_spline2d::model::Model;
+use spline2d::model::Model;
 use std::path::Path;
 
 /// Why a height field could not be read. File, line and column are 1-based.

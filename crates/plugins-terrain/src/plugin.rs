@@ -58,26 +58,24 @@ use crate::deform::{DeformedModel, Psi};
 use crate::heightfield::HeightField;
 use crate::prism::{Layer, Surfaces};
 use crate::relief::{self, Marker, Panel, View};
-use api::config::from_ron;
+use api::config::{check_output_file_name, from_ron};
 use api::exact::{rational_to_f64, Exact};
 use api::{
     BuildRequest, ConstraintSource, Contribution, OperationCheckRequest, OperationPlan, Origin,
     OutputCheck, OutputCheckRequest, OutputFile, ParamId, PlanRequest, Rational, RenderRequest,
     SourceError, SummaryItem, Values,
 };
-use plugins_spline2d::edit::{Neighborhood, Operation, SelectError, SplineEditor};
-use plugins_spline2d::model::{load_model, write_obj, Model};
-use plugins_spline2d::net::ControlNet;
-use plugins_spline2d::operation::{
+use serde::Deserialize;
+use spline2d::config::{spline_from_config, SplineConfig, SplineRead};
+use spline2d::edit::{Neighborhood, Operation, SelectError, SplineEditor};
+use spline2d::model::{deformed_name, load_model, write_obj, Model};
+use spline2d::net::ControlNet;
+use spline2d::operation::{
     checked_steps, default_steps, find_anchors, motion, operation_plan, ExactList,
     NeighborhoodConfig, RotateConfig, ScaleConfig,
 };
-use plugins_spline2d::plugin::{
-    check_file_name, deformed_name, spline_from_config, SplineConfig, SplineRead,
-};
-use plugins_spline2d::source::SplineParams;
-use plugins_spline2d::spline::Spline;
-use serde::Deserialize;
+use spline2d::params::SplineParams;
+use spline2d::spline::Spline;
 use std::path::{Path, PathBuf};
 
 #[derive(Debug, Clone, Deserialize)]
@@ -339,7 +337,7 @@ impl TerrainSource {
         };
         let picture = match &config.picture {
             Some(name) => {
-                check_file_name(name, "picture", "png").map_err(|e| error(&e))?;
+                check_output_file_name(name, "picture", "png").map_err(|e| error(&e))?;
                 let stem = Path::new(name)
                     .file_stem()
                     .map(|s| s.to_string_lossy().into_owned())
@@ -452,29 +450,14 @@ impl ConstraintSource for TerrainSource {
             contribution.parameters.extend(part.parameters);
             contribution.rows.extend(part.rows);
         }
-        let topology = spline.topology();
         let surfaces = if config.xy { 3 } else { 2 };
-        let mut summary = vec![
-            ("vertices", spline.mesh().vertices().len()),
-            ("edges", topology.edges.len()),
-            ("interior_edges", topology.interior_edges()),
-            ("interior_vertices", topology.interior_vertices()),
-            ("triangles", spline.mesh().triangles().len()),
-            ("degree", spline.degree()),
-            ("smoothness", spline.smoothness()),
+        let mut summary = spline.summary_counts();
+        summary.extend([
             ("surfaces", surfaces),
             ("control_points_per_surface", n),
             ("conditions_per_surface", spline.conditions().len()),
-            ("spline_space_dimension", spline.spline_space_dimension()),
-        ];
-        summary.sort();
-        contribution.summary = summary
-            .into_iter()
-            .map(|(key, value)| SummaryItem {
-                key: key.to_string(),
-                value: value as u64,
-            })
-            .collect();
+        ]);
+        contribution.summary = SummaryItem::sorted(summary);
         contribution.warnings = warnings.iter().map(|w| w.to_string()).collect();
         contribution.inputs = file.into_iter().collect();
         let net = ControlNet::new(&spline);
@@ -545,9 +528,7 @@ impl ConstraintSource for TerrainSource {
         model_file.notes.extend(
             outside_lists(&deformed)
                 .into_iter()
-                .filter_map(|(list, place)| {
-                    plugins_spline2d::model::left_in_place_note(list, place)
-                }),
+                .filter_map(|(list, place)| spline2d::model::left_in_place_note(list, place)),
         );
         let mut files = vec![model_file];
         if let Some(picture) = picture_stem {

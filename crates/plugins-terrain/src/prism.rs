@@ -10,9 +10,9 @@
 
 use api::Rational;
 use num_traits::Zero;
-use plugins_spline2d::eval::{evaluate_in_triangle, locate_exact};
-use plugins_spline2d::mesh::Mesh;
-use plugins_spline2d::spline::Spline;
+use spline2d::eval::{evaluate_in_triangle, locate_exact};
+use spline2d::mesh::Mesh;
+use spline2d::spline::Spline;
 
 /// Why a layer cannot be built.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
@@ -149,8 +149,8 @@ pub fn psi_exact(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use plugins_spline2d::mesh::grid;
     use proptest::prelude::*;
+    use spline2d::mesh::grid;
 
     fn q(n: i64, d: i64) -> Rational {
         Rational::new(n.into(), d.into())

@@ -10,7 +10,7 @@
 //! pixel for pixel. Everything is computed in `f64` with a fixed order of operations and
 //! encoded with fixed PNG settings: the same input gives the same bytes.
 
-use plugins_spline2d::model::Model;
+use spline2d::model::Model;
 
 /// Sun direction: azimuth clockwise from north and altitude, in degrees.
 const SUN_AZIMUTH: f64 = 315.0;

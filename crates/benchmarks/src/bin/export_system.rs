@@ -21,7 +21,7 @@ fn main() -> ExitCode {
         eprintln!("usage: export_system N FILE");
         return ExitCode::from(2);
     };
-    let spline = match plugins_spline2d::spline::Spline::new(benchmarks::perturbed_grid(n), 5, 1) {
+    let spline = match spline2d::spline::Spline::new(benchmarks::perturbed_grid(n), 5, 1) {
         Ok(s) => s,
         Err(e) => {
             eprintln!("error: {e}");

@@ -1,6 +1,6 @@
 //! A matrix with the sparsity structure of the C1 conditions of a degree-`d` triangular Bézier
 //! spline on a grid of `n × n` squares, each split by its diagonal (the meshes of the spline
-//! benches), built here so that this crate does not depend on plugins-spline2d.
+//! benches), built here so that this crate does not depend on spline2d.
 //!
 //! Control points sit at nominal positions `(i a + j b + k c) / d`, `i + j + k = d`, of each
 //! triangle `(a, b, c)` and are shared between triangles (vertices, `d − 1` per edge,

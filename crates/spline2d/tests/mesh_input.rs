@@ -2,12 +2,12 @@
 //! readers on arbitrary input.
 
 use api::Rational;
-use plugins_spline2d::mesh::twice_area;
-use plugins_spline2d::mesh_io::{
+use proptest::prelude::*;
+use spline2d::mesh::twice_area;
+use spline2d::mesh_io::{
     from_points, parse_obj, read_obj, MeshError, MeshErrorKind, MeshOptions, MeshRead, MeshWarning,
     OrientationPolicy,
 };
-use proptest::prelude::*;
 use std::path::PathBuf;
 
 fn data(name: &str) -> PathBuf {

@@ -15,7 +15,7 @@
 
 use crate::motion;
 use crate::net::ControlNet;
-use crate::source::SplineParams;
+use crate::params::SplineParams;
 use crate::spline::{PointType, Spline};
 use api::{ConstraintSystem, ParamId, Rational, Values};
 use ecles::{Edit, EditError, EditSpec};
@@ -557,6 +557,16 @@ mod tests {
         }
     }
 
+    impl Fixture {
+        fn editor(&self) -> SplineEditor<'_> {
+            SplineEditor {
+                spline: &self.spline,
+                net: &self.net,
+                params: &self.params,
+            }
+        }
+    }
+
     fn point(f: &Fixture, name: &str) -> usize {
         f.spline
             .points()
@@ -566,11 +576,7 @@ mod tests {
     }
 
     fn run(f: &mut Fixture, selection: &Selection, op: &Operation) {
-        let editor = SplineEditor {
-            spline: &f.spline,
-            net: &f.net,
-            params: &f.params,
-        };
+        let editor = f.editor();
         let plan = editor.plan(selection, &f.values, op, 3).expect("plan");
         let edit: Edit<ExactFactorization> =
             Edit::initialize(&ExactLdu::default(), &f.system, &f.values, &plan.spec).expect("init");
@@ -583,11 +589,7 @@ mod tests {
     #[test]
     fn translating_an_edge_point_keeps_the_spline_smooth() {
         let mut f = fixture(4);
-        let editor = SplineEditor {
-            spline: &f.spline,
-            net: &f.net,
-            params: &f.params,
-        };
+        let editor = f.editor();
         let anchor = point(&f, "e6-12:2");
         let sel = editor
             .select(&f.system, &f.values, &[anchor], Neighborhood::Radius(3))
@@ -618,11 +620,7 @@ mod tests {
     #[test]
     fn an_interior_vertex_needs_expansion_and_gets_it() {
         let mut f = fixture(4);
-        let editor = SplineEditor {
-            spline: &f.spline,
-            net: &f.net,
-            params: &f.params,
-        };
+        let editor = f.editor();
         // Radius 0: S is empty, so every derived point is added by ExpandDerived.
         let anchor = point(&f, "v12");
         let sel = editor
@@ -661,11 +659,7 @@ mod tests {
             },
         ] {
             let mut f = fixture(4);
-            let editor = SplineEditor {
-                spline: &f.spline,
-                net: &f.net,
-                params: &f.params,
-            };
+            let editor = f.editor();
             let anchors = [point(&f, "v12"), point(&f, "e12-13:4")];
             let sel = editor
                 .select(&f.system, &f.values, &anchors, Neighborhood::Radius(2))
@@ -677,11 +671,7 @@ mod tests {
     #[test]
     fn global_moves_use_every_point() {
         let mut f = fixture(2);
-        let editor = SplineEditor {
-            spline: &f.spline,
-            net: &f.net,
-            params: &f.params,
-        };
+        let editor = f.editor();
         let anchor = point(&f, "v4");
         let sel = editor
             .select(&f.system, &f.values, &[anchor], Neighborhood::All)
@@ -772,11 +762,7 @@ mod tests {
     #[test]
     fn bad_requests_are_errors() {
         let f = fixture(1);
-        let editor = SplineEditor {
-            spline: &f.spline,
-            net: &f.net,
-            params: &f.params,
-        };
+        let editor = f.editor();
         assert!(matches!(
             editor.select(&f.system, &f.values, &[], Neighborhood::All),
             Err(SelectError::NoAnchors)
@@ -815,11 +801,7 @@ mod tests {
     #[test]
     fn exact_motions_in_plans_and_their_validation() {
         let f = fixture(2);
-        let editor = SplineEditor {
-            spline: &f.spline,
-            net: &f.net,
-            params: &f.params,
-        };
+        let editor = f.editor();
         let anchor = point(&f, "v4");
         let sel = editor
             .select(&f.system, &f.values, &[anchor], Neighborhood::Radius(2))

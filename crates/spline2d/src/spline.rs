@@ -10,7 +10,7 @@
 //!   are rational; each row is scaled to coprime integers.
 
 use crate::mesh::{Mesh, Point, Topology};
-use api::{Integer, Rational};
+use api::{coprime_integers, Integer, Rational};
 use num_integer::Integer as _;
 use num_traits::{One, Zero};
 use std::collections::HashMap;
@@ -163,6 +163,15 @@ pub fn multi_indices(d: usize) -> Vec<[usize; 3]> {
 
 fn factorial(n: usize) -> Integer {
     (1..=n).fold(Integer::one(), |acc, k| acc * Integer::from(k))
+}
+
+/// The multinomial coefficients `d!/(i! j! k!)` in [`multi_indices`] order.
+pub fn multinomials(d: usize) -> Vec<Integer> {
+    let fd = factorial(d);
+    multi_indices(d)
+        .into_iter()
+        .map(|[i, j, k]| &fd / (factorial(i) * factorial(j) * factorial(k)))
+        .collect()
 }
 
 /// Canonical key of a nominal position: `(vertex, weight)` pairs with positive weight, sorted,
@@ -515,7 +524,8 @@ impl Spline {
     }
 }
 
-/// Scales rational coefficients to coprime integers, merging repeated control points and dropping zeros.
+/// Scales rational coefficients to coprime integers ([`api::coprime_integers`]), merging
+/// repeated control points and dropping zeros; sorted by control point.
 fn integer_row(terms: Vec<(usize, Rational)>) -> Vec<(usize, Integer)> {
     let mut merged: Vec<(usize, Rational)> = Vec::with_capacity(terms.len());
     for (p, c) in terms {
@@ -525,26 +535,8 @@ fn integer_row(terms: Vec<(usize, Rational)>) -> Vec<(usize, Integer)> {
         }
     }
     merged.retain(|(_, c)| !c.is_zero());
-    let lcm = merged.iter().fold(Integer::one(), |acc, (_, c)| {
-        if c.denom().is_one() {
-            acc
-        } else {
-            let g = exact_ldu::gcd_bigint(&acc, c.denom());
-            acc / g * c.denom()
-        }
-    });
-    let ints: Vec<(usize, Integer)> = merged
-        .into_iter()
-        .map(|(p, c)| (p, c.numer() * (&lcm / c.denom())))
-        .collect();
-    let g = ints.iter().fold(Integer::zero(), |acc, (_, c)| {
-        exact_ldu::gcd_bigint(&acc, c)
-    });
-    let mut out: Vec<(usize, Integer)> = if g.is_zero() || g.is_one() {
-        ints
-    } else {
-        ints.into_iter().map(|(p, c)| (p, c / &g)).collect()
-    };
+    let ints = coprime_integers(merged.iter().map(|(_, c)| c));
+    let mut out: Vec<(usize, Integer)> = merged.into_iter().map(|(p, _)| p).zip(ints).collect();
     out.sort_by_key(|(p, _)| *p);
     out
 }

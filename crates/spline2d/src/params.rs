@@ -1,4 +1,5 @@
-//! Declaring a spline's control points and conditions in a shared constraint system.
+//! Declaring a spline's control points and conditions in a shared constraint system, and the
+//! counts a report gives of it.
 
 use crate::spline::Spline;
 use api::{
@@ -117,6 +118,24 @@ impl Spline {
     /// The identity deformation: every control point at its nominal position.
     pub fn identity_positions(&self) -> Vec<Vec<Rational>> {
         self.points().iter().map(|p| p.nominal.to_vec()).collect()
+    }
+
+    /// The counts a report gives of every source built on this spline, as `(key, count)`:
+    /// the mesh (`vertices`, `edges`, `interior_edges`, `interior_vertices`, `triangles`) and
+    /// the spline space (`degree`, `smoothness`, `spline_space_dimension`). Sources add their
+    /// own (control points and conditions per surface, say).
+    pub fn summary_counts(&self) -> Vec<(&'static str, usize)> {
+        let topology = self.topology();
+        vec![
+            ("vertices", self.mesh().vertices().len()),
+            ("edges", topology.edges.len()),
+            ("interior_edges", topology.interior_edges()),
+            ("interior_vertices", topology.interior_vertices()),
+            ("triangles", self.mesh().triangles().len()),
+            ("degree", self.degree()),
+            ("smoothness", self.smoothness()),
+            ("spline_space_dimension", self.spline_space_dimension()),
+        ]
     }
 
     /// A constant scalar spline (a flat surface at height `value`).

@@ -1,0 +1,231 @@
+//! The outputs of a `spline2d` source: checking an output request (file names, the model it
+//! reads) before any edit runs, and rendering it after the edits: the deformed model as OBJ and
+//! the before/after picture.
+//!
+//! ```ron
+//! (
+//!     picture: "worm.svg",               // before/after picture with the last edit highlighted
+//!     model: "models/worm-model.obj",    // optional: deform this model, write <stem>-deformed.obj
+//!     control_net: true,                 // draw the control net (default true)
+//!     parts: false,                      // colour by Dulmage–Mendelsohn part
+//! )
+//! ```
+
+use crate::plugin::Built;
+use crate::svg::{before_after, Picture};
+use api::config::{check_output_file_name, from_ron};
+use api::{OutputFile, RenderRequest, SourceError};
+use serde::Deserialize;
+use spline2d::eval::{FloatSpline, Locator};
+use spline2d::model::{
+    deform_model, deformed_name, left_in_place_note, load_model, write_obj, Deformed, Model,
+};
+use std::path::{Path, PathBuf};
+
+/// What to render.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct OutputConfig {
+    /// Before/after picture file name (`.svg`).
+    #[serde(default)]
+    picture: Option<String>,
+    /// A model to deform (OBJ, relative to the run file); written as `<stem>-deformed.obj`.
+    #[serde(default)]
+    model: Option<String>,
+    /// Draw the control net (default true).
+    #[serde(default = "default_true")]
+    control_net: bool,
+    /// Colour the "after" panel by Dulmage–Mendelsohn part: over-determined points and
+    /// conditions red, well-determined orange (default false).
+    #[serde(default)]
+    parts: bool,
+}
+
+fn default_true() -> bool {
+    true
+}
+
+/// An output checked: the files it writes, in render order, and the model it reads.
+pub(crate) struct CheckedOutput {
+    config: OutputConfig,
+    /// `<stem>-deformed.obj` with the model's full path.
+    pub(crate) model: Option<(String, PathBuf)>,
+    picture: Option<String>,
+}
+
+impl CheckedOutput {
+    /// The files it writes, in render order: the deformed model, then the picture.
+    pub(crate) fn files(&self) -> Vec<String> {
+        self.model
+            .iter()
+            .map(|(name, _)| name.clone())
+            .chain(self.picture.clone())
+            .collect()
+    }
+}
+
+/// Parses and checks an output of `built`; the model file must be a model.
+pub(crate) fn check_output(
+    built: &Built,
+    text: &str,
+    base_dir: &Path,
+    limit: u64,
+) -> Result<(CheckedOutput, Option<Model>), SourceError> {
+    let what = format!("{} output", built.name);
+    let config: OutputConfig = from_ron(text, &what)?;
+    let error = |message: String| SourceError::new(format!("{what}: {message}"));
+    if let Some(name) = &config.picture {
+        check_output_file_name(name, "picture", "svg").map_err(error)?;
+    }
+    let (model, loaded) = match &config.model {
+        Some(path) => {
+            let full = base_dir.join(path);
+            let model = load_model(&full, limit).map_err(|e| error(e.to_string()))?;
+            (Some((deformed_name(path), full)), Some(model))
+        }
+        None => (None, None),
+    };
+    if config.picture.is_none() && model.is_none() {
+        return Err(error("nothing to render; give picture and/or model".into()));
+    }
+    let checked = CheckedOutput {
+        picture: config.picture.clone(),
+        config,
+        model,
+    };
+    if let [first, second] = checked.files().as_slice() {
+        if first == second {
+            return Err(error(format!(
+                "picture and deformed model are both named {first:?}"
+            )));
+        }
+    }
+    Ok((checked, loaded))
+}
+
+/// Renders a checked output of `built` after the edits: the deformed model (when the output
+/// names one), then the picture (when it names one).
+pub(crate) fn render(
+    built: &Built,
+    request: &RenderRequest,
+) -> Result<Vec<OutputFile>, SourceError> {
+    let what = format!("{} output", built.name);
+    let (checked, model) = check_output(
+        built,
+        &request.output,
+        &request.base_dir,
+        request.input_limit,
+    )?;
+    let error = |e: &dyn std::fmt::Display| SourceError::new(format!("{what}: {e}"));
+    let after = built.params.positions(&request.values);
+    let mut files = Vec::new();
+    let deformed = match &model {
+        Some(model) => {
+            let spline = FloatSpline::new(&built.spline, &after).map_err(|e| error(&e))?;
+            let locator = Locator::new(built.spline.mesh());
+            Some(deform_model(model, &spline, &locator).map_err(|e| error(&e))?)
+        }
+        None => None,
+    };
+    if let (Some((name, _)), Some(deformed)) = (&checked.model, &deformed) {
+        files.push(deformed_file(name, deformed).map_err(|e| error(&e))?);
+    }
+    if let Some(name) = &checked.config.picture {
+        let svg = picture(
+            built,
+            request,
+            &checked.config,
+            &after,
+            model.as_ref(),
+            deformed.as_ref(),
+        )
+        .map_err(|e| error(&e))?;
+        files.push(OutputFile::new(name.clone(), svg.into_bytes()));
+    }
+    if files.is_empty() {
+        return Err(SourceError::new(format!(
+            "{what}: nothing to render; give picture and/or model"
+        )));
+    }
+    Ok(files)
+}
+
+/// The deformed model as an OBJ file named `name`: a first line listing the vertices left in
+/// place outside the reference mesh (if any), and a note on them for the report.
+fn deformed_file(name: &str, deformed: &Deformed) -> std::io::Result<OutputFile> {
+    let mut bytes = Vec::new();
+    if !deformed.outside.is_empty() {
+        bytes.extend(
+            format!(
+                "# {} vertices lie outside the reference mesh and were left in place: {:?}\n",
+                deformed.outside.len(),
+                deformed.outside
+            )
+            .into_bytes(),
+        );
+    }
+    write_obj(&deformed.model, &mut bytes)?;
+    let mut file = OutputFile::new(name.to_string(), bytes);
+    file.notes.extend(left_in_place_note(
+        &deformed.outside,
+        "outside the reference mesh",
+    ));
+    Ok(file)
+}
+
+/// The before/after picture: the spline at its initial and its current (`after`) positions,
+/// the last edit's anchors, derived points and independent conditions highlighted on the
+/// right, optionally its Dulmage–Mendelsohn parts, and the model before and after.
+fn picture(
+    built: &Built,
+    request: &RenderRequest,
+    config: &OutputConfig,
+    after: &[Vec<api::Rational>],
+    model: Option<&Model>,
+    deformed: Option<&Deformed>,
+) -> Result<String, crate::svg::SvgError> {
+    let before = built.params.positions(&request.initial);
+    let highlight = request.highlight.clone().unwrap_or_default();
+    let anchors = built.points_of(&highlight.anchors);
+    let derived = built.points_of(&highlight.derived);
+    let conditions = built.conditions_of(&highlight.independent_rows);
+    let mut before_picture = Picture::new(&built.spline)
+        .positions(&before)
+        .title(format!("{}: before", built.name))
+        .reference_mesh(true)
+        .deformed_mesh(true)
+        .control_points(true)
+        .control_net(config.control_net);
+    let mut after_picture = Picture::new(&built.spline)
+        .positions(after)
+        .title(format!("{}: after", built.name))
+        .reference_mesh(true)
+        .deformed_mesh(true)
+        .control_points(true)
+        .control_net(config.control_net)
+        .anchors(&anchors)
+        .derived(&derived)
+        .conditions(&conditions);
+    if let (true, Some(parts)) = (config.parts, &request.structure) {
+        after_picture = after_picture
+            .group(
+                "well-determined",
+                "#ff7f0e",
+                &built.points_of(&parts.well),
+                &built.conditions_of(&parts.well_rows),
+            )
+            .group(
+                "over-determined",
+                "#d62728",
+                &built.points_of(&parts.over),
+                &built.conditions_of(&parts.over_rows),
+            );
+    }
+    if let Some(model) = model {
+        before_picture = before_picture.model(model, false, true);
+    }
+    if let Some(deformed) = deformed {
+        after_picture = after_picture.model(&deformed.model, false, true);
+    }
+    before_after(&before_picture, &after_picture)
+}

@@ -1,0 +1,296 @@
+//! One function per layer of a [`Picture`]: what each kind of element (meshes, conditions,
+//! control net and points, groups, anchors, derived points, labels, a model) draws, in world
+//! coordinates, with its style. The picture calls them in drawing order.
+
+use super::scene::{escape, finite, Layer, Shape};
+use super::{Group, Picture, SvgError};
+use api::exact::rational_to_f64;
+use spline2d::eval::FloatSpline;
+use spline2d::model::Model;
+use spline2d::net::ControlNet;
+use std::collections::BTreeSet;
+
+impl Picture<'_> {
+    /// The reference mesh: thin grey straight edges.
+    pub(super) fn reference_mesh_layer(&self) -> Result<Layer, SvgError> {
+        let vertices: Vec<[f64; 2]> = self
+            .spline
+            .mesh()
+            .vertices()
+            .iter()
+            .map(|p| [rational_to_f64(&p[0]), rational_to_f64(&p[1])])
+            .collect();
+        let mut shapes = Vec::new();
+        for e in &self.spline.topology().edges {
+            let (a, b) = (vertices[e.a], vertices[e.b]);
+            if !(finite(&a) && finite(&b)) {
+                return Err(SvgError::NotFinite {
+                    what: format!("mesh edge {}-{}", e.a, e.b),
+                });
+            }
+            shapes.push(Shape::Line(a, b));
+        }
+        Ok(Layer::new(
+            "reference-mesh",
+            r##"fill="none" stroke="#b0b0b0" stroke-width="0.6""##,
+            shapes,
+        ))
+    }
+
+    /// The selected conditions: translucent grey polygons through their control points.
+    pub(super) fn conditions_layer(&self, current: &[[f64; 2]]) -> Result<Layer, SvgError> {
+        Ok(Layer::new(
+            "conditions",
+            r##"fill="#808080" fill-opacity="0.35" stroke="#606060" stroke-width="0.5" stroke-linejoin="round""##,
+            self.condition_polygons(&self.conditions, current)?,
+        ))
+    }
+
+    /// The deformed mesh: each edge's image under `φ`, sampled, from the triangle first on it.
+    pub(super) fn deformed_mesh_layer(&self) -> Result<Layer, SvgError> {
+        let spline = self.spline;
+        let mesh = spline.mesh();
+        let topology = spline.topology();
+        let nominal;
+        let positions = match self.positions {
+            Some(p) => p,
+            None => {
+                nominal = spline
+                    .points()
+                    .iter()
+                    .map(|p| p.nominal.to_vec())
+                    .collect::<Vec<_>>();
+                &nominal
+            }
+        };
+        let float = FloatSpline::new(spline, positions)?;
+        let mut shapes = Vec::with_capacity(topology.edges.len());
+        let mut value = [0.0; 2];
+        for e in &topology.edges {
+            let Some(&(t, k)) = e.faces.first() else {
+                continue;
+            };
+            let tri = mesh.triangles()[t];
+            let (ia, ib) = ((k + 1) % 3, (k + 2) % 3);
+            let (ia, ib) = if tri[ia] == e.a { (ia, ib) } else { (ib, ia) };
+            let mut line = Vec::with_capacity(self.samples + 1);
+            for s in 0..=self.samples {
+                let u = s as f64 / self.samples as f64;
+                let mut beta = [0.0; 3];
+                beta[ia] = 1.0 - u;
+                beta[ib] = u;
+                float.evaluate_into(t, beta, &mut value);
+                if !finite(&value) {
+                    return Err(SvgError::NotFinite {
+                        what: format!("deformed edge {}-{}", e.a, e.b),
+                    });
+                }
+                line.push(value);
+            }
+            shapes.push(Shape::Polyline(line));
+        }
+        Ok(Layer::new(
+            "deformed-mesh",
+            r##"fill="none" stroke="#202020" stroke-width="1.2" stroke-linejoin="round""##,
+            shapes,
+        ))
+    }
+
+    /// The global control net, dotted, at the current positions.
+    pub(super) fn control_net_layer(&self, current: &[[f64; 2]]) -> Layer {
+        let net = ControlNet::new(self.spline);
+        let shapes = net
+            .edges()
+            .iter()
+            .map(|&(a, b)| Shape::Line(current[a], current[b]))
+            .collect();
+        Layer::new(
+            "control-net",
+            r##"fill="none" stroke="#707070" stroke-width="0.6" stroke-dasharray="2 2""##,
+            shapes,
+        )
+    }
+
+    /// A group's conditions and points in its colour: up to two layers, `{class}-conditions`
+    /// and `{class}-points`, each only when it has something to draw.
+    pub(super) fn group_layers(
+        &self,
+        group: &Group,
+        current: &[[f64; 2]],
+    ) -> Result<Vec<Layer>, SvgError> {
+        let mut layers = Vec::new();
+        let polygons = self.condition_polygons(&group.conditions, current)?;
+        let colour = escape(&group.colour);
+        if !polygons.is_empty() {
+            layers.push(Layer::new(
+                &format!("{}-conditions", escape(&group.class)),
+                &format!(
+                    r#"fill="{colour}" fill-opacity="0.3" stroke="{colour}" stroke-width="0.5""#
+                ),
+                polygons,
+            ));
+        }
+        let circles = self.point_circles(&group.points, current, 2.6)?;
+        if !circles.is_empty() {
+            layers.push(Layer::new(
+                &format!("{}-points", escape(&group.class)),
+                &format!(r#"fill="{colour}""#),
+                circles,
+            ));
+        }
+        Ok(layers)
+    }
+
+    /// The derived points of an edit: filled black dots.
+    pub(super) fn derived_layer(&self, current: &[[f64; 2]]) -> Result<Layer, SvgError> {
+        Ok(Layer::new(
+            "derived",
+            r#"fill="black""#,
+            self.point_circles(&self.derived, current, 3.5)?,
+        ))
+    }
+
+    /// The anchors of an edit: open bold circles.
+    pub(super) fn anchors_layer(&self, current: &[[f64; 2]]) -> Result<Layer, SvgError> {
+        Ok(Layer::new(
+            "anchors",
+            r#"fill="none" stroke="black" stroke-width="2""#,
+            self.point_circles(&self.anchors, current, 5.0)?,
+        ))
+    }
+
+    /// The text labels, next to their control points, in the order added.
+    pub(super) fn labels_layer(&self, current: &[[f64; 2]]) -> Result<Layer, SvgError> {
+        let shapes = self
+            .labels
+            .iter()
+            .map(|(p, text)| Ok(Shape::Text(current[self.check_point(*p)?], text.clone())))
+            .collect::<Result<_, SvgError>>()?;
+        Ok(Layer::new(
+            "labels",
+            r#"font-family="sans-serif" font-size="11" fill="black""#,
+            shapes,
+        ))
+    }
+
+    /// One polygon per condition (an index into the spline's conditions) through its control
+    /// points at `current`, ordered around their centroid.
+    fn condition_polygons(
+        &self,
+        conditions: &[usize],
+        current: &[[f64; 2]],
+    ) -> Result<Vec<Shape>, SvgError> {
+        let all = self.spline.conditions();
+        let mut polygons = Vec::with_capacity(conditions.len());
+        for &c in conditions {
+            let condition = all.get(c).ok_or(SvgError::NoSuchCondition {
+                condition: c,
+                count: all.len(),
+            })?;
+            let points: Vec<[f64; 2]> = condition.terms.iter().map(|(p, _)| current[*p]).collect();
+            polygons.push(Shape::Polygon(around_centroid(points)));
+        }
+        Ok(polygons)
+    }
+
+    /// A circle of `radius` pixels at each of `points` (control point ids) at `current`.
+    fn point_circles(
+        &self,
+        points: &[usize],
+        current: &[[f64; 2]],
+        radius: f64,
+    ) -> Result<Vec<Shape>, SvgError> {
+        points
+            .iter()
+            .map(|&p| Ok(Shape::Circle(current[self.check_point(p)?], radius)))
+            .collect()
+    }
+}
+
+/// A model's triangle edges (each once), thin blue.
+pub(super) fn model_edges_layer(model: &Model) -> Result<Layer, SvgError> {
+    let count = model.positions.len();
+    let mut edges = BTreeSet::new();
+    for tri in &model.triangles {
+        for k in 0..3 {
+            let (a, b) = (tri[k], tri[(k + 1) % 3]);
+            if a.max(b) >= count {
+                return Err(SvgError::NoSuchPoint {
+                    point: a.max(b),
+                    count,
+                });
+            }
+            if a != b {
+                edges.insert((a.min(b), a.max(b)));
+            }
+        }
+    }
+    let xy = |v: usize| [model.positions[v][0], model.positions[v][1]];
+    let mut shapes = Vec::with_capacity(edges.len());
+    for (a, b) in edges {
+        let (pa, pb) = (xy(a), xy(b));
+        if !(finite(&pa) && finite(&pb)) {
+            return Err(SvgError::NotFinite {
+                what: format!("model edge {a}-{b}"),
+            });
+        }
+        shapes.push(Shape::Line(pa, pb));
+    }
+    Ok(Layer::new(
+        "model-edges",
+        r##"fill="none" stroke="#4a7fb5" stroke-width="0.5""##,
+        shapes,
+    ))
+}
+
+/// A model's vertices as small blue dots.
+pub(super) fn model_vertices_layer(model: &Model) -> Result<Layer, SvgError> {
+    let mut shapes = Vec::with_capacity(model.positions.len());
+    for (v, p) in model.positions.iter().enumerate() {
+        let xy = [p[0], p[1]];
+        if !finite(&xy) {
+            return Err(SvgError::NotFinite {
+                what: format!("model vertex {v}"),
+            });
+        }
+        shapes.push(Shape::Circle(xy, 1.0));
+    }
+    Ok(Layer::new("model-vertices", r##"fill="#4a7fb5""##, shapes))
+}
+
+/// Every control point as a small dark dot at `current`.
+pub(super) fn control_points_layer(current: &[[f64; 2]]) -> Layer {
+    let shapes = current.iter().map(|p| Shape::Circle(*p, 1.8)).collect();
+    Layer::new("control-points", r##"fill="#404040""##, shapes)
+}
+
+/// Orders points by angle around their centroid (ties by the original order), so the polygon
+/// through them does not cross itself when they are in convex position.
+fn around_centroid(points: Vec<[f64; 2]>) -> Vec<[f64; 2]> {
+    let n = points.len().max(1) as f64;
+    let c = [
+        points.iter().map(|p| p[0]).sum::<f64>() / n,
+        points.iter().map(|p| p[1]).sum::<f64>() / n,
+    ];
+    let mut keyed: Vec<(f64, usize, [f64; 2])> = points
+        .into_iter()
+        .enumerate()
+        .map(|(i, p)| ((p[1] - c[1]).atan2(p[0] - c[0]), i, p))
+        .collect();
+    keyed.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    keyed.into_iter().map(|(_, _, p)| p).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::scene::num;
+    use super::*;
+
+    #[test]
+    fn polygons_through_four_points_do_not_cross() {
+        let p = around_centroid(vec![[0.0, 0.0], [1.0, 1.0], [1.0, 0.0], [0.0, 1.0]]);
+        assert_eq!(p, vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]);
+        assert_eq!(num(-0.001), "0.00");
+        assert_eq!(num(2.5), "2.50");
+    }
+}

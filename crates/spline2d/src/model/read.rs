@@ -1,0 +1,214 @@
+//! Reading a model from Wavefront OBJ into `f64` positions and triangles, keeping the file's
+//! vertex numbering (point clouds included).
+
+use super::{Model, ModelError};
+use crate::obj_text::{statements, tokens, FaceCorner};
+use std::path::Path;
+
+/// Reads a model from an OBJ file of at most `limit` bytes (see [`parse_model`] for what is
+/// understood). Only regular text files are read (see [`api::input`]).
+pub fn load_model(path: &Path, limit: u64) -> Result<Model, ModelError> {
+    let text =
+        api::input::read_text_file(path, "model", limit).map_err(|e| match e.position() {
+            Some((line, column)) => ModelError::Parse {
+                file: path.display().to_string(),
+                line,
+                message: format!("column {column}: the model {}", e.reason()),
+            },
+            None => ModelError::Input {
+                path: path.to_path_buf(),
+                reason: e.reason(),
+            },
+        })?;
+    parse_model(&text, &path.display().to_string())
+}
+
+/// Statements of the OBJ format that [`parse_model`] accepts without using them: the rest of
+/// the format (texture coordinates, normals, groups, materials, free-form geometry). Any other
+/// first word is an error, so that a file that is not OBJ at all (a run file, `/etc/passwd`)
+/// is refused instead of read as an empty model.
+const IGNORED_STATEMENTS: [&str; 31] = [
+    "vt", "vn", "vp", "l", "p", "o", "g", "s", "mg", "mtllib", "usemtl", "maplib", "usemap",
+    "cstype", "deg", "bmat", "step", "curv", "curv2", "surf", "parm", "trim", "hole", "scrv", "sp",
+    "end", "con", "lod", "bevel", "c_interp", "d_interp",
+];
+
+/// Reads a model from OBJ text; `file` names the source in errors.
+///
+/// * `v x y [z [w]]`: a vertex; a missing `z` is 0 (2D files), `w` divides `x y z`. Seven or
+///   six numbers are read as `x y z` followed by a colour, which is ignored. Coordinates must
+///   be finite.
+/// * `f a b c ...`: a face; corners are `v`, `v/vt`, `v//vn` or `v/vt/vn` (only `v` is used),
+///   1-based, negative meaning relative to the vertices defined so far. Faces with more than
+///   three corners are fan-triangulated from their first corner. Indices may refer to vertices
+///   defined later in the file and are checked at the end.
+/// * The other statements of the format (`vt`, `vn`, `o`, `g`, `s`, `usemtl`, `mtllib`, `l`,
+///   `p`, free-form geometry, see `IGNORED_STATEMENTS`) and comments are ignored, so a file
+///   with vertices only is a point cloud. Any other statement is an error naming its line and
+///   column, and so is a file without vertices.
+pub fn parse_model(text: &str, file: &str) -> Result<Model, ModelError> {
+    let error = |line: usize, message: String| ModelError::Parse {
+        file: file.to_string(),
+        line,
+        message,
+    };
+    let mut positions: Vec<[f64; 3]> = Vec::new();
+    // (line, corner indices 0-based but not yet range-checked)
+    let mut faces: Vec<(usize, Vec<i64>)> = Vec::new();
+    for (line, content) in statements(text) {
+        let mut tokens = tokens(content);
+        match tokens.next() {
+            Some((_, "v")) => {
+                // At most 7 numbers (x y z and a colour with alpha); no allocation per line.
+                let mut buffer = [0.0f64; 7];
+                let mut found = 0;
+                for (_, tok) in tokens {
+                    let value = tok
+                        .parse::<f64>()
+                        .ok()
+                        .filter(|x| x.is_finite())
+                        .ok_or_else(|| error(line, format!("invalid vertex coordinate {tok:?}")))?;
+                    if found < buffer.len() {
+                        buffer[found] = value;
+                    }
+                    found += 1;
+                }
+                let values: &[f64] = if found > buffer.len() {
+                    &[]
+                } else {
+                    &buffer[..found]
+                };
+                let position = match values {
+                    [x, y] => [*x, *y, 0.0],
+                    [x, y, z] | [x, y, z, _, _, _] | [x, y, z, _, _, _, _] => [*x, *y, *z],
+                    [x, y, z, w] => {
+                        if *w == 0.0 {
+                            return Err(error(line, "vertex weight w is 0".into()));
+                        }
+                        [x / w, y / w, z / w]
+                    }
+                    _ => {
+                        return Err(error(
+                            line,
+                            format!(
+                                "a vertex needs 2 to 4 coordinates (or x y z and a colour), got {found}"
+                            ),
+                        ))
+                    }
+                };
+                positions.push(position);
+            }
+            Some((_, "f")) => {
+                let defined = positions.len();
+                let corners: Vec<i64> = tokens
+                    .map(|(_, tok)| {
+                        FaceCorner::new(tok).vertex(defined).map_err(|_| {
+                            error(
+                                line,
+                                format!("invalid face corner {tok:?} (vertex indices start at 1)"),
+                            )
+                        })
+                    })
+                    .collect::<Result<_, _>>()?;
+                if corners.len() < 3 {
+                    return Err(error(
+                        line,
+                        format!("a face needs at least 3 corners, got {}", corners.len()),
+                    ));
+                }
+                faces.push((line, corners));
+            }
+            Some((_, keyword)) if IGNORED_STATEMENTS.contains(&keyword) => {}
+            Some((column, keyword)) => {
+                let shown: String = keyword.chars().take(40).collect();
+                return Err(error(
+                    line,
+                    format!(
+                        "column {column}: {shown:?} is not an OBJ statement (this does not look like an OBJ model)"
+                    ),
+                ));
+            }
+            None => {}
+        }
+    }
+    if positions.is_empty() {
+        return Err(ModelError::Empty {
+            file: file.to_string(),
+        });
+    }
+    let count = positions.len();
+    let mut triangles = Vec::new();
+    for (line, corners) in faces {
+        let mut vertices = Vec::with_capacity(corners.len());
+        for c in corners {
+            match usize::try_from(c) {
+                Ok(v) if v < count => vertices.push(v),
+                _ => {
+                    return Err(error(
+                        line,
+                        format!(
+                            "face refers to vertex {} but the file defines {count}",
+                            if c < 0 { c } else { c + 1 }
+                        ),
+                    ))
+                }
+            }
+        }
+        for k in 1..vertices.len() - 1 {
+            triangles.push([vertices[0], vertices[k], vertices[k + 1]]);
+        }
+    }
+    Ok(Model {
+        positions,
+        triangles,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn parses_2d_quads_negative_indices_and_colours() {
+        let text = "# a 2D quad\nv 0 0\nv 1 0\nv 1 1 0 1 0 0\nv 0 1 0 2\nf -4/1 -3/2 -2//3 -1\n";
+        let model = parse_model(text, "quad.obj").expect("model");
+        assert_eq!(
+            model.positions,
+            vec![
+                [0.0, 0.0, 0.0],
+                [1.0, 0.0, 0.0],
+                [1.0, 1.0, 0.0],
+                [0.0, 0.5, 0.0]
+            ]
+        );
+        assert_eq!(model.triangles, vec![[0, 1, 2], [0, 2, 3]]);
+    }
+
+    #[test]
+    fn malformed_files_name_file_and_line() {
+        for (text, needle) in [
+            ("v 0 0\nv 1 x\n", "bad.obj:2: invalid vertex coordinate"),
+            ("v 0 0\nv 1 nan\n", "bad.obj:2: invalid vertex coordinate"),
+            ("v 0\n", "bad.obj:1: a vertex needs"),
+            (
+                "v 1 2 3 4 5\n",
+                "bad.obj:1: a vertex needs 2 to 4 coordinates (or x y z and a colour), got 5",
+            ),
+            (
+                "v 1 2 3 4 5 6 7 8\n",
+                "bad.obj:1: a vertex needs 2 to 4 coordinates (or x y z and a colour), got 8",
+            ),
+            ("v 0 0\nf 1 2\n", "bad.obj:2: a face needs at least 3"),
+            (
+                "v 0 0\nf 1 2 3\nv 1 1\n",
+                "bad.obj:2: face refers to vertex 3",
+            ),
+            ("v 0 0\nf 0 1 1\n", "bad.obj:2: invalid face corner"),
+            ("v 0 0\nf -3 1 1\n", "bad.obj:2: face refers to vertex -2"),
+            ("v 0 0 0 0\n", "bad.obj:1: vertex weight"),
+        ] {
+            let e = parse_model(text, "bad.obj").expect_err(text);
+            assert!(e.to_string().starts_with(needle), "{e}");
+        }
+    }
+}
