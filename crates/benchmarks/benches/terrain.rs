@@ -20,7 +20,7 @@ use exact_ldu::ExactLdu;
 use float_qr::FloatQr;
 use plugins_terrain::deform::Psi;
 use plugins_terrain::plugin::TerrainSource;
-use plugins_terrain::prism::{Layer, Surfaces};
+use plugins_terrain::prism::{PrismLayer, Surfaces};
 use spline2d::model::Model;
 use spline2d::spline::Spline;
 use std::hint::black_box;
@@ -60,7 +60,7 @@ fn height_field(side: usize) -> Model {
 
 fn psi(c: &mut Criterion) {
     let spline = Spline::new(perturbed_grid(GRID), 5, 1).expect("valid mesh");
-    let layer = Layer::new(q(-20, 1), q(20, 1)).expect("a < b");
+    let layer = PrismLayer::new(q(-20, 1), q(20, 1)).expect("a < b");
     let mut rng = Rng::new(17);
     // Control values off the identity (evaluation costs the same for any values).
     let mut noise = |scale: i64| q(rng.range(-scale, scale), 100);

@@ -17,7 +17,7 @@
 //! [`Psi::jacobian_in`] gives `ψ` and its derivatives on one prism, for normals and for
 //! checking smoothness across the walls of neighbouring prisms.
 
-use crate::prism::{Layer, Surfaces};
+use crate::prism::{PrismLayer, Surfaces};
 use api::exact::rational_to_f64_nearest;
 use api::Rational;
 use spline2d::eval::{check_positions, EvalError, FloatSpline, Locator, Reference};
@@ -57,7 +57,7 @@ pub enum Outside {
     /// `(x, y)` is outside the reference mesh (or not finite).
     Mesh,
     /// `z` is below the bottom or above the top of the prisms (or not finite).
-    Layer,
+    PrismLayer,
 }
 
 /// A deformed model and the vertices left in place.
@@ -103,7 +103,11 @@ pub struct Psi {
 
 impl Psi {
     /// Converts the splines of a deformation on `spline`'s mesh to floating point.
-    pub fn new(spline: &Spline, layer: &Layer, surfaces: Surfaces<'_>) -> Result<Psi, DeformError> {
+    pub fn new(
+        spline: &Spline,
+        layer: &PrismLayer,
+        surfaces: Surfaces<'_>,
+    ) -> Result<Psi, DeformError> {
         let check = |surface: &'static str, values: &[Vec<Rational>], expected: usize| {
             let found = check_positions(spline, values)
                 .map_err(|source| DeformError::Values { surface, source })?;
@@ -195,7 +199,7 @@ impl Psi {
         let slack = LAYER_TOLERANCE * height;
         let z = p[2];
         if !(z >= self.bottom - slack && z <= self.top + slack) {
-            return Err(Outside::Layer);
+            return Err(Outside::PrismLayer);
         }
         Ok((
             t,
@@ -312,7 +316,7 @@ impl Psi {
                     positions.push(*p);
                     match reason {
                         Outside::Mesh => outside_mesh.push(v),
-                        Outside::Layer => outside_layer.push(v),
+                        Outside::PrismLayer => outside_layer.push(v),
                     }
                 }
             }
@@ -364,7 +368,7 @@ pub(crate) mod tests {
     /// `ψ` ([`psi_exact`]) at the rational value of the `f64` vertex.
     pub(crate) fn check_against_exact(
         spline: &Spline,
-        layer: &Layer,
+        layer: &PrismLayer,
         surfaces: Surfaces<'_>,
         points: &[[f64; 3]],
     ) -> Checked {
@@ -500,7 +504,7 @@ pub(crate) mod tests {
     #[test]
     fn the_undeformed_map_returns_every_vertex() {
         let spline = Spline::new(grid(2, 20, true), 5, 1).expect("spline");
-        let layer = Layer::new(q(-7, 2), q(12, 1)).expect("layer");
+        let layer = PrismLayer::new(q(-7, 2), q(12, 1)).expect("layer");
         let phi = spline.identity_positions();
         let bottom = spline.constant_positions(layer.bottom());
         let top = spline.constant_positions(layer.top());
@@ -557,7 +561,7 @@ pub(crate) mod tests {
     #[test]
     fn awkward_layers_leave_undeformed_vertices_bit_identical() {
         let spline = Spline::new(grid(2, 20, true), 5, 1).expect("spline");
-        let layer = Layer::new(q(-1, 10), q(123, 7)).expect("layer");
+        let layer = PrismLayer::new(q(-1, 10), q(123, 7)).expect("layer");
         let phi = spline.identity_positions();
         let bottom = spline.constant_positions(layer.bottom());
         let top = spline.constant_positions(layer.top());
@@ -586,7 +590,7 @@ pub(crate) mod tests {
     #[test]
     fn local_edits_move_only_their_prisms_within_the_bound() {
         let spline = Spline::new(grid(2, 20, true), 5, 1).expect("spline");
-        let layer = Layer::new(q(-7, 2), q(12, 1)).expect("layer");
+        let layer = PrismLayer::new(q(-7, 2), q(12, 1)).expect("layer");
         let near = |i: usize| {
             let [x, y] = &spline.points()[i].nominal;
             x + y < q(20, 1)
@@ -674,7 +678,7 @@ pub(crate) mod tests {
     #[test]
     fn bad_values_are_reported_by_surface() {
         let spline = Spline::new(grid(1, 20, false), 5, 1).expect("spline");
-        let layer = Layer::new(q(0, 1), q(1, 1)).expect("layer");
+        let layer = PrismLayer::new(q(0, 1), q(1, 1)).expect("layer");
         let flat = spline.constant_positions(&q(0, 1));
         let plane = spline.identity_positions();
         let short = &flat[1..];
@@ -699,7 +703,7 @@ pub(crate) mod tests {
         )
         .expect("psi");
         assert_eq!(psi.map([f64::NAN, 1.0, 0.5]), Err(Outside::Mesh));
-        assert_eq!(psi.map([1.0, 1.0, f64::NAN]), Err(Outside::Layer));
+        assert_eq!(psi.map([1.0, 1.0, f64::NAN]), Err(Outside::PrismLayer));
         // Just above the top (within the tolerance): both surfaces are flattened to 0, a
         // displacement of −1 for the top, so z' is 0 up to a few units of 2^-53 (the bound of
         // `Psi::map` with M1 = 1).

@@ -56,7 +56,7 @@
 
 use crate::deform::{DeformedModel, Psi};
 use crate::heightfield::HeightField;
-use crate::prism::{Layer, Surfaces};
+use crate::prism::{PrismLayer, Surfaces};
 use crate::relief::{self, Marker, Panel, View};
 use api::config::{check_output_file_name, from_ron};
 use api::exact::{rational_to_f64, Exact};
@@ -172,7 +172,7 @@ struct Built {
     name: String,
     spline: Spline,
     net: ControlNet,
-    layer: Layer,
+    layer: PrismLayer,
     bottom: SplineParams,
     top: SplineParams,
     xy: Option<SplineParams>,
@@ -404,8 +404,8 @@ impl ConstraintSource for TerrainSource {
         let config: Config = from_ron(&request.config, &format!("{name} config"))?;
         let top = config.top.0;
         let bottom = config.bottom.map_or_else(|| -top.clone(), |b| b.0);
-        let layer =
-            Layer::new(bottom, top).map_err(|e| SourceError::new(format!("{name} config: {e}")))?;
+        let layer = PrismLayer::new(bottom, top)
+            .map_err(|e| SourceError::new(format!("{name} config: {e}")))?;
         let SplineRead {
             spline,
             warnings,

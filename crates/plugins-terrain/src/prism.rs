@@ -29,21 +29,21 @@ pub enum LayerError {
 
 /// The vertical extent `[a, b]` of the prisms, exact, `a < b`.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Layer {
+pub struct PrismLayer {
     bottom: Rational,
     top: Rational,
 }
 
-impl Layer {
+impl PrismLayer {
     /// The layer between `bottom` (`a`) and `top` (`b`).
-    pub fn new(bottom: Rational, top: Rational) -> Result<Layer, LayerError> {
+    pub fn new(bottom: Rational, top: Rational) -> Result<PrismLayer, LayerError> {
         if bottom >= top {
             return Err(LayerError::Empty {
                 bottom: api::format_rational(&bottom),
                 top: api::format_rational(&top),
             });
         }
-        Ok(Layer { bottom, top })
+        Ok(PrismLayer { bottom, top })
     }
 
     /// `a`.
@@ -82,7 +82,7 @@ pub struct PrismCoordinates {
 
 impl PrismCoordinates {
     /// The point these coordinates describe: `(Σ βk·vk, α0·a + α1·b)`.
-    pub fn point(&self, mesh: &Mesh, layer: &Layer) -> [Rational; 3] {
+    pub fn point(&self, mesh: &Mesh, layer: &PrismLayer) -> [Rational; 3] {
         let tri = mesh.triangles()[self.triangle];
         let mut xy = [Rational::zero(), Rational::zero()];
         for (v, b) in tri.iter().zip(&self.beta) {
@@ -98,7 +98,11 @@ impl PrismCoordinates {
 
 /// The prism containing `p` and `p`'s coordinates in it, exactly; `None` when `(x, y)` is
 /// outside `T` or `z` outside `[a, b]`. A linear scan over the triangles: for exact checks.
-pub fn locate_in_prisms(mesh: &Mesh, layer: &Layer, p: &[Rational; 3]) -> Option<PrismCoordinates> {
+pub fn locate_in_prisms(
+    mesh: &Mesh,
+    layer: &PrismLayer,
+    p: &[Rational; 3],
+) -> Option<PrismCoordinates> {
     if !layer.contains(&p[2]) {
         return None;
     }
@@ -126,7 +130,7 @@ pub struct Surfaces<'a> {
 /// not fit the spline. With `φ` the identity and `σ0 = a`, `σ1 = b` it returns `p`.
 pub fn psi_exact(
     spline: &Spline,
-    layer: &Layer,
+    layer: &PrismLayer,
     surfaces: Surfaces<'_>,
     p: &[Rational; 3],
 ) -> Option<[Rational; 3]> {
@@ -158,13 +162,13 @@ mod tests {
 
     #[test]
     fn layers_are_ordered_and_alphas_sum_to_one() {
-        assert!(Layer::new(q(1, 1), q(1, 1)).is_err());
-        let error = Layer::new(q(3, 1), q(-1, 2)).expect_err("upside down");
+        assert!(PrismLayer::new(q(1, 1), q(1, 1)).is_err());
+        let error = PrismLayer::new(q(3, 1), q(-1, 2)).expect_err("upside down");
         assert_eq!(
             error.to_string(),
             "the bottom a = 3 must be below the top b = -1/2"
         );
-        let layer = Layer::new(q(-20, 1), q(20, 1)).expect("layer");
+        let layer = PrismLayer::new(q(-20, 1), q(20, 1)).expect("layer");
         assert_eq!(layer.vertical(&q(-20, 1)), [q(1, 1), q(0, 1)]);
         assert_eq!(layer.vertical(&q(20, 1)), [q(0, 1), q(1, 1)]);
         assert_eq!(layer.vertical(&q(10, 1)), [q(1, 4), q(3, 4)]);
@@ -174,7 +178,7 @@ mod tests {
     #[test]
     fn the_undeformed_map_is_the_identity_exactly() {
         let spline = Spline::new(grid(2, 20, true), 5, 1).expect("spline");
-        let layer = Layer::new(q(-7, 2), q(12, 1)).expect("layer");
+        let layer = PrismLayer::new(q(-7, 2), q(12, 1)).expect("layer");
         let phi = spline.identity_positions();
         let bottom = spline.constant_positions(layer.bottom());
         let top = spline.constant_positions(layer.top());
@@ -206,7 +210,7 @@ mod tests {
             a in -50i64..=-1, b in 1i64..=70,
         ) {
             let mesh = grid(2, 20, true);
-            let layer = Layer::new(q(a, 1), q(b, 1)).expect("a < b");
+            let layer = PrismLayer::new(q(a, 1), q(b, 1)).expect("a < b");
             let p = [q(x, 100), q(y, 100), q(z, 10)];
             match locate_in_prisms(&mesh, &layer, &p) {
                 Some(at) => {

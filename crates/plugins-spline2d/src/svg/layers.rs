@@ -2,7 +2,7 @@
 //! control net and points, groups, anchors, derived points, labels, a model) draws, in world
 //! coordinates, with its style. The picture calls them in drawing order.
 
-use super::scene::{escape, finite, Layer, Shape};
+use super::scene::{escape, finite, StyledGroup, SvgElement};
 use super::{Group, Picture, SvgError};
 use api::exact::rational_to_f64;
 use spline2d::eval::FloatSpline;
@@ -12,7 +12,7 @@ use std::collections::BTreeSet;
 
 impl Picture<'_> {
     /// The reference mesh: thin grey straight edges.
-    pub(super) fn reference_mesh_layer(&self) -> Result<Layer, SvgError> {
+    pub(super) fn reference_mesh_layer(&self) -> Result<StyledGroup, SvgError> {
         let vertices: Vec<[f64; 2]> = self
             .spline
             .mesh()
@@ -28,9 +28,9 @@ impl Picture<'_> {
                     what: format!("mesh edge {}-{}", e.a, e.b),
                 });
             }
-            shapes.push(Shape::Line(a, b));
+            shapes.push(SvgElement::Line(a, b));
         }
-        Ok(Layer::new(
+        Ok(StyledGroup::new(
             "reference-mesh",
             r##"fill="none" stroke="#b0b0b0" stroke-width="0.6""##,
             shapes,
@@ -38,8 +38,8 @@ impl Picture<'_> {
     }
 
     /// The selected conditions: translucent grey polygons through their control points.
-    pub(super) fn conditions_layer(&self, current: &[[f64; 2]]) -> Result<Layer, SvgError> {
-        Ok(Layer::new(
+    pub(super) fn conditions_layer(&self, current: &[[f64; 2]]) -> Result<StyledGroup, SvgError> {
+        Ok(StyledGroup::new(
             "conditions",
             r##"fill="#808080" fill-opacity="0.35" stroke="#606060" stroke-width="0.5" stroke-linejoin="round""##,
             self.condition_polygons(&self.conditions, current)?,
@@ -47,7 +47,7 @@ impl Picture<'_> {
     }
 
     /// The deformed mesh: each edge's image under `φ`, sampled, from the triangle first on it.
-    pub(super) fn deformed_mesh_layer(&self) -> Result<Layer, SvgError> {
+    pub(super) fn deformed_mesh_layer(&self) -> Result<StyledGroup, SvgError> {
         let spline = self.spline;
         let mesh = spline.mesh();
         let topology = spline.topology();
@@ -87,9 +87,9 @@ impl Picture<'_> {
                 }
                 line.push(value);
             }
-            shapes.push(Shape::Polyline(line));
+            shapes.push(SvgElement::Polyline(line));
         }
-        Ok(Layer::new(
+        Ok(StyledGroup::new(
             "deformed-mesh",
             r##"fill="none" stroke="#202020" stroke-width="1.2" stroke-linejoin="round""##,
             shapes,
@@ -97,14 +97,14 @@ impl Picture<'_> {
     }
 
     /// The global control net, dotted, at the current positions.
-    pub(super) fn control_net_layer(&self, current: &[[f64; 2]]) -> Layer {
+    pub(super) fn control_net_layer(&self, current: &[[f64; 2]]) -> StyledGroup {
         let net = ControlNet::new(self.spline);
         let shapes = net
             .edges()
             .iter()
-            .map(|&(a, b)| Shape::Line(current[a], current[b]))
+            .map(|&(a, b)| SvgElement::Line(current[a], current[b]))
             .collect();
-        Layer::new(
+        StyledGroup::new(
             "control-net",
             r##"fill="none" stroke="#707070" stroke-width="0.6" stroke-dasharray="2 2""##,
             shapes,
@@ -117,12 +117,12 @@ impl Picture<'_> {
         &self,
         group: &Group,
         current: &[[f64; 2]],
-    ) -> Result<Vec<Layer>, SvgError> {
+    ) -> Result<Vec<StyledGroup>, SvgError> {
         let mut layers = Vec::new();
         let polygons = self.condition_polygons(&group.conditions, current)?;
         let colour = escape(&group.colour);
         if !polygons.is_empty() {
-            layers.push(Layer::new(
+            layers.push(StyledGroup::new(
                 &format!("{}-conditions", escape(&group.class)),
                 &format!(
                     r#"fill="{colour}" fill-opacity="0.3" stroke="{colour}" stroke-width="0.5""#
@@ -132,7 +132,7 @@ impl Picture<'_> {
         }
         let circles = self.point_circles(&group.points, current, 2.6)?;
         if !circles.is_empty() {
-            layers.push(Layer::new(
+            layers.push(StyledGroup::new(
                 &format!("{}-points", escape(&group.class)),
                 &format!(r#"fill="{colour}""#),
                 circles,
@@ -142,8 +142,8 @@ impl Picture<'_> {
     }
 
     /// The derived points of an edit: filled black dots.
-    pub(super) fn derived_layer(&self, current: &[[f64; 2]]) -> Result<Layer, SvgError> {
-        Ok(Layer::new(
+    pub(super) fn derived_layer(&self, current: &[[f64; 2]]) -> Result<StyledGroup, SvgError> {
+        Ok(StyledGroup::new(
             "derived",
             r#"fill="black""#,
             self.point_circles(&self.derived, current, 3.5)?,
@@ -151,8 +151,8 @@ impl Picture<'_> {
     }
 
     /// The anchors of an edit: open bold circles.
-    pub(super) fn anchors_layer(&self, current: &[[f64; 2]]) -> Result<Layer, SvgError> {
-        Ok(Layer::new(
+    pub(super) fn anchors_layer(&self, current: &[[f64; 2]]) -> Result<StyledGroup, SvgError> {
+        Ok(StyledGroup::new(
             "anchors",
             r#"fill="none" stroke="black" stroke-width="2""#,
             self.point_circles(&self.anchors, current, 5.0)?,
@@ -160,13 +160,18 @@ impl Picture<'_> {
     }
 
     /// The text labels, next to their control points, in the order added.
-    pub(super) fn labels_layer(&self, current: &[[f64; 2]]) -> Result<Layer, SvgError> {
+    pub(super) fn labels_layer(&self, current: &[[f64; 2]]) -> Result<StyledGroup, SvgError> {
         let shapes = self
             .labels
             .iter()
-            .map(|(p, text)| Ok(Shape::Text(current[self.check_point(*p)?], text.clone())))
+            .map(|(p, text)| {
+                Ok(SvgElement::Text(
+                    current[self.check_point(*p)?],
+                    text.clone(),
+                ))
+            })
             .collect::<Result<_, SvgError>>()?;
-        Ok(Layer::new(
+        Ok(StyledGroup::new(
             "labels",
             r#"font-family="sans-serif" font-size="11" fill="black""#,
             shapes,
@@ -179,7 +184,7 @@ impl Picture<'_> {
         &self,
         conditions: &[usize],
         current: &[[f64; 2]],
-    ) -> Result<Vec<Shape>, SvgError> {
+    ) -> Result<Vec<SvgElement>, SvgError> {
         let all = self.spline.conditions();
         let mut polygons = Vec::with_capacity(conditions.len());
         for &c in conditions {
@@ -188,7 +193,7 @@ impl Picture<'_> {
                 count: all.len(),
             })?;
             let points: Vec<[f64; 2]> = condition.terms.iter().map(|(p, _)| current[*p]).collect();
-            polygons.push(Shape::Polygon(around_centroid(points)));
+            polygons.push(SvgElement::Polygon(around_centroid(points)));
         }
         Ok(polygons)
     }
@@ -199,16 +204,16 @@ impl Picture<'_> {
         points: &[usize],
         current: &[[f64; 2]],
         radius: f64,
-    ) -> Result<Vec<Shape>, SvgError> {
+    ) -> Result<Vec<SvgElement>, SvgError> {
         points
             .iter()
-            .map(|&p| Ok(Shape::Circle(current[self.check_point(p)?], radius)))
+            .map(|&p| Ok(SvgElement::Circle(current[self.check_point(p)?], radius)))
             .collect()
     }
 }
 
 /// A model's triangle edges (each once), thin blue.
-pub(super) fn model_edges_layer(model: &Model) -> Result<Layer, SvgError> {
+pub(super) fn model_edges_layer(model: &Model) -> Result<StyledGroup, SvgError> {
     let count = model.positions.len();
     let mut edges = BTreeSet::new();
     for tri in &model.triangles {
@@ -234,9 +239,9 @@ pub(super) fn model_edges_layer(model: &Model) -> Result<Layer, SvgError> {
                 what: format!("model edge {a}-{b}"),
             });
         }
-        shapes.push(Shape::Line(pa, pb));
+        shapes.push(SvgElement::Line(pa, pb));
     }
-    Ok(Layer::new(
+    Ok(StyledGroup::new(
         "model-edges",
         r##"fill="none" stroke="#4a7fb5" stroke-width="0.5""##,
         shapes,
@@ -244,7 +249,7 @@ pub(super) fn model_edges_layer(model: &Model) -> Result<Layer, SvgError> {
 }
 
 /// A model's vertices as small blue dots.
-pub(super) fn model_vertices_layer(model: &Model) -> Result<Layer, SvgError> {
+pub(super) fn model_vertices_layer(model: &Model) -> Result<StyledGroup, SvgError> {
     let mut shapes = Vec::with_capacity(model.positions.len());
     for (v, p) in model.positions.iter().enumerate() {
         let xy = [p[0], p[1]];
@@ -253,15 +258,22 @@ pub(super) fn model_vertices_layer(model: &Model) -> Result<Layer, SvgError> {
                 what: format!("model vertex {v}"),
             });
         }
-        shapes.push(Shape::Circle(xy, 1.0));
+        shapes.push(SvgElement::Circle(xy, 1.0));
     }
-    Ok(Layer::new("model-vertices", r##"fill="#4a7fb5""##, shapes))
+    Ok(StyledGroup::new(
+        "model-vertices",
+        r##"fill="#4a7fb5""##,
+        shapes,
+    ))
 }
 
 /// Every control point as a small dark dot at `current`.
-pub(super) fn control_points_layer(current: &[[f64; 2]]) -> Layer {
-    let shapes = current.iter().map(|p| Shape::Circle(*p, 1.8)).collect();
-    Layer::new("control-points", r##"fill="#404040""##, shapes)
+pub(super) fn control_points_layer(current: &[[f64; 2]]) -> StyledGroup {
+    let shapes = current
+        .iter()
+        .map(|p| SvgElement::Circle(*p, 1.8))
+        .collect();
+    StyledGroup::new("control-points", r##"fill="#404040""##, shapes)
 }
 
 /// Orders points by angle around their centroid (ties by the original order), so the polygon

@@ -6,7 +6,7 @@ use std::fmt::Write as _;
 
 /// Something to draw, in world coordinates (radii in pixels).
 #[derive(Debug, Clone)]
-pub(super) enum Shape {
+pub(super) enum SvgElement {
     Line([f64; 2], [f64; 2]),
     Polyline(Vec<[f64; 2]>),
     Polygon(Vec<[f64; 2]>),
@@ -14,31 +14,31 @@ pub(super) enum Shape {
     Text([f64; 2], String),
 }
 
-impl Shape {
+impl SvgElement {
     /// Calls `f` with every point of the shape (for bounds).
     fn each_point(&self, mut f: impl FnMut(&[f64; 2])) {
         match self {
-            Shape::Line(a, b) => {
+            SvgElement::Line(a, b) => {
                 f(a);
                 f(b);
             }
-            Shape::Polyline(p) | Shape::Polygon(p) => p.iter().for_each(f),
-            Shape::Circle(c, _) | Shape::Text(c, _) => f(c),
+            SvgElement::Polyline(p) | SvgElement::Polygon(p) => p.iter().for_each(f),
+            SvgElement::Circle(c, _) | SvgElement::Text(c, _) => f(c),
         }
     }
 }
 
 /// One group of shapes sharing a style.
 #[derive(Debug, Clone)]
-pub(super) struct Layer {
+pub(super) struct StyledGroup {
     class: String,
     style: String,
-    shapes: Vec<Shape>,
+    shapes: Vec<SvgElement>,
 }
 
-impl Layer {
-    pub(super) fn new(class: &str, style: &str, shapes: Vec<Shape>) -> Self {
-        Layer {
+impl StyledGroup {
+    pub(super) fn new(class: &str, style: &str, shapes: Vec<SvgElement>) -> Self {
+        StyledGroup {
             class: class.to_string(),
             style: style.to_string(),
             shapes,
@@ -106,7 +106,7 @@ pub(super) fn scale_for(bounds: &Bounds, size: f64) -> f64 {
 /// Drawn content of one panel.
 #[derive(Debug, Clone)]
 pub(super) struct Scene {
-    pub(super) layers: Vec<Layer>,
+    pub(super) layers: Vec<StyledGroup>,
     pub(super) title: Option<String>,
 }
 
@@ -169,7 +169,7 @@ impl Scene {
             let _ = writeln!(out, r#"<g class="{}" {}>"#, layer.class, layer.style);
             for shape in &layer.shapes {
                 match shape {
-                    Shape::Line(a, b) => {
+                    SvgElement::Line(a, b) => {
                         let (a, b) = (to_screen(a), to_screen(b));
                         let _ = writeln!(
                             out,
@@ -180,8 +180,8 @@ impl Scene {
                             num(b[1])
                         );
                     }
-                    Shape::Polyline(points) | Shape::Polygon(points) => {
-                        let tag = if matches!(shape, Shape::Polygon(_)) {
+                    SvgElement::Polyline(points) | SvgElement::Polygon(points) => {
+                        let tag = if matches!(shape, SvgElement::Polygon(_)) {
                             "polygon"
                         } else {
                             "polyline"
@@ -196,7 +196,7 @@ impl Scene {
                         }
                         out.push_str("\"/>\n");
                     }
-                    Shape::Circle(c, r) => {
+                    SvgElement::Circle(c, r) => {
                         let c = to_screen(c);
                         let _ = writeln!(
                             out,
@@ -206,7 +206,7 @@ impl Scene {
                             num(*r)
                         );
                     }
-                    Shape::Text(p, text) => {
+                    SvgElement::Text(p, text) => {
                         let p = to_screen(p);
                         let _ = writeln!(
                             out,
