@@ -1,0 +1,265 @@
+//! Outputs of the terrain source: checking them (the model read and validated, the files
+//! announced), rendering the deformed model and the shaded-relief pictures.
+
+use super::{load_terrain, Built, TerrainSource};
+use crate::deform::{DeformedModel, Psi};
+use crate::relief::{self, Marker, Panel, View};
+use api::config::{check_output_file_name, from_ron};
+use api::exact::rational_to_f64;
+use api::{OutputFile, ParamId, RenderRequest, SourceError, Values};
+use serde::Deserialize;
+use spline2d::model::{deformed_name, write_obj, Model};
+use std::path::{Path, PathBuf};
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct OutputConfig {
+    #[serde(default)]
+    model: Option<String>,
+    #[serde(default)]
+    picture: Option<String>,
+    #[serde(default = "default_size")]
+    size: u32,
+    #[serde(default = "default_true")]
+    reference_mesh: bool,
+}
+
+fn default_size() -> u32 {
+    640
+}
+
+fn default_true() -> bool {
+    true
+}
+
+/// An output checked: the model read, and the files it writes.
+pub(super) struct CheckedOutput {
+    config: OutputConfig,
+    pub(super) model: Model,
+    pub(super) model_path: PathBuf,
+    /// `<stem>-deformed.obj`.
+    pub(super) model_file: String,
+    /// `<picture stem>` of `<stem>-before.png` and `<stem>-after.png`.
+    pub(super) picture: Option<String>,
+}
+
+impl CheckedOutput {
+    pub(super) fn files(&self) -> Vec<String> {
+        let mut files = vec![self.model_file.clone()];
+        if let Some(stem) = &self.picture {
+            files.push(format!("{stem}-before.png"));
+            files.push(format!("{stem}-after.png"));
+        }
+        files
+    }
+}
+
+impl TerrainSource {
+    /// Parses and checks an output, reading the model (which must be a terrain or a model).
+    pub(super) fn check_output_text(
+        &self,
+        text: &str,
+        base_dir: &Path,
+        limit: u64,
+    ) -> Result<CheckedOutput, SourceError> {
+        let built = self.built()?;
+        let what = format!("{} output", built.name);
+        let error = |e: &dyn std::fmt::Display| SourceError::new(format!("{what}: {e}"));
+        let config: OutputConfig = from_ron(text, &what)?;
+        let Some(model_path) = config.model.clone() else {
+            return Err(error(
+                &"give the model (terrain) to deform: model: \"terrain.asc\" (or .obj, or a plain grid)",
+            ));
+        };
+        let picture = match &config.picture {
+            Some(name) => {
+                check_output_file_name(name, "picture", "png").map_err(|e| error(&e))?;
+                let stem = Path::new(name)
+                    .file_stem()
+                    .map(|s| s.to_string_lossy().into_owned())
+                    .unwrap_or_default();
+                Some(stem)
+            }
+            None => None,
+        };
+        relief::check_width(config.size).map_err(|e| error(&e))?;
+        let full = base_dir.join(&model_path);
+        let model = load_terrain(&full, limit).map_err(|e| error(&e))?;
+        let checked = CheckedOutput {
+            model_file: deformed_name(&model_path),
+            config,
+            model,
+            model_path: full,
+            picture,
+        };
+        let files = checked.files();
+        if let Some(name) = files.iter().skip(1).find(|f| **f == files[0]) {
+            return Err(error(&format!(
+                "the deformed model and a picture are both named {name:?}"
+            )));
+        }
+        Ok(checked)
+    }
+
+    /// Renders an output: the deformed model and, if asked, the relief pictures.
+    pub(super) fn render_output(
+        &self,
+        request: &RenderRequest,
+    ) -> Result<Vec<OutputFile>, SourceError> {
+        let built = self.built()?;
+        let what = format!("{} output", built.name);
+        let error = |e: &dyn std::fmt::Display| SourceError::new(format!("{what}: {e}"));
+        let checked =
+            self.check_output_text(&request.output, &request.base_dir, request.input_limit)?;
+        let (config, model, picture_stem) = (&checked.config, &checked.model, &checked.picture);
+        let before = built.psi(&request.initial)?;
+        let after = built.psi(&request.values)?;
+        let deformed = after.deform(model);
+        let mut model_file = OutputFile::new(
+            checked.model_file.clone(),
+            deformed_obj(built, &deformed).map_err(|e| error(&e))?,
+        );
+        model_file.notes.extend(
+            outside_lists(&deformed)
+                .into_iter()
+                .filter_map(|(list, place)| spline2d::model::left_in_place_note(list, place)),
+        );
+        let mut files = vec![model_file];
+        if let Some(picture) = picture_stem {
+            let initial = before.deform(model).model;
+            let lines = |psi: &Psi| {
+                if config.reference_mesh {
+                    mesh_lines(built, psi)
+                } else {
+                    Vec::new()
+                }
+            };
+            let (lines_before, lines_after) = (lines(&before), lines(&after));
+            let highlight = request.highlight.clone().unwrap_or_default();
+            let markers_before = markers(built, &before, &request.initial, &highlight.anchors, &[]);
+            let markers_after = markers(
+                built,
+                &after,
+                &request.values,
+                &highlight.anchors,
+                &highlight.derived,
+            );
+            let panels = [
+                Panel {
+                    model: &initial,
+                    lines: &lines_before,
+                    markers: &markers_before,
+                },
+                Panel {
+                    model: &deformed.model,
+                    lines: &lines_after,
+                    markers: &markers_after,
+                },
+            ];
+            let view = View::fit(&panels, config.size).map_err(|e| error(&e))?;
+            for (panel, when) in panels.iter().zip(["before", "after"]) {
+                files.push(OutputFile::new(
+                    format!("{picture}-{when}.png"),
+                    relief::render(panel, &view).map_err(|e| error(&e))?,
+                ));
+            }
+        }
+        Ok(files)
+    }
+}
+
+/// The deformed model as OBJ, with a header naming the vertices left in place.
+fn deformed_obj(built: &Built, deformed: &DeformedModel) -> std::io::Result<Vec<u8>> {
+    let mut bytes = format!(
+        "# {}: deformed by the 2.5D map psi (prisms between z = {} and z = {})\n",
+        built.name,
+        api::format_rational(built.layer.bottom()),
+        api::format_rational(built.layer.top())
+    )
+    .into_bytes();
+    for (list, place) in outside_lists(deformed) {
+        if !list.is_empty() {
+            // 0-based vertex numbers, as in the reports.
+            bytes.extend(
+                format!(
+                    "# {} vertices {place} were left in place (0-based): {list:?}\n",
+                    list.len()
+                )
+                .into_bytes(),
+            );
+        }
+    }
+    write_obj(&deformed.model, &mut bytes)?;
+    Ok(bytes)
+}
+
+/// The model vertices `ψ` left in place, with where they lie.
+fn outside_lists(deformed: &DeformedModel) -> [(&[usize], &'static str); 2] {
+    [
+        (&deformed.outside_mesh, "outside the reference mesh"),
+        (&deformed.outside_layer, "below the bottom or above the top"),
+    ]
+}
+
+/// The edges of the reference mesh mapped by `φ`, as polylines.
+fn mesh_lines(built: &Built, psi: &Psi) -> Vec<Vec<[f64; 2]>> {
+    let samples = if psi.has_phi() { 16 } else { 1 };
+    built
+        .spline
+        .topology()
+        .edges
+        .iter()
+        .filter_map(|edge| {
+            let &(t, k) = edge.faces.first()?;
+            // The edge opposite corner k runs from corner k+1 to corner k+2.
+            let (from, to) = ((k + 1) % 3, (k + 2) % 3);
+            (0..=samples)
+                .map(|s| {
+                    let u = s as f64 / samples as f64;
+                    let mut beta = [0.0; 3];
+                    beta[from] = 1.0 - u;
+                    beta[to] = u;
+                    psi.phi_in(t, beta)
+                })
+                .collect::<Option<Vec<_>>>()
+        })
+        .collect()
+}
+
+/// Discs for the anchors (red) and derived points (orange) of the last edit of this source:
+/// control points of `φ` where they are, points of `σ0`/`σ1` at the image of their nominal
+/// position.
+fn markers(
+    built: &Built,
+    psi: &Psi,
+    values: &Values,
+    anchors: &[ParamId],
+    derived: &[ParamId],
+) -> Vec<Marker> {
+    let place = |id: ParamId| -> Option<[f64; 2]> {
+        let (surface, point) = built.point_of(id)?;
+        if surface == 2 {
+            let v = values.get(id);
+            return Some([rational_to_f64(v.first()?), rational_to_f64(v.get(1)?)]);
+        }
+        let nominal = &built.spline.points()[point].nominal;
+        let z = rational_to_f64(built.layer.bottom());
+        let image = psi
+            .map([
+                rational_to_f64(&nominal[0]),
+                rational_to_f64(&nominal[1]),
+                z,
+            ])
+            .ok()?;
+        Some([image[0], image[1]])
+    };
+    let disc = |ids: &[ParamId], colour: [u8; 3], radius: f64| -> Vec<Marker> {
+        ids.iter()
+            .filter_map(|&id| place(id))
+            .map(|at| Marker { at, colour, radius })
+            .collect()
+    };
+    let mut out = disc(derived, [255, 127, 14], 2.5);
+    out.extend(disc(anchors, [214, 39, 40], 4.5));
+    out
+}
