@@ -16,6 +16,6 @@ fuzz_target!(|data: &[u8]| {
         "(parameters: {{\"a\": \"1\", \"b\": \"2\"}}, equations: [{:?}])",
         text
     );
-    let request = api::conformance::request("fz", &config);
+    let request = conformance::request("fz", &config);
     let _ = plugins_linear::LinearSource::new().build(&request);
 });

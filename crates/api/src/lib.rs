@@ -9,8 +9,6 @@
 //! * [`config`]: reading the RON fragments a host forwards to sources, with positions;
 //! * [`input`]: reading input files (meshes, models, height fields) as bounded regular files;
 //! * [`source`]: the [`ConstraintSource`] trait constraint plugins implement;
-//! * [`conformance`]: checks every plugin's tests can run on a source, static or dynamic
-//!   (deterministic builds, clean contributions, prefixed names, graceful refusals);
 //! * [`backend`]: the traits a linear-algebra backend implements (factor, rank, independent and
 //!   redundant rows, solve, weak and strong consistency, null space, weighted least squares).
 //!
@@ -18,7 +16,6 @@
 
 pub mod backend;
 pub mod config;
-pub mod conformance;
 pub mod exact;
 pub mod input;
 pub mod matrix;

@@ -1,10 +1,10 @@
-//! The conformance checks every plugin should pass (see `api::conformance`), run twice: on the
+//! The conformance checks every plugin should pass (see `conformance`), run twice: on the
 //! source linked statically and on this crate's own dynamic library loaded through the ABI
 //! (Cargo builds the `cdylib` next to this test, see `plugin_abi::library_beside_test`).
 //!
 //! Copy this file with the template: only the samples are specific to a plugin.
 
-use api::conformance::{check_source, request, Samples};
+use conformance::{check_source, request, Samples};
 use api::{BuildRequest, ConstraintSystem, ParamId, Values};
 use plugin_example::ExampleSource;
 

@@ -1,7 +1,7 @@
 //! The align source on a spline2d system: rows and labels, exact scaling, errors, an edit that
 //! keeps an alignment and one that would break it, and the conformance checks.
 
-use api::conformance::{self, Samples};
+use conformance::{self, Samples};
 use api::{parse_rational, Values};
 use api::{BuildRequest, ConstraintSource, ConstraintSystem, Coord, ParamId, Rational, RowBody};
 use ecles::{Edit, EditError, EditSpec};

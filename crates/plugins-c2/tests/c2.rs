@@ -1,7 +1,7 @@
 //! The c2 source against the spline2d source it builds on: the combined rank is
 //! `control points − dim S²_d`, configuration errors are clear, and the conformance checks pass.
 
-use api::conformance::{self, Samples};
+use conformance::{self, Samples};
 use api::{format_rational, ConstraintSystem, IntMatrix, Rational, SourceInfo, Values};
 use api::{BuildRequest, ConstraintSource, Integer, RowBody};
 use plugins_c2::*;

@@ -240,7 +240,7 @@ mod tests {
     use api::{ConstraintSystem, Values};
 
     fn request(config: &str) -> BuildRequest {
-        api::conformance::request("phi", config)
+        conformance::request("phi", config)
     }
 
     const SQUARE: &str = r#"(mesh: (vertices: [("0", "0"), ("10", "0"), ("10", "10"), ("0", "10"), ("5", "4")],

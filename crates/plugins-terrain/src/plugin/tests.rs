@@ -2,7 +2,7 @@
 //! deformed terrain, exactness where nothing moved.
 
 use super::*;
-use api::conformance::{self, Samples};
+use conformance::{self, Samples};
 use api::exact::rational_to_f64;
 use api::{ConstraintSystem, Factorization, IntMatrix, LinearBackend, RowBody};
 use ecles::{Edit, EditSpec};

@@ -3,7 +3,7 @@
 //! The checks take sources as `&mut dyn ConstraintSource`, so they run the same on a source
 //! linked statically and on a dynamic plugin loaded with `plugin_abi::load(..)?.instantiate()`
 //! (a `DynamicSource` implements the same trait). They verify the rules of
-//! [`crate::source`] that a host relies on:
+//! [`api::source`] that a host relies on:
 //!
 //! * **builds answer** and **never panic**: a good configuration gives a contribution, a bad one
 //!   an error (with a message naming the instance), and neither unwinds;
@@ -23,7 +23,7 @@
 //! tests that need only one.
 //!
 //! ```
-//! use api::conformance::{self, Samples};
+//! use conformance::Samples;
 //! use api::{
 //!     BuildRequest, ConstraintSource, Contribution, NewParameter, OperationCheckRequest,
 //!     OperationPlan, OutputCheck, OutputCheckRequest, OutputFile, PlanRequest, RenderRequest,
@@ -71,14 +71,14 @@
 //!     outputs: vec!["(picture: \"z.svg\")".into()],
 //! };
 //! conformance::check_source(&mut || Box::new(Zero), &samples)?;
-//! # Ok::<(), api::conformance::ConformanceError>(())
+//! # Ok::<(), conformance::ConformanceError>(())
 //! ```
 
-use crate::source::{
+use api::{
     BuildRequest, ConstraintSource, Contribution, OperationCheckRequest, OperationPlan,
     OutputCheckRequest, PlanRequest, RenderRequest,
 };
-use crate::system::{ConstraintSystem, SystemError, Values};
+use api::{ConstraintSystem, SystemError, Values};
 use std::collections::BTreeSet;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
@@ -229,14 +229,14 @@ pub struct Samples {
 /// the current directory.
 pub fn request(name: &str, config: &str) -> BuildRequest {
     BuildRequest {
-        schema: crate::source::SCHEMA_VERSION,
+        schema: api::SCHEMA_VERSION,
         name: name.to_string(),
         config: config.to_string(),
         base_dir: ".".into(),
         system: ConstraintSystem::new(),
         values: Values::default(),
         sources: Vec::new(),
-        input_limit: crate::input::DEFAULT_MAX_INPUT_BYTES,
+        input_limit: api::input::DEFAULT_MAX_INPUT_BYTES,
     }
 }
 
@@ -435,7 +435,7 @@ pub fn check_plan_and_render(
     for operation in operations {
         let call = format!("check of {name:?} for the operation {operation:?}");
         let check = OperationCheckRequest {
-            schema: crate::source::SCHEMA_VERSION,
+            schema: api::SCHEMA_VERSION,
             operation: operation.clone(),
         };
         if let Err(e) = no_panic(call.clone(), || source.check_operation(&check))? {
@@ -443,7 +443,7 @@ pub fn check_plan_and_render(
         }
         let call = format!("plan of {name:?} for {operation:?}");
         let request = PlanRequest {
-            schema: crate::source::SCHEMA_VERSION,
+            schema: api::SCHEMA_VERSION,
             operation: operation.clone(),
             system: system.clone(),
             values: values.clone(),
@@ -456,10 +456,10 @@ pub fn check_plan_and_render(
     for output in outputs {
         let call = format!("check of {name:?} for the output {output:?}");
         let check = OutputCheckRequest {
-            schema: crate::source::SCHEMA_VERSION,
+            schema: api::SCHEMA_VERSION,
             output: output.clone(),
             base_dir: ".".into(),
-            input_limit: crate::input::DEFAULT_MAX_INPUT_BYTES,
+            input_limit: api::input::DEFAULT_MAX_INPUT_BYTES,
         };
         let announced = match no_panic(call.clone(), || source.check_output(&check))? {
             Ok(check) => check.checked.then_some(check.files),
@@ -470,7 +470,7 @@ pub fn check_plan_and_render(
         };
         let call = format!("render of {name:?} for {output:?}");
         let request = RenderRequest {
-            schema: crate::source::SCHEMA_VERSION,
+            schema: api::SCHEMA_VERSION,
             output: output.clone(),
             base_dir: ".".into(),
             system: system.clone(),
@@ -478,7 +478,7 @@ pub fn check_plan_and_render(
             values: values.clone(),
             highlight: None,
             structure: None,
-            input_limit: crate::input::DEFAULT_MAX_INPUT_BYTES,
+            input_limit: api::input::DEFAULT_MAX_INPUT_BYTES,
         };
         match no_panic(call.clone(), || source.render(&request))? {
             Ok(files) => {
@@ -611,8 +611,8 @@ pub fn check_source(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::source::{NewParameter, OutputCheck, OutputFile, SourceError, SummaryItem};
-    use crate::system::{ConstraintRow, Origin, ParamId, RowBody};
+    use api::{NewParameter, OutputCheck, OutputFile, SourceError, SummaryItem};
+    use api::{ConstraintRow, Origin, ParamId, RowBody};
 
     /// A source whose misbehaviour is chosen by its configuration text.
     #[derive(Default)]
@@ -632,7 +632,7 @@ mod tests {
             let name = &request.name;
             let param = |n: &str| NewParameter {
                 name: n.to_string(),
-                value: vec![crate::exact::Rational::from_integer(0.into())],
+                value: vec![api::exact::Rational::from_integer(0.into())],
             };
             let row = |label: String, source: &str, id: u32| ConstraintRow {
                 label,
