@@ -611,8 +611,8 @@ pub fn check_source(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use api::{NewParameter, OutputCheck, OutputFile, SourceError, SummaryItem};
     use api::{ConstraintRow, Origin, ParamId, RowBody};
+    use api::{NewParameter, OutputCheck, OutputFile, SourceError, SummaryItem};
 
     /// A source whose misbehaviour is chosen by its configuration text.
     #[derive(Default)]

@@ -4,8 +4,8 @@
 //!
 //! Copy this file with the template: only the samples are specific to a plugin.
 
-use conformance::{check_source, request, Samples};
 use api::{BuildRequest, ConstraintSystem, ParamId, Values};
+use conformance::{check_source, request, Samples};
 use plugin_example::ExampleSource;
 
 /// Good and bad configurations, one operation and one output (the example plugin refuses both).

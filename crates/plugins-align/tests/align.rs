@@ -1,9 +1,9 @@
 //! The align source on a spline2d system: rows and labels, exact scaling, errors, an edit that
 //! keeps an alignment and one that would break it, and the conformance checks.
 
-use conformance::{self, Samples};
 use api::{parse_rational, Values};
 use api::{BuildRequest, ConstraintSource, ConstraintSystem, Coord, ParamId, Rational, RowBody};
+use conformance::{self, Samples};
 use ecles::{Edit, EditError, EditSpec};
 use exact_ldu::{ExactFactorization, ExactLdu};
 use plugins_align::*;

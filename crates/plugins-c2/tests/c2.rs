@@ -1,9 +1,9 @@
 //! The c2 source against the spline2d source it builds on: the combined rank is
 //! `control points − dim S²_d`, configuration errors are clear, and the conformance checks pass.
 
-use conformance::{self, Samples};
 use api::{format_rational, ConstraintSystem, IntMatrix, Rational, SourceInfo, Values};
 use api::{BuildRequest, ConstraintSource, Integer, RowBody};
+use conformance::{self, Samples};
 use plugins_c2::*;
 use plugins_spline2d::plugin::Spline2dSource;
 use spline2d::mesh::{grid, Mesh};

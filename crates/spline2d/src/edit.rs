@@ -54,6 +54,19 @@ pub struct Selection {
     pub blocked: Option<Blocked>,
 }
 
+/// The outcome of ExpandDerived.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Expansion {
+    /// The derived points `D ⊇ S`, sorted.
+    pub derived: Vec<usize>,
+    /// `D \ S`, in the order added.
+    pub added: Vec<usize>,
+    /// Solvability checks run.
+    pub checks: usize,
+    /// Set when no derived set makes the edit solvable.
+    pub blocked: Option<Blocked>,
+}
+
 /// Why ExpandDerived stopped without making the edit solvable.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Blocked {
@@ -281,13 +294,46 @@ impl SplineEditor<'_> {
                 Neighborhood::Radius(r) => to_anchor[p].is_some_and(|d| d <= r),
             })
             .collect();
+        let expansion =
+            self.expand_derived(system, values, &anchors, &initial, &to_anchor, moves)?;
+        let derived = expansion.derived;
+        let theta = self.relative_magnitudes(&anchor_set, &derived, &to_anchor);
+        Ok(Selection {
+            anchors,
+            initial,
+            derived,
+            added: expansion.added,
+            theta,
+            checks: expansion.checks,
+            blocked: expansion.blocked,
+        })
+    }
+
+    /// 2DSD.ExpandDerived (thesis 14.3; its figure 14.6 is missing, see the module doc): from
+    /// `D = S` (`initial`), run the exact solvability check — for `moves` when they are known
+    /// ([`ecles::check_moves`]), strong solvability otherwise — and add the fixed control points
+    /// of the blocking conditions nearest to the anchors on the control net, until it passes or
+    /// no such point is left ([`Expansion::blocked`]).
+    ///
+    /// Complexity: one exact factoring of `R_ED` per round; the rounds are at most the net
+    /// distance from the anchors to the farthest point added.
+    pub fn expand_derived(
+        &self,
+        system: &ConstraintSystem,
+        values: &Values,
+        anchors: &[usize],
+        initial: &[usize],
+        to_anchor: &[Option<u32>],
+        moves: Option<&[Vec<Vec<Rational>>]>,
+    ) -> Result<Expansion, SelectError> {
+        let anchor_set: BTreeSet<usize> = anchors.iter().copied().collect();
         let mut derived: BTreeSet<usize> = initial.iter().copied().collect();
         let mut added = Vec::new();
         let mut checks = 0;
         let mut blocked = None;
         loop {
             checks += 1;
-            let spec = EditSpec::new(self.ids(&anchors), self.ids(derived.iter()));
+            let spec = EditSpec::new(self.ids(anchors), self.ids(derived.iter()));
             let outcome = match moves {
                 Some(moves) => {
                     ecles::check_moves(&ExactLdu::default(), system, values, &spec, moves)
@@ -355,14 +401,9 @@ impl SplineEditor<'_> {
                 }
             }
         }
-        let derived: Vec<usize> = derived.into_iter().collect();
-        let theta = self.relative_magnitudes(&anchor_set, &derived, &to_anchor);
-        Ok(Selection {
-            anchors,
-            initial,
-            derived,
+        Ok(Expansion {
+            derived: derived.into_iter().collect(),
             added,
-            theta,
             checks,
             blocked,
         })
@@ -875,5 +916,43 @@ mod tests {
             op.validate(2).expect_err("refused").to_string(),
             "invalid operation: translate has 1 coordinates, the spline has dimension 2"
         );
+    }
+
+    #[test]
+    fn expand_derived_grows_from_nothing_until_the_edit_is_solvable() {
+        let f = fixture(4);
+        let editor = f.editor();
+        let anchor = point(&f, "v12");
+        let to_anchor = f.net.distances_from(&[anchor]);
+        let strong = editor
+            .expand_derived(&f.system, &f.values, &[anchor], &[], &to_anchor, None)
+            .expect("expands");
+        assert!(strong.blocked.is_none());
+        assert!(!strong.derived.is_empty() && strong.checks > 1);
+        assert_eq!(strong.added.len(), strong.derived.len());
+        // Every point added lies on a blocking condition: none is farther than needed, and the
+        // result passes the exact strong check.
+        let spec = EditSpec::new(editor.ids(&[anchor]), editor.ids(strong.derived.iter())).strong();
+        Edit::<ExactFactorization>::check_strongly_solvable(
+            &ExactLdu::default(),
+            &f.system,
+            &f.values,
+            &spec,
+        )
+        .expect("strongly solvable");
+        // A known move needs at most what every direction needs.
+        let along_x = vec![vec![vec![Rational::one(), Rational::zero()]]];
+        let directed = editor
+            .expand_derived(
+                &f.system,
+                &f.values,
+                &[anchor],
+                &[],
+                &to_anchor,
+                Some(&along_x),
+            )
+            .expect("expands");
+        assert!(directed.blocked.is_none());
+        assert!(directed.derived.len() <= strong.derived.len());
     }
 }

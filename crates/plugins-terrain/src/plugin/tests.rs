@@ -2,9 +2,9 @@
 //! deformed terrain, exactness where nothing moved.
 
 use super::*;
-use conformance::{self, Samples};
 use api::exact::rational_to_f64;
 use api::{ConstraintSystem, Factorization, IntMatrix, LinearBackend, RowBody};
+use conformance::{self, Samples};
 use ecles::{Edit, EditSpec};
 use exact_ldu::{ExactFactorization, ExactLdu};
 use std::path::PathBuf;
