@@ -590,7 +590,7 @@ impl Values {
 
     /// Replaces several parameters at once; used to commit an edit atomically after it has been
     /// fully computed.
-    pub fn replace_all(&mut self, updates: Vec<(ParamId, Vec<Rational>)>) {
+    pub fn replace_all(&mut self, updates: impl IntoIterator<Item = (ParamId, Vec<Rational>)>) {
         for (id, value) in updates {
             self.data[id.index()] = value;
         }

@@ -106,6 +106,14 @@ pub struct UpdateResult<S> {
     pub derived: Vec<(ParamId, Vec<S>)>,
 }
 
+impl UpdateResult<Rational> {
+    /// Writes the anchors' and derived parameters' values into `values` (the commit of an
+    /// edit: [`Edit::apply`], and hosts that keep the result of an update to commit later).
+    pub fn write_into(&self, values: &mut Values) {
+        values.replace_all(self.anchors.iter().chain(&self.derived).cloned());
+    }
+}
+
 /// An initialised editing action: call [`Edit::update`] (or [`Edit::apply`]) once per new set of
 /// anchor values and hints.
 #[derive(Debug, Clone)]
@@ -420,9 +428,7 @@ impl<F: Factorization<Scalar = Rational>> Edit<F> {
             });
         }
         let result = self.update(anchor_values, hints)?;
-        let mut updates = result.anchors.clone();
-        updates.extend(result.derived.iter().cloned());
-        values.replace_all(updates);
+        result.write_into(values);
         Ok(result)
     }
 }

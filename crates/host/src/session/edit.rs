@@ -147,9 +147,7 @@ impl Session {
     fn commit(&mut self, result: &UpdateResult<Rational>, highlight: Option<(String, Highlight)>) {
         self.history
             .push((self.values.clone(), self.last_highlight.clone()));
-        let mut updates = result.anchors.clone();
-        updates.extend(result.derived.iter().cloned());
-        self.values.replace_all(updates);
+        result.write_into(&mut self.values);
         if let Some((source, highlight)) = highlight {
             self.last_highlight.insert(source, highlight);
         }
