@@ -367,6 +367,20 @@ pub(super) mod tests {
     }
 
     #[test]
+    fn the_start_is_the_trivial_factoring() {
+        // Steps 1–2: Π_R = I, L = I, D = I, U = A, Π_C = I, i = 0, j = n.
+        let (rows, cols) = matrix_4_3();
+        let w = WorkingFactors::new(rows.clone(), cols);
+        assert_eq!(w.product(), as_rationals(&rows));
+        assert_eq!((w.i, w.j), (0, cols));
+        assert_eq!(w.row_perm, (0..5).collect::<Vec<_>>());
+        assert_eq!(w.col_perm, (0..cols).collect::<Vec<_>>());
+        assert!(w.l_diag.iter().all(Ring::is_one) && w.pending_d.is_one());
+        assert!(w.l.iter().all(Vec::is_empty) && w.d.is_empty());
+        w.assert_i2();
+    }
+
+    #[test]
     fn step_9_scales_l_ii_and_d_ii_by_the_pivot() {
         let (rows, cols) = matrix_4_3();
         let mut w = WorkingFactors::new(rows, cols);
