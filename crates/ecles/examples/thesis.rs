@@ -5,9 +5,10 @@
 //! `cargo run --release -p ecles --example thesis`
 
 use api::{
-    format_rational, ConstraintRow, ConstraintSystem, Factorization, IntMatrix, LinearBackend,
-    Origin, ParamId, Rational, RowBody, Values,
+    format_rational, ConstraintRow, ConstraintSystem, Factorization, LinearBackend, Origin,
+    ParamId, Rational, RowBody, Values,
 };
+use backend_contract::thesis;
 use ecles::{Edit, EditSpec};
 use exact_ldu::{ExactFactorization, ExactLdu, Simplification};
 use num_bigint::BigInt;
@@ -45,17 +46,7 @@ fn row(label: &str, terms: &[(ParamId, i64)], rhs: &[i64]) -> ConstraintRow {
 }
 
 fn factoring_examples() -> Result<(), String> {
-    let a = IntMatrix::from_dense(
-        4,
-        &[
-            vec![4, 9, 16, 29],
-            vec![-1, -6, -19, -16],
-            vec![1, 5, 15, 19],
-            vec![5, 6, -1, -12],
-            vec![5, 10, 15, 20],
-        ],
-    )
-    .map_err(|e| e.to_string())?;
+    let a = thesis::matrix_4_3();
     let f = ExactLdu::new(Simplification::Turner)
         .factor(&a)
         .map_err(|e| e.to_string())?;
@@ -71,15 +62,13 @@ fn factoring_examples() -> Result<(), String> {
     println!("  D = diag{d:?}");
     show_matrix("U", &u);
 
-    let b: Vec<Rational> = [142, 42, 40, -128, 50].iter().map(|&v| q(v)).collect();
+    let b = thesis::rhs_8_17();
     let p = f.solve(&b).map_err(|e| e.to_string())?;
     let x: Vec<Rational> = ldu.col_perm().iter().map(|&c| p[c].clone()).collect();
     println!("Solve (8.17): X = Π_C P = {}, P = {}", show(&x), show(&p));
 
-    let hints = vec![q(1); 4];
-    let weights = vec![q(1); 4];
     let p = f
-        .least_squares(&b, &hints, &weights)
+        .least_squares(&b, &thesis::hints_9_11(), &thesis::weights_9_11())
         .map_err(|e| e.to_string())?;
     println!(
         "Least squares (9.9), hints (1, 1, 1, 1): P'' = {}",

@@ -113,7 +113,9 @@ impl<R: Ring> ExactFactorization<R> {
         }
     }
 
-    /// Forward substitution plus the consistency verdict for one right-hand side.
+    /// Forward substitution plus the consistency verdict for one right-hand side: weak
+    /// solvability (thesis 8.2.1, (8.10); `ECLES.CheckWeakSolvability`, algorithm 5), with the
+    /// certificate of the smallest failing circuit.
     fn forward_checked(&self, rhs: &[Rational]) -> Result<QVec<R>, SolveError<Rational>> {
         check_len("right-hand side", rhs.len(), self.ldu.rows())?;
         let mut b = self.permuted(rhs);
@@ -126,7 +128,9 @@ impl<R: Ring> ExactFactorization<R> {
         }
     }
 
-    /// Back-substitutes a forwarded right-hand side: `x̂ = Û⁻¹ D z`, `x̃ = 0`, in original column
+    /// Algorithm 14 (`LinSys.Solve`, thesis 8.1) after its forward substitution: `Y = D z`,
+    /// `X̂ = Û⁻¹ Y`, `X̃ = 0`, `P = Π_C⁻¹ X` (8.5)–(8.9). Back-substitutes a forwarded
+    /// right-hand side: `x̂ = Û⁻¹ D z`, `x̃ = 0`, in original column
     /// order.
     pub(crate) fn basic_solution(&self, forwarded: QVec<R>) -> QVec<R> {
         let r = self.ldu.rank();
@@ -219,6 +223,8 @@ impl<R: Ring> Factorization for ExactFactorization<R> {
             .collect()
     }
 
+    /// Algorithm 14 (`LinSys.Solve`, thesis 8.1): [`Ldu::forward`], the weak check (8.10), then
+    /// the basic solution (`X̃ = 0`).
     fn solve(&self, rhs: &[Rational]) -> Result<Vec<Rational>, SolveError<Rational>> {
         let forwarded = self.forward_checked(rhs)?;
         Ok(self.basic_solution(forwarded).to_rationals())
@@ -228,6 +234,8 @@ impl<R: Ring> Factorization for ExactFactorization<R> {
         self.forward_checked(rhs).map(|_| ())
     }
 
+    /// Strong solvability (thesis 8.2.2, (8.15)–(8.16); `ECLES.CheckStrongSolvability`,
+    /// algorithm 3): every column of `K`, then every constant, passes the weak check.
     fn check_strongly_consistent(
         &self,
         family: &RhsFamily,

@@ -67,6 +67,9 @@ fn dot_sparse<R: Ring>(row: &[(usize, R)], x: &[R]) -> R {
 }
 
 impl<R: Ring> ExactLeastSquares<R> {
+    /// Algorithm 15 (`LSQ.Solve`, thesis 9.1) up to the data of one update: `Â`, `H = V Âᵀ G⁻¹`
+    /// for `G = Â V Âᵀ` (9.6)–(9.8), the family at the independent rows, and one left-null-space
+    /// vector per redundant row for the weak check.
     pub(crate) fn prepare(
         f: &ExactFactorization<R>,
         family: &RhsFamily,
@@ -371,7 +374,9 @@ impl<R: Ring> PreparedLeastSquares for ExactLeastSquares<R> {
 }
 
 impl<R: Ring> ExactLeastSquares<R> {
-    /// Checks, then computes the solution as numerators over one positive denominator
+    /// Algorithm 15 (`LSQ.Solve`) steps 7–8 for one `α` and hints: `ρ = Â h − b̂`,
+    /// `x = h − H ρ` (`Λ = G⁻¹ ρ` folded into `H`). Checks, then computes the solution as
+    /// numerators over one positive denominator
     /// (`None` when there is no constraint and the hints are the answer).
     #[allow(clippy::type_complexity)]
     fn numerators(

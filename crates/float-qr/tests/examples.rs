@@ -1,10 +1,9 @@
-//! Worked examples: the thesis matrix (4.3), edge shapes, duplicate rows, strong consistency and
-//! badly scaled matrices whose rank margin the float backend reports.
+//! Worked examples with the values the float backend gives: the thesis matrix (4.3), edge
+//! shapes, duplicate rows and badly scaled matrices whose rank margin it reports. The equations
+//! every answer satisfies are the backend contract's (`tests/contract.rs`).
 
-use api::{
-    BackendError, Factorization, IntMatrix, LinearBackend, PreparedLeastSquares, Rational,
-    RhsFamily, SolveError, StrongFailure,
-};
+use api::{Factorization, IntMatrix, LinearBackend, Rational, RhsFamily, SolveError};
+use backend_contract::thesis;
 use exact_ldu::ExactLdu;
 use float_qr::{FloatFactorization, FloatQr};
 
@@ -21,14 +20,17 @@ fn factor(cols: usize, rows: &[Vec<i64>]) -> FloatFactorization {
     FloatQr::default().factor(&a).expect("factor")
 }
 
+/// The matrix (4.3) of the thesis as dense rows.
 fn matrix_4_3() -> Vec<Vec<i64>> {
-    vec![
-        vec![4, 9, 16, 29],
-        vec![-1, -6, -19, -16],
-        vec![1, 5, 15, 19],
-        vec![5, 6, -1, -12],
-        vec![5, 10, 15, 20],
-    ]
+    thesis::matrix_4_3()
+        .to_dense()
+        .iter()
+        .map(|row| {
+            row.iter()
+                .map(|v| i64::try_from(v).expect("small"))
+                .collect()
+        })
+        .collect()
 }
 
 fn residual(a: &[Vec<i64>], x: &[f64], b: &[i64]) -> f64 {
@@ -41,168 +43,41 @@ fn residual(a: &[Vec<i64>], x: &[f64], b: &[i64]) -> f64 {
         .fold(0.0, f64::max)
 }
 
+/// (4.3): the rank decision has a wide margin, the inconsistent right-hand side of (8.17) with
+/// `b₅ = 51` gets a certificate of the same size as the exact one, and the null vector has
+/// unit length. (Solutions, certificates, families and the least squares of (9.9) are checked
+/// by the backend contract, `tests/contract.rs`.)
 #[test]
 fn thesis_matrix_4_3() {
     let a = matrix_4_3();
     let f = factor(4, &a);
     assert_eq!(f.rank(), 3);
-    assert_eq!(f.independent_rows().len(), 3);
-    assert_eq!(f.redundancies().len(), 2);
     let margin = f.rank_margin().expect("float backends report a margin");
     assert!(margin.smallest_kept > 1e-3, "{margin:?}");
     assert!(margin.largest_dropped < 1e-14, "{margin:?}");
 
-    // Solve (8.17).
-    let b = [142, 42, 40, -128, 50];
-    let x = f.solve(&qs(&b)).expect("consistent");
-    assert!(residual(&a, &x, &b) < 1e-9, "{x:?}");
-    f.check_consistent(&qs(&b)).expect("consistent");
-
-    // Least squares (9.9)–(9.14): hints (1, 1, 1, 1), unit weights.
-    let p = f
-        .least_squares(&qs(&b), &qs(&[1, 1, 1, 1]), &qs(&[1, 1, 1, 1]))
-        .expect("solvable");
-    for (got, want) in p.iter().zip([1.5, -1.5, -11.5, 11.5]) {
-        assert!((got - want).abs() < 1e-9, "{p:?}");
-    }
-
-    // b[4] = 51 is inconsistent; the certificate names row 4.
-    let mut bad = b;
-    bad[4] = 51;
-    let err = f.solve(&qs(&bad)).expect_err("inconsistent");
-    let SolveError::Inconsistent(c) = err else {
-        panic!("expected an inconsistency, got {err:?}")
+    let mut bad = thesis::rhs_8_17();
+    bad[4] = q(51);
+    let Err(SolveError::Inconsistent(c)) = f.solve(&bad) else {
+        panic!("b₅ = 51 is inconsistent")
     };
     assert!(c.rows.contains(&4), "{c:?}");
-    assert!(c.rows.windows(2).all(|w| w[0] < w[1]));
-    let mut y_a = [0.0; 4];
-    for (&i, y) in c.rows.iter().zip(&c.certificate) {
-        for (acc, aij) in y_a.iter_mut().zip(&a[i]) {
-            *acc += y * *aij as f64;
-        }
-    }
-    assert!(y_a.iter().all(|s| s.abs() < 1e-9), "yᵀA = {y_a:?}");
-    let yb: f64 = c
-        .rows
-        .iter()
-        .zip(&c.certificate)
-        .map(|(&i, y)| y * bad[i] as f64)
-        .sum();
-    assert!((yb - c.discrepancy).abs() < 1e-9);
-    assert!(c.discrepancy.abs() > 1e-3);
     // The exact backend finds the system inconsistent too (its certificate may name another
     // circuit through row 4: the two backends pick different independent rows).
     let exact = ExactLdu::default()
-        .factor(&IntMatrix::from_dense(4, &a).expect("matrix"))
+        .factor(&thesis::matrix_4_3())
         .expect("factor");
-    let Err(SolveError::Inconsistent(e)) = exact.solve(&qs(&bad)) else {
+    let Err(SolveError::Inconsistent(e)) = exact.solve(&bad) else {
         panic!("the exact backend must agree")
     };
     assert!(e.rows.contains(&4));
     assert_eq!(e.rows.len(), c.rows.len());
 
-    // Null space: one vector, A n = 0, unit length.
     let null = f.null_space();
     assert_eq!(null.len(), 1);
     let norm: f64 = null[0].iter().map(|v| v * v).sum::<f64>().sqrt();
     assert!((norm - 1.0).abs() < 1e-12);
     assert!(residual(&a, &null[0], &[0; 5]) < 1e-12);
-}
-
-#[test]
-fn prepared_family_on_matrix_4_3() {
-    // b(α) = c − K α with K = column 0 of A: strongly consistent; α shifts the solution.
-    let a = matrix_4_3();
-    let f = factor(4, &a);
-    let k = IntMatrix::from_dense(1, &a.iter().map(|r| vec![r[0]]).collect::<Vec<_>>()).expect("K");
-    let family = RhsFamily {
-        constant: vec![qs(&[142, 42, 40, -128, 50])],
-        coefficients: k,
-    };
-    assert_eq!(f.check_strongly_consistent(&family), Ok(Ok(())));
-    let p = f
-        .prepare_least_squares(&family, &qs(&[1, 1, 1, 1]))
-        .expect("prepare");
-    let x0 = p.solve(0, &qs(&[0]), &qs(&[1, 1, 1, 1])).expect("α = 0");
-    for (got, want) in x0.iter().zip([1.5, -1.5, -11.5, 11.5]) {
-        assert!((got - want).abs() < 1e-9, "{x0:?}");
-    }
-    let x2 = p.solve(0, &qs(&[2]), &qs(&[1, 1, 1, 1])).expect("α = 2");
-    let b2: Vec<i64> = [142, 42, 40, -128, 50]
-        .iter()
-        .zip(&a)
-        .map(|(c, row)| c - 2 * row[0])
-        .collect();
-    assert!(residual(&a, &x2, &b2) < 1e-9);
-
-    // A direction outside the range of A breaks strong consistency.
-    let mut k_bad = a.iter().map(|r| vec![r[0], 0]).collect::<Vec<_>>();
-    k_bad[4][1] = 1;
-    let family_bad = RhsFamily {
-        constant: family.constant.clone(),
-        coefficients: IntMatrix::from_dense(2, &k_bad).expect("K"),
-    };
-    match f.check_strongly_consistent(&family_bad) {
-        Ok(Err(StrongFailure::Direction {
-            parameter,
-            inconsistency,
-        })) => {
-            assert_eq!(parameter, 1);
-            assert!(inconsistency.rows.contains(&4));
-        }
-        other => panic!("expected a direction failure, got {other:?}"),
-    }
-    // The prepared check sees it only when α moves that parameter.
-    let p_bad = f
-        .prepare_least_squares(&family_bad, &qs(&[1, 1, 1, 1]))
-        .expect("prepare");
-    p_bad.check(0, &qs(&[5, 0])).expect("parameter 1 at rest");
-    let err = p_bad.check(0, &qs(&[5, 1])).expect_err("parameter 1 moved");
-    assert!(matches!(err, SolveError::Inconsistent(ref c) if c.rows.contains(&4)));
-    assert!(matches!(
-        p_bad.solve(0, &qs(&[5, 1]), &qs(&[1, 1, 1, 1])),
-        Err(SolveError::Inconsistent(_))
-    ));
-
-    // An inconsistent constant part.
-    let family_c = RhsFamily::single(qs(&[142, 42, 40, -128, 51]));
-    assert!(matches!(
-        f.check_strongly_consistent(&family_c),
-        Ok(Err(StrongFailure::Constant { column: 0, .. }))
-    ));
-    // A family of the wrong height.
-    assert!(matches!(
-        f.check_strongly_consistent(&RhsFamily::single(qs(&[1, 2]))),
-        Err(BackendError::DimensionMismatch { .. })
-    ));
-}
-
-#[test]
-fn wrong_lengths_are_input_errors() {
-    let f = factor(4, &matrix_4_3());
-    assert!(matches!(
-        f.solve(&qs(&[1, 2])),
-        Err(SolveError::Input(BackendError::DimensionMismatch {
-            expected: 5,
-            found: 2,
-            ..
-        }))
-    ));
-    assert!(matches!(
-        f.check_consistent(&[]),
-        Err(SolveError::Input(BackendError::DimensionMismatch { .. }))
-    ));
-    assert!(matches!(
-        f.least_squares(&qs(&[0; 5]), &qs(&[0; 3]), &qs(&[1; 4])),
-        Err(SolveError::Input(BackendError::DimensionMismatch { .. }))
-    ));
-    assert!(matches!(
-        f.least_squares(&qs(&[0; 5]), &qs(&[0; 4]), &qs(&[1, 1, -1, 1])),
-        Err(SolveError::Input(BackendError::NonPositiveWeight {
-            index: 2,
-            ..
-        }))
-    ));
 }
 
 #[test]
