@@ -4,7 +4,9 @@
 
 mod common;
 
-use common::{ecles, expect_bad_input, library, read_report, root, run_file, stderr, temp};
+use common::{
+    ecles, expect_bad_input, library, read_report, root, run_file, stderr, temp, without_origin,
+};
 use serde_json::Value;
 
 #[test]
@@ -208,14 +210,6 @@ fn malformed_inputs_exit_2_with_located_messages() {
     let o = ecles(&["run", "no/such/run.ron"]);
     assert_eq!(o.status.code(), Some(2));
     assert!(stderr(&o).contains("no/such/run.ron"));
-}
-
-fn without_origin(mut report: Value) -> Value {
-    for source in report["sources"].as_array_mut().expect("sources") {
-        source["loaded_from"] = Value::Null;
-    }
-    report["run"] = Value::Null;
-    report
 }
 
 #[test]

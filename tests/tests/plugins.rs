@@ -170,25 +170,12 @@ fn an_alignment_that_over_constrains_the_spline_is_named_and_edits_breaking_it_a
 fn a_plugin_of_another_abi_version_is_refused_naming_both_versions() {
     // A library whose probe answers ABI version 999 (its entry aborts if ever called).
     let dir = temp();
-    let fixture = root().join("crates/plugin-abi/tests/fixtures/fake_plugin.rs");
-    let library = dir
-        .path()
-        .join(plugin_abi::library_file_name("fake_old_abi"));
-    let rustc = std::env::var_os("RUSTC").unwrap_or_else(|| "rustc".into());
-    let status = std::process::Command::new(rustc)
-        .args(["--edition", "2021", "--crate-type", "cdylib"])
-        .args([
-            "--crate-name",
-            "fake_old_abi",
-            "--cfg",
-            "variant=\"old_abi\"",
-        ])
-        .arg("-o")
-        .arg(&library)
-        .arg(&fixture)
-        .status()
-        .expect("rustc runs");
-    assert!(status.success(), "compiling the fixture failed");
+    let library = common::compile_fixture(
+        dir.path(),
+        "fake_plugin.rs",
+        "fake_old_abi",
+        Some("variant=\"old_abi\""),
+    );
     let expected = format!("version {}", plugin_abi::abi::ABI_VERSION);
     expect_bad_input(
         &format!(

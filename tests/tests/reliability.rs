@@ -44,6 +44,11 @@ fn worm_with(from: &str, to: &str) -> String {
     text.replacen(from, to, 1)
 }
 
+/// The bundled worm run file as it is.
+fn worm() -> String {
+    std::fs::read_to_string(root().join("examples/worm.ron")).expect("worm.ron")
+}
+
 /// Expects exit code 2 with every needle in the message, and nothing written.
 fn refused(text: &str, needles: &[&str]) {
     let (_dir, path, out) = beside_examples(text);
@@ -394,7 +399,7 @@ fn malformed_edits_are_refused_before_the_first_edit_runs() {
 
 #[test]
 fn failed_runs_leave_no_stale_or_partial_output() {
-    let (_dir, path, out) = beside_examples(&worm_with("", ""));
+    let (_dir, path, out) = beside_examples(&worm());
     let o = run(&path, &out);
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(out.join("report.json").exists());
@@ -408,7 +413,7 @@ fn failed_runs_leave_no_stale_or_partial_output() {
     );
     // An output that cannot be written (its name is taken by a directory): exit 3, and
     // neither the report nor any of this run's files or temporary files remain.
-    std::fs::write(&path, worm_with("", "")).expect("rewrite");
+    std::fs::write(&path, worm()).expect("rewrite");
     std::fs::remove_dir_all(&out).expect("clean");
     std::fs::create_dir_all(out.join("worm.svg")).expect("blocker");
     let o = run(&path, &out);
@@ -423,7 +428,7 @@ fn failed_runs_leave_no_stale_or_partial_output() {
 
 #[test]
 fn concurrent_runs_into_one_directory_never_collide() {
-    let (_dir, path, out) = beside_examples(&worm_with("", ""));
+    let (_dir, path, out) = beside_examples(&worm());
     let bin = common::build().join(format!("ecles{}", std::env::consts::EXE_SUFFIX));
     let children: Vec<_> = (0..4)
         .map(|_| {
@@ -516,7 +521,7 @@ fn small_ones_explain_coordinates_bom_plugin_paths_and_exit_codes() {
     let o = ecles(&["explain", "examples/worm.ron", "worm.nope"]);
     assert_eq!(o.status.code(), Some(2));
     // A run file starting with a UTF-8 byte order mark.
-    let (_dir, path, out) = beside_examples(&format!("\u{feff}{}", worm_with("", "")));
+    let (_dir, path, out) = beside_examples(&format!("\u{feff}{}", worm()));
     let o = run(&path, &out);
     assert!(o.status.success(), "{}", stderr(&o));
     // plugins --path takes the extension-less form run files take.
@@ -568,24 +573,7 @@ fn contradicting_rows_are_conflicts_not_redundancies_and_analyze_exits_2() {
 #[test]
 fn a_plan_naming_an_unknown_parameter_is_refused_not_a_panic() {
     let dir = temp();
-    let fixture = root().join("crates/plugin-abi/tests/fixtures/bad_plan_plugin.rs");
-    let library = dir.path().join(plugin_abi::library_file_name("bad_plan"));
-    let rustc = std::env::var_os("RUSTC").unwrap_or_else(|| "rustc".into());
-    let status = Command::new(rustc)
-        .args([
-            "--edition",
-            "2021",
-            "--crate-type",
-            "cdylib",
-            "--crate-name",
-            "bad_plan",
-        ])
-        .arg("-o")
-        .arg(&library)
-        .arg(&fixture)
-        .status()
-        .expect("rustc runs");
-    assert!(status.success(), "compiling the fixture failed");
+    let library = common::compile_fixture(dir.path(), "bad_plan_plugin.rs", "bad_plan", None);
     expect_bad_input(
         &format!(
             "(\n  sources: [(name: \"bad\", plugin: {:?})],\n  edits: [Source(source: \"bad\", operation: ())],\n)",
@@ -595,40 +583,41 @@ fn a_plan_naming_an_unknown_parameter_is_refused_not_a_panic() {
     );
 }
 
+/// Runs `text` (one edit of `worm.v3`); the report and `worm.v3`'s new value.
+fn v3_after(text: &str) -> (Value, Value) {
+    let (_dir, path, out) = beside_examples(text);
+    let o = run(&path, &out);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let report = read_report(&out);
+    let v3 = report["edits"][0]["values"]
+        .as_array()
+        .expect("values")
+        .iter()
+        .find(|v| v["name"] == "worm.v3")
+        .expect("v3")
+        .clone();
+    (report, v3)
+}
+
 #[test]
 fn rotations_and_scales_are_exact_whatever_the_numbers() {
     // 3.6e401 degrees is an exact multiple of 360: the anchor stays exactly where it was.
     let text = worm_edit(
         r#"Source(source: "worm", operation: (anchors: ["v3"], neighborhood: 2, rotate: (center: ("0", "0"), degrees: "3.6e401")))"#,
     );
-    let (_dir, path, out) = beside_examples(&text);
-    let o = run(&path, &out);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let report = read_report(&out);
-    let values = report["edits"][0]["values"].as_array().expect("values");
-    let v3 = values.iter().find(|v| v["name"] == "worm.v3").expect("v3");
+    let (_, v3) = v3_after(&text);
     assert_eq!(v3["exact"], serde_json::json!(["36", "17"]));
     // A quarter turn about the origin is exact: v3 = (36, 17) goes to (-17, 36).
     let text = worm_edit(
         r#"Source(source: "worm", operation: (anchors: ["v3"], neighborhood: 2, rotate: (center: ("0", "0"), degrees: "-270")))"#,
     );
-    let (_dir, path, out) = beside_examples(&text);
-    let o = run(&path, &out);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let report = read_report(&out);
-    let values = report["edits"][0]["values"].as_array().expect("values");
-    let v3 = values.iter().find(|v| v["name"] == "worm.v3").expect("v3");
+    let (_, v3) = v3_after(&text);
     assert_eq!(v3["exact"], serde_json::json!(["-17", "36"]));
     // Scaling by 1e300 about v0 = (0, 0): the anchor lands exactly at 1e300 · (36, 17).
     let text = worm_edit(
         r#"Source(source: "worm", operation: (anchors: ["v3"], neighborhood: 2, scale: (center: ("0", "0"), factor: "1e300")))"#,
     );
-    let (_dir, path, out) = beside_examples(&text);
-    let o = run(&path, &out);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let report = read_report(&out);
-    let values = report["edits"][0]["values"].as_array().expect("values");
-    let v3 = values.iter().find(|v| v["name"] == "worm.v3").expect("v3");
+    let (report, v3) = v3_after(&text);
     let big = |k: u32| format!("{k}{}", "0".repeat(300));
     assert_eq!(v3["exact"], serde_json::json!([big(36), big(17)]));
     assert_eq!(report["edits"][0]["max_residual"], "0");

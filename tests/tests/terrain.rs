@@ -4,40 +4,13 @@
 
 mod common;
 
-use common::{ecles, expect_bad_input, read_report, root, run_file, stderr, temp};
+use common::{ecles, expect_bad_input, read_report, root, run_file, stderr, temp, without_origin};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
-use std::process::Command;
-use std::sync::OnceLock;
 
-/// Builds the terrain plugin library (the shared helper builds the binary and the others), once.
-fn terrain_library() -> &'static PathBuf {
-    static BUILT: OnceLock<PathBuf> = OnceLock::new();
-    BUILT.get_or_init(|| {
-        let dir = common::build();
-        let profile = dir
-            .file_name()
-            .map(|n| n.to_string_lossy().into_owned())
-            .unwrap_or_default();
-        let target = dir.parent().map(Path::to_path_buf).expect("target dir");
-        let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
-        let mut cmd = Command::new(cargo);
-        cmd.current_dir(root())
-            .args(["build", "-p", "plugins-terrain-dylib", "--target-dir"])
-            .arg(&target);
-        match profile.as_str() {
-            "debug" => {}
-            "release" => {
-                cmd.arg("--release");
-            }
-            other => {
-                cmd.args(["--profile", other]);
-            }
-        }
-        let status = cmd.status().expect("cargo runs");
-        assert!(status.success(), "building the terrain plugin failed");
-        dir.join(plugin_abi::library_file_name("plugins_terrain_dylib"))
-    })
+/// The terrain plugin library (built with the binary by the shared helper).
+fn terrain_library() -> PathBuf {
+    common::library("plugins_terrain_dylib")
 }
 
 fn run(run_file: &Path, out: &Path) {
@@ -151,14 +124,6 @@ fn the_bundled_terrain_example_raises_a_hill_and_shifts_a_ridge() {
         (lines_starting(&tower, "v "), lines_starting(&tower, "f ")),
         (8, 12)
     );
-}
-
-fn without_origin(mut report: Value) -> Value {
-    for source in report["sources"].as_array_mut().expect("sources") {
-        source["loaded_from"] = Value::Null;
-    }
-    report["run"] = Value::Null;
-    report
 }
 
 #[test]

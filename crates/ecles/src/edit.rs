@@ -446,13 +446,7 @@ fn strong_check<F: Factorization>(
         Err(StrongFailure::Constant {
             column,
             inconsistency,
-        }) => Err(EditError::CurrentStateInconsistent(Box::new(conflict(
-            &reduced.rows,
-            &reduced.labels,
-            reduced.layout,
-            column,
-            inconsistency,
-        )))),
+        }) => Err(state_inconsistent(reduced, column, inconsistency)),
         Err(StrongFailure::Direction {
             parameter,
             inconsistency,
@@ -486,6 +480,22 @@ fn strong_check<F: Factorization>(
             })
         }
     }
+}
+
+/// The current values contradict the relevant rows whatever the anchors (a failed constant part
+/// of a strong or directed check).
+pub(crate) fn state_inconsistent<S: Clone + std::fmt::Debug>(
+    reduced: &ReducedSystem,
+    column: usize,
+    inconsistency: Inconsistency<S>,
+) -> EditError<S> {
+    EditError::CurrentStateInconsistent(Box::new(conflict(
+        &reduced.rows,
+        &reduced.labels,
+        reduced.layout,
+        column,
+        inconsistency,
+    )))
 }
 
 pub(crate) fn conflict<S: Clone>(

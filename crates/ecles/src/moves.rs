@@ -74,15 +74,11 @@ where
         Err(StrongFailure::Constant {
             column,
             inconsistency,
-        }) => Err(EditError::CurrentStateInconsistent(Box::new(
-            crate::edit::conflict(
-                &reduced.rows,
-                &reduced.labels,
-                reduced.layout,
-                column,
-                inconsistency,
-            ),
-        ))),
+        }) => Err(crate::edit::state_inconsistent(
+            &reduced,
+            column,
+            inconsistency,
+        )),
         Err(StrongFailure::Direction {
             parameter,
             inconsistency,

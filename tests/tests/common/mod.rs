@@ -15,6 +15,7 @@ const PACKAGES: &[&str] = &[
     "host",
     "plugins-spline2d-dylib",
     "plugins-linear-dylib",
+    "plugins-terrain-dylib",
     "plugins-c2",
     "plugins-align",
 ];
@@ -122,4 +123,42 @@ pub fn expect_bad_input(text: &str, needles: &[&str]) {
         !out.join("report.json").exists(),
         "no report may be left behind after bad input"
     );
+}
+
+/// A report without what depends on where things were loaded from (the plugin paths, the run
+/// file's name), so the static and dynamic paths can be compared.
+pub fn without_origin(mut report: Value) -> Value {
+    for source in report["sources"].as_array_mut().expect("sources") {
+        source["loaded_from"] = Value::Null;
+    }
+    report["run"] = Value::Null;
+    report
+}
+
+/// Compiles a dependency-free plugin fixture (`crates/plugin-abi/tests/fixtures/FILE`) with
+/// `rustc` into `dir` as the library `name`, with `cfg` (e.g. `variant="old_abi"`) if given.
+pub fn compile_fixture(dir: &Path, file: &str, name: &str, cfg: Option<&str>) -> PathBuf {
+    let fixture = root().join("crates/plugin-abi/tests/fixtures").join(file);
+    let library = dir.join(plugin_abi::library_file_name(name));
+    let rustc = std::env::var_os("RUSTC").unwrap_or_else(|| "rustc".into());
+    let mut command = Command::new(rustc);
+    command.args([
+        "--edition",
+        "2021",
+        "--crate-type",
+        "cdylib",
+        "--crate-name",
+        name,
+    ]);
+    if let Some(cfg) = cfg {
+        command.args(["--cfg", cfg]);
+    }
+    let status = command
+        .arg("-o")
+        .arg(&library)
+        .arg(&fixture)
+        .status()
+        .expect("rustc runs");
+    assert!(status.success(), "compiling the fixture {file} failed");
+    library
 }
