@@ -419,29 +419,57 @@ impl ConstraintSystem {
             match &row.body {
                 RowBody::Vector { terms, rhs } => {
                     for (k, q) in rhs.iter().enumerate() {
-                        let mut sum = -Rational::from_integer(q.clone());
-                        for (p, c) in terms {
-                            sum += &values.get(*p)[k] * Rational::from_integer(c.clone());
-                        }
-                        if !sum.is_zero() {
-                            out.push((RowId(i as u32), k, sum));
+                        let residual =
+                            exact_residual(terms.iter().map(|(p, c)| (&values.get(*p)[k], c)), q);
+                        if let Some(r) = residual {
+                            out.push((RowId(i as u32), k, r));
                         }
                     }
                 }
                 RowBody::Scalar { terms, rhs } => {
-                    let mut sum = -Rational::from_integer(rhs.clone());
-                    for (c, v) in terms {
-                        sum +=
-                            &values.get(c.param)[c.component] * Rational::from_integer(v.clone());
-                    }
-                    if !sum.is_zero() {
-                        out.push((RowId(i as u32), 0, sum));
+                    let residual = exact_residual(
+                        terms
+                            .iter()
+                            .map(|(c, v)| (&values.get(c.param)[c.component], v)),
+                        rhs,
+                    );
+                    if let Some(r) = residual {
+                        out.push((RowId(i as u32), 0, r));
                     }
                 }
             }
         }
         out
     }
+}
+
+/// `Σ c_j x_j − q`, or `None` when it is zero, without reducing a fraction on the way: the terms
+/// are summed pairwise as unreduced fractions (equal denominators added directly), and only a
+/// nonzero residual is reduced once. Edits on real meshes leave values with thousands of digits;
+/// reducing after every addition (what `Ratio`'s `+=` does) costs a big GCD per term.
+fn exact_residual<'a>(
+    terms: impl Iterator<Item = (&'a Rational, &'a Integer)>,
+    q: &Integer,
+) -> Option<Rational> {
+    let mut parts: Vec<(Integer, Integer)> = terms
+        .filter(|(_, c)| !c.is_zero())
+        .map(|(x, c)| (x.numer() * c, x.denom().clone()))
+        .collect();
+    parts.push((-q, Integer::from(1)));
+    while parts.len() > 1 {
+        let mut next = Vec::with_capacity(parts.len().div_ceil(2));
+        let mut pairs = parts.into_iter();
+        while let Some((a, b)) = pairs.next() {
+            match pairs.next() {
+                None => next.push((a, b)),
+                Some((c, d)) if b == d => next.push((a + c, b)),
+                Some((c, d)) => next.push((a * &d + c * &b, b * d)),
+            }
+        }
+        parts = next;
+    }
+    let (numer, denom) = parts.pop()?;
+    (!numer.is_zero()).then(|| Rational::new(numer, denom))
 }
 
 /// The serialised form of a [`ConstraintSystem`].
@@ -659,6 +687,26 @@ mod tests {
         let values =
             Values::from_vecs(&s, vec![vec![r(1), r(2)], vec![r(1), r(2)], vec![r(1)]]).unwrap();
         assert_eq!(s.violations(&values), vec![(RowId(0), 1, r(-1))]);
+    }
+
+    /// The residual summed as unreduced fractions equals the one summed with `Ratio`'s reducing
+    /// additions, for equal, different and coprime denominators.
+    #[test]
+    fn residuals_are_exact_sums_without_reducing_on_the_way() {
+        let q = |n: i64, d: i64| Rational::new(n.into(), d.into());
+        let cases: Vec<(Vec<(Rational, i64)>, i64)> = vec![
+            (vec![(q(1, 3), 3), (q(2, 3), -3)], -1),
+            (vec![(q(1, 6), 6), (q(1, 10), 10), (q(5, 7), 7)], 7),
+            (vec![(q(1, 6), 6), (q(1, 10), 10), (q(5, 7), 7)], 6),
+            (vec![(q(-7, 12), 5), (q(7, 12), 5), (q(1, 2), 0)], 0),
+            (vec![], 4),
+        ];
+        for (terms, rhs) in cases {
+            let expected = terms.iter().fold(-r(rhs), |acc, (x, c)| acc + x * r(*c));
+            let coefficients: Vec<Integer> = terms.iter().map(|(_, c)| (*c).into()).collect();
+            let got = exact_residual(terms.iter().map(|(x, _)| x).zip(&coefficients), &rhs.into());
+            assert_eq!(got, (!expected.is_zero()).then_some(expected));
+        }
     }
 
     #[test]

@@ -22,11 +22,12 @@
 //! ```
 
 mod blocks;
+mod dixon;
 mod factorization;
 mod gcd;
 mod ldu;
-mod limbs;
 mod lsq;
+mod modular;
 mod qvec;
 mod ring;
 pub mod sparse;

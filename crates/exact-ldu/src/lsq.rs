@@ -6,21 +6,19 @@
 //! (`V` a positive integer diagonal) the Lagrange conditions (9.5)–(9.8) give
 //!
 //! ```text
-//! G = Â V Âᵀ,   λ = G⁻¹ (Â h − b̂),   x = h − V Âᵀ λ
+//! G = Â V Âᵀ,   G λ = Â h − b̂,   x = h − V Âᵀ λ
 //! ```
 //!
-//! (the scale `δ` and the factor 2 of `M = 2W` cancel). Everything except `h` and `α` is fixed,
-//! so preparing computes `H = V Âᵀ G⁻¹` exactly, as an integer matrix over its reduced common
-//! denominator (much smaller than that of `G⁻¹`: the solution's denominators are what they are,
-//! not `det G`), the rows of `K` and `c_j` at the independent positions, and, for the
-//! weak-consistency test, one primitive integer vector `y` with `yᵀA = 0` per redundant row
-//! together with `yᵀc_j` and `yᵀK`. An update computes the small residual
-//! `ρ = Â h − ĉ_j + K̂ α` and `x = h − H ρ`: one pass of word-sized multiply-accumulate per entry
-//! of `H`, then one reduction per result.
+//! (the scale `δ` and the factor 2 of `M = 2W` cancel). Preparing forms the sparse integer
+//! matrix `G` and factors it modulo a word-sized prime; each update solves `G λ = ρ` exactly by
+//! p-adic lifting ([`crate::dixon`]), so its cost follows the size of this solution rather than
+//! that of `G⁻¹` (on real meshes `G⁻¹` has thousands of digits in each of its `r²` entries, and
+//! the thesis' explicit inverse cost minutes and gigabytes). Preparing also keeps the rows of `K`
+//! and `c_j` at the independent positions and, for the weak-consistency test, one primitive
+//! integer vector `y` with `yᵀA = 0` per redundant row together with `yᵀc_j` and `yᵀK`.
 
+use crate::dixon::LiftingSolver;
 use crate::factorization::{ExactFactorization, SparseRow};
-use crate::ldu::{Ldu, Simplification};
-use crate::limbs::{Accumulator, Limbs};
 use crate::qvec::QVec;
 use crate::ring::{lcm, Int, Ring};
 use api::backend::{check_len, validate_family, validate_weights};
@@ -29,7 +27,6 @@ use api::{
     SolveError,
 };
 use num_bigint::BigInt;
-use num_integer::Integer as _;
 use num_traits::Zero;
 
 /// One left-null-space vector `y` (`yᵀA = 0`) with its products against the family.
@@ -51,10 +48,10 @@ pub struct ExactLeastSquares<R: Ring = Int> {
     a_hat: Vec<SparseRow<R>>,
     k_hat: Vec<SparseRow<R>>,
     c_hat: Vec<QVec<R>>,
-    /// `H` (`n × r`) times `h_den`.
-    h_rows: Vec<Vec<Limbs>>,
-    /// Positive common denominator of `H`.
-    h_den: BigInt,
+    /// `V = δ W⁻¹`, one positive integer per unknown.
+    v: Vec<BigInt>,
+    /// `G = Â V Âᵀ` prepared for lifting (`None` when `r = 0`).
+    normal: Option<LiftingSolver>,
     checks: Vec<ConsistencyCheck<R>>,
 }
 
@@ -67,8 +64,8 @@ fn dot_sparse<R: Ring>(row: &[(usize, R)], x: &[R]) -> R {
 }
 
 impl<R: Ring> ExactLeastSquares<R> {
-    /// Algorithm 15 (`LSQ.Solve`, thesis 9.1) up to the data of one update: `Â`, `H = V Âᵀ G⁻¹`
-    /// for `G = Â V Âᵀ` (9.6)–(9.8), the family at the independent rows, and one left-null-space
+    /// Algorithm 15 (`LSQ.Solve`, thesis 9.1) up to the data of one update: `Â`, `G = Â V Âᵀ`
+    /// (9.6)–(9.8) factored modulo a prime for lifting, the family at the independent rows, and one left-null-space
     /// vector per redundant row for the weak check.
     pub(crate) fn prepare(
         f: &ExactFactorization<R>,
@@ -112,8 +109,11 @@ impl<R: Ring> ExactLeastSquares<R> {
             })
             .collect();
 
-        let (g_inv, g_den) = inverse_of_normal_matrix(&a_hat, &v, n);
-        let (h_rows, h_den) = projection_matrix(&a_hat, &v, &g_inv, &g_den, n);
+        let v: Vec<BigInt> = v.iter().map(Ring::to_bigint).collect();
+        let normal = (r > 0).then(|| {
+            LiftingSolver::new(r, normal_matrix(&a_hat, &v, n))
+                .expect("Â V Âᵀ is positive definite for independent rows Â and positive V")
+        });
 
         let constants: Vec<QVec<R>> = family
             .constant
@@ -158,8 +158,8 @@ impl<R: Ring> ExactLeastSquares<R> {
             a_hat,
             k_hat,
             c_hat,
-            h_rows,
-            h_den,
+            v,
+            normal,
             checks,
         })
     }
@@ -206,129 +206,32 @@ impl<R: Ring> ExactLeastSquares<R> {
     }
 }
 
-/// `G⁻¹` for `G = Â V Âᵀ` as `(integer matrix, positive denominator)`.
-fn inverse_of_normal_matrix<R: Ring>(
+/// `G = Â V Âᵀ` as sparse rows (`r × r`): `G_kl = Σ_s Â_ks V_s Â_ls`, accumulated column by
+/// column of `Â` so only pairs of rows that share an unknown are touched.
+fn normal_matrix<R: Ring>(
     a_hat: &[SparseRow<R>],
-    v: &[R],
+    v: &[BigInt],
     n: usize,
-) -> (Vec<Vec<R>>, R) {
-    let r = a_hat.len();
-    // Accumulate G column by column of Â: G_kl += A_ks V_s A_ls.
-    let mut by_column: Vec<Vec<(usize, R)>> = vec![Vec::new(); n];
-    for (k, row) in a_hat.iter().enumerate() {
-        for (s, val) in row {
-            by_column[*s].push((k, val.clone()));
-        }
-    }
-    let mut g = vec![vec![R::zero(); r]; r];
-    for (s, entries) in by_column.iter().enumerate() {
-        for (k, aks) in entries {
-            let scaled = aks.mul(&v[s]);
-            for (l, als) in entries {
-                g[*k][*l] = g[*k][*l].add(&scaled.mul(als));
-            }
-        }
-    }
-    let ldu = Ldu::factor(g, r, Simplification::Gcd).expect("G is square by construction");
-    debug_assert_eq!(ldu.rank(), r, "Â V Âᵀ is positive definite");
-    let columns: Vec<QVec<R>> = (0..r)
-        .map(|k| {
-            let mut e = QVec::zeros(r);
-            let pos = ldu
-                .row_perm()
-                .iter()
-                .position(|&i| i == k)
-                .expect("row permutation is a bijection");
-            e.num[pos] = R::one();
-            ldu.forward(&mut e);
-            let mut y = QVec {
-                num: e.num.iter().zip(ldu.d()).map(|(z, d)| z.mul(d)).collect(),
-                den: e.den,
-            };
-            ldu.backward(&mut y);
-            let mut x = vec![R::zero(); r];
-            for (p, val) in y.num.into_iter().enumerate() {
-                x[ldu.col_perm()[p]] = val;
-            }
-            QVec { num: x, den: y.den }
-        })
-        .collect();
-    let den = QVec::common_denominator(columns.iter());
-    let mut inv = vec![vec![R::zero(); r]; r];
-    for (k, col) in columns.iter().enumerate() {
-        let f = den.div_exact(&col.den);
-        for (i, val) in col.num.iter().enumerate() {
-            inv[i][k] = val.mul(&f);
-        }
-    }
-    (inv, den)
-}
-
-/// `H = V Âᵀ G⁻¹` as `(rows of H · h_den, h_den)` with `h_den` the reduced common denominator.
-fn projection_matrix<R: Ring>(
-    a_hat: &[SparseRow<R>],
-    v: &[R],
-    g_inv: &[Vec<R>],
-    g_den: &R,
-    n: usize,
-) -> (Vec<Vec<Limbs>>, BigInt) {
+) -> Vec<Vec<(usize, BigInt)>> {
     let r = a_hat.len();
     let mut by_column: Vec<Vec<(usize, BigInt)>> = vec![Vec::new(); n];
-    for (l, row) in a_hat.iter().enumerate() {
+    for (k, row) in a_hat.iter().enumerate() {
         for (s, val) in row {
-            by_column[*s].push((l, val.to_bigint()));
+            by_column[*s].push((k, val.to_bigint()));
         }
     }
-    let g_inv: Vec<Vec<BigInt>> = g_inv
-        .iter()
-        .map(|row| row.iter().map(Ring::to_bigint).collect())
-        .collect();
-    let rows: Vec<Vec<BigInt>> = by_column
-        .iter()
-        .enumerate()
-        .map(|(s, column)| {
-            let vs = v[s].to_bigint();
-            (0..r)
-                .map(|k| {
-                    let mut sum = BigInt::from(0);
-                    for (l, als) in column {
-                        sum += als * &g_inv[*l][k];
-                    }
-                    sum * &vs
-                })
-                .collect()
-        })
-        .collect();
-    // The content gcd(g_den, all entries) without one big GCD per entry: the GCD of g_den with
-    // two fixed pseudo-random combinations of the entries is a multiple of the content (and
-    // almost always equal to it); every entry is then divided by it, and an entry that leaves a
-    // remainder shrinks the candidate by one exact GCD.
-    let g_den = g_den.to_bigint();
-    let mut combos = [BigInt::from(0), BigInt::from(0)];
-    for (i, entry) in rows.iter().flatten().enumerate() {
-        combos[0] += entry * BigInt::from(1 + (i as u64 * 7919) % 997);
-        combos[1] += entry * BigInt::from(1 + (i as u64 * 104_729) % 991);
-    }
-    let mut content =
-        crate::gcd::gcd_bigint(&g_den, &crate::gcd::gcd_bigint(&combos[0], &combos[1]));
-    let rows = 'divide: loop {
-        let mut divided = Vec::with_capacity(rows.len());
-        for row in &rows {
-            let mut out = Vec::with_capacity(row.len());
-            for entry in row {
-                let (q, rem) = entry.div_rem(&content);
-                if !Zero::is_zero(&rem) {
-                    content = crate::gcd::gcd_bigint(&content, entry);
-                    continue 'divide;
-                }
-                out.push(Limbs::from_bigint(&q));
+    let mut g: Vec<std::collections::BTreeMap<usize, BigInt>> = vec![Default::default(); r];
+    for (s, entries) in by_column.iter().enumerate() {
+        for (k, aks) in entries {
+            let scaled = aks * &v[s];
+            for (l, als) in entries {
+                *g[*k].entry(*l).or_default() += &scaled * als;
             }
-            divided.push(out);
         }
-        break divided;
-    };
-    let den = g_den / &content;
-    (rows, den)
+    }
+    g.into_iter()
+        .map(|row| row.into_iter().filter(|(_, v)| !Zero::is_zero(v)).collect())
+        .collect()
 }
 
 impl<R: Ring> PreparedLeastSquares for ExactLeastSquares<R> {
@@ -375,7 +278,7 @@ impl<R: Ring> PreparedLeastSquares for ExactLeastSquares<R> {
 
 impl<R: Ring> ExactLeastSquares<R> {
     /// Algorithm 15 (`LSQ.Solve`) steps 7–8 for one `α` and hints: `ρ = Â h − b̂`,
-    /// `x = h − H ρ` (`Λ = G⁻¹ ρ` folded into `H`). Checks, then computes the solution as
+    /// `G λ = ρ` by lifting, `x = h − V Âᵀ λ`. Checks, then computes the solution as
     /// numerators over one positive denominator
     /// (`None` when there is no constraint and the hints are the answer).
     #[allow(clippy::type_complexity)]
@@ -390,17 +293,17 @@ impl<R: Ring> ExactLeastSquares<R> {
         let alpha = QVec::<R>::from_rationals(alpha);
         self.check_prepared(column, &alpha)?;
         let h = QVec::<R>::from_rationals(hints);
-        let r = self.a_hat.len();
-        if r == 0 {
+        let Some(normal) = &self.normal else {
             return Ok(None);
-        }
+        };
+        let r = self.a_hat.len();
         let c = &self.c_hat[column];
         let common = lcm(&lcm(&h.den, &alpha.den), &c.den);
         let fh = common.div_exact(&h.den);
         let fa = common.div_exact(&alpha.den);
         let fc = common.div_exact(&c.den);
         // ρ = Â h − ĉ + K̂ α, over `common`.
-        let rho: Vec<Limbs> = (0..r)
+        let rho: Vec<BigInt> = (0..r)
             .map(|k| {
                 let mut s = dot_sparse(&self.a_hat[k], &h.num).mul(&fh);
                 if !c.num[k].is_zero() {
@@ -410,25 +313,30 @@ impl<R: Ring> ExactLeastSquares<R> {
                 if !ka.is_zero() {
                     s = s.add(&ka.mul(&fa));
                 }
-                Limbs::from_ring(&s)
+                s.to_bigint()
             })
             .collect();
-        // x = h − H ρ over h_den · common.
-        let h_scale = Limbs::from_bigint(&(&self.h_den * fh.to_bigint()));
-        let den = &self.h_den * common.to_bigint();
-        let mut acc = Accumulator::default();
-        let numerators = self
-            .h_rows
+        // G λ' = ρ (numerators over `common`): λ = λ_num / (λ_den · common).
+        let (lambda, lambda_den) = normal.solve(&rho);
+        // x = h − V Âᵀ λ over h.den · λ_den · common.
+        let mut correction: Vec<BigInt> = vec![<BigInt as Zero>::zero(); self.n];
+        for (row, l) in self.a_hat.iter().zip(&lambda) {
+            if Zero::is_zero(l) {
+                continue;
+            }
+            for (s, a) in row {
+                correction[*s] += l * a.to_bigint();
+            }
+        }
+        let h_den = h.den.to_bigint();
+        let h_scale = &lambda_den * common.to_bigint();
+        let den = &h_den * &h_scale;
+        let numerators = h
+            .num
             .iter()
-            .zip(&h.num)
-            .map(|(row, hs)| {
-                acc.clear();
-                acc.add_product(&Limbs::from_ring(hs), &h_scale);
-                for (hk, rk) in row.iter().zip(&rho) {
-                    acc.sub_product(hk, rk);
-                }
-                acc.to_bigint()
-            })
+            .zip(correction)
+            .zip(&self.v)
+            .map(|((hs, corr), vs)| hs.to_bigint() * &h_scale - &h_den * vs * corr)
             .collect();
         Ok(Some((numerators, den)))
     }
@@ -437,16 +345,12 @@ impl<R: Ring> ExactLeastSquares<R> {
     pub fn redundant_rows(&self) -> usize {
         self.checks.len()
     }
-
-    /// Bit size of the common denominator of `H = V Âᵀ G⁻¹` (a measure of the update cost).
-    pub fn projection_denominator_bits(&self) -> u64 {
-        self.h_den.bits()
-    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::Simplification;
     use api::IntMatrix;
     use num_traits::{One, Zero};
 
