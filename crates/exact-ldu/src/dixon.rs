@@ -163,9 +163,11 @@ impl LiftingSolver {
         // Unique when 2 N D < p^k. The denominator divides det A, so D never needs to exceed
         // the Hadamard bound; what is left goes to the numerators (large right-hand sides
         // give large numerators over small denominators).
-        let half = (&modulus - 1u32) >> 1u32;
-        let den_bound = half.sqrt().min(BigUint::one() << self.hadamard_bits);
-        let num_bound = &half / &den_bound;
+        // Powers of two: 2 N D = 2^(bits(p^k) − 2) < p^k.
+        let budget = modulus.bits().saturating_sub(3);
+        let den_bits = (budget / 2).min(self.hadamard_bits);
+        let den_bound = BigUint::one() << den_bits;
+        let num_bound = BigUint::one() << (budget - den_bits);
         let mut den = BigUint::one();
         let mut numerators: Vec<BigInt> = Vec::with_capacity(n);
         let mut column = Vec::with_capacity(k);

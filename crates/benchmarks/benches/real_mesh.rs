@@ -1,0 +1,158 @@
+//! The exact path on a real-looking irregular mesh: `data/figure.obj` (588 vertices, 1 052
+//! triangles, coordinates on a 0.5 lattice, made by `tools/make_figure_mesh.py`), degree 5, C1.
+//! A soft translation of the vertex `v255` near the middle by (20, 60) with neighbourhoods
+//! δ_max = 8, 12 and 16, as a mouse-down (Select + ExpandDerived + Initialize), one Update (an
+//! exact drag frame), its float preview, and the commit (Update written into the values), exact
+//! and float backends.
+//!
+//! `cargo bench -p benchmarks --bench real_mesh`
+
+// `criterion_group!` generates an undocumented public function.
+#![allow(missing_docs)]
+
+use api::{ConstraintSystem, Factorization, LinearBackend, Rational, Values};
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
+use ecles::Edit;
+use exact_ldu::ExactLdu;
+use float_qr::FloatQr;
+use spline2d::edit::{Neighborhood, Operation, SplineEditor};
+use spline2d::mesh_io::{parse_obj, MeshOptions};
+use spline2d::net::ControlNet;
+use spline2d::spline::Spline;
+use std::hint::black_box;
+
+fn figure_spline() -> Spline {
+    let text = include_str!("../data/figure.obj");
+    let read = parse_obj(text, "figure.obj", &MeshOptions::default()).expect("valid mesh");
+    Spline::new(read.mesh, 5, 1).expect("valid spline")
+}
+
+/// The figure spline declared as one source, with its editor parts.
+struct Fixture {
+    spline: Spline,
+    net: ControlNet,
+    system: ConstraintSystem,
+    values: Values,
+    params: spline2d::params::SplineParams,
+    anchor: usize,
+}
+
+impl Fixture {
+    fn new() -> Self {
+        let spline = figure_spline();
+        let net = ControlNet::new(&spline);
+        let mut system = ConstraintSystem::new();
+        let mut values = Values::default();
+        let params = spline
+            .declare(&mut system, &mut values, "fig", spline.identity_positions())
+            .expect("fresh system");
+        let anchor = spline
+            .points()
+            .iter()
+            .position(|p| p.name == "v255")
+            .expect("vertex 255");
+        Fixture {
+            spline,
+            net,
+            system,
+            values,
+            params,
+            anchor,
+        }
+    }
+
+    /// Select + ExpandDerived for the translation by (20, 60), then ECLES Initialize.
+    fn mouse_down<B: LinearBackend>(
+        &self,
+        backend: &B,
+        radius: u32,
+    ) -> (spline2d::edit::Plan, Edit<B::Factorization>) {
+        let editor = SplineEditor {
+            spline: &self.spline,
+            net: &self.net,
+            params: &self.params,
+        };
+        let operation = Operation::Translate {
+            by: vec![
+                Rational::from_integer(20.into()),
+                Rational::from_integer(60.into()),
+            ],
+        };
+        let (_, plan) = editor
+            .plan_operation(
+                &self.system,
+                &self.values,
+                &[self.anchor],
+                Neighborhood::Radius(radius),
+                &operation,
+                1,
+            )
+            .expect("plan");
+        let edit =
+            Edit::initialize(backend, &self.system, &self.values, &plan.spec).expect("initialize");
+        (plan, edit)
+    }
+}
+
+fn edits_with<B: LinearBackend>(c: &mut Criterion, name: &str, backend: &B)
+where
+    <B::Factorization as Factorization>::Scalar: std::fmt::Debug,
+{
+    let fixture = Fixture::new();
+    let mut group = c.benchmark_group("real-mesh-edit");
+    group.sample_size(10);
+    for radius in [8u32, 12, 16] {
+        let label = format!("{name}-delta{radius}");
+        group.bench_function(BenchmarkId::new("mouse-down", &label), |b| {
+            b.iter(|| black_box(fixture.mouse_down(backend, radius).1.report().rank))
+        });
+        let (plan, edit) = fixture.mouse_down(backend, radius);
+        let step = &plan.steps[0];
+        let report = edit.report();
+        eprintln!(
+            "{label}: {} derived points, {} equations, rank {}",
+            plan.spec.derived.len(),
+            report.equations,
+            report.rank
+        );
+        group.bench_function(BenchmarkId::new("update", &label), |b| {
+            b.iter(|| black_box(edit.update(&step.anchors, &step.hints).is_ok()))
+        });
+        group.bench_function(BenchmarkId::new("preview", &label), |b| {
+            b.iter(|| black_box(edit.preview(&step.anchors, &step.hints).is_ok()))
+        });
+    }
+    group.finish();
+}
+
+fn edits(c: &mut Criterion) {
+    edits_with(c, "exact", &ExactLdu::default());
+    edits_with(c, "float", &FloatQr::default());
+}
+
+/// The commit at mouse-up: the exact Update written into a copy of the values (`Edit::apply`).
+fn commits(c: &mut Criterion) {
+    let fixture = Fixture::new();
+    let mut group = c.benchmark_group("real-mesh-commit");
+    group.sample_size(10);
+    for radius in [8u32, 12, 16] {
+        let (plan, edit) = fixture.mouse_down(&ExactLdu::default(), radius);
+        let step = &plan.steps[0];
+        group.bench_function(
+            BenchmarkId::new("apply", format!("exact-delta{radius}")),
+            |b| {
+                b.iter(|| {
+                    let mut values = fixture.values.clone();
+                    black_box(
+                        edit.apply(&fixture.system, &mut values, &step.anchors, &step.hints)
+                            .is_ok(),
+                    )
+                })
+            },
+        );
+    }
+    group.finish();
+}
+
+criterion_group!(benches, edits, commits);
+criterion_main!(benches);
