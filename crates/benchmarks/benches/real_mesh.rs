@@ -21,6 +21,8 @@ use spline2d::net::ControlNet;
 use spline2d::spline::Spline;
 use std::hint::black_box;
 
+mod common;
+
 fn figure_spline() -> Spline {
     let text = include_str!("../data/figure.obj");
     let read = parse_obj(text, "figure.obj", &MeshOptions::default()).expect("valid mesh");
@@ -107,20 +109,7 @@ where
             b.iter(|| black_box(fixture.mouse_down(backend, radius).1.report().rank))
         });
         let (plan, edit) = fixture.mouse_down(backend, radius);
-        let step = &plan.steps[0];
-        let report = edit.report();
-        eprintln!(
-            "{label}: {} derived points, {} equations, rank {}",
-            plan.spec.derived.len(),
-            report.equations,
-            report.rank
-        );
-        group.bench_function(BenchmarkId::new("update", &label), |b| {
-            b.iter(|| black_box(edit.update(&step.anchors, &step.hints).is_ok()))
-        });
-        group.bench_function(BenchmarkId::new("preview", &label), |b| {
-            b.iter(|| black_box(edit.preview(&step.anchors, &step.hints).is_ok()))
-        });
+        common::update_and_preview(&mut group, &label, &edit, &plan);
     }
     group.finish();
 }

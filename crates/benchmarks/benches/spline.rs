@@ -18,6 +18,8 @@ use spline2d::net::ControlNet;
 use spline2d::spline::Spline;
 use std::hint::black_box;
 
+mod common;
+
 fn build(c: &mut Criterion) {
     let mut group = c.benchmark_group("spline-build");
     group.sample_size(10);
@@ -140,19 +142,7 @@ where
         let step = &plan.steps[0];
         edit.update(&step.anchors, &step.hints)
             .expect("strongly solvable");
-        let report = edit.report();
-        eprintln!(
-            "{label}: 1 anchor, {} derived points, {} equations, rank {}",
-            plan.spec.derived.len(),
-            report.equations,
-            report.rank
-        );
-        group.bench_function(BenchmarkId::new("update", &label), |b| {
-            b.iter(|| black_box(edit.update(&step.anchors, &step.hints).is_ok()))
-        });
-        group.bench_function(BenchmarkId::new("preview", &label), |b| {
-            b.iter(|| black_box(edit.preview(&step.anchors, &step.hints).is_ok()))
-        });
+        common::update_and_preview(&mut group, &label, &edit, &plan);
         // The drag from the current positions to the step: two updates once, then one linear
         // interpolation per frame.
         let here = |ids: &[api::ParamId]| -> Vec<Vec<api::Rational>> {
