@@ -99,6 +99,7 @@ impl Fixture {
 fn edits_with<B: LinearBackend>(c: &mut Criterion, name: &str, backend: &B)
 where
     <B::Factorization as Factorization>::Scalar: std::fmt::Debug,
+    Edit<B::Factorization>: Clone,
 {
     let fixture = Fixture::new();
     let mut group = c.benchmark_group("real-mesh-edit");

@@ -80,6 +80,7 @@ fn rank(c: &mut Criterion) {
 fn edits_with<B: LinearBackend>(c: &mut Criterion, name: &str, backend: &B)
 where
     <B::Factorization as Factorization>::Scalar: std::fmt::Debug,
+    Edit<B::Factorization>: Clone,
 {
     let mesh = perturbed_grid(22);
     let spline = Spline::new(mesh, 5, 1).expect("valid mesh");

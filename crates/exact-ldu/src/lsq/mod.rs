@@ -18,9 +18,11 @@
 //! integer vector `y` with `yᵀA = 0` per redundant row together with `yᵀc_j` and `yᵀK`.
 
 use crate::dixon::LiftingSolver;
+
+mod affine;
 use crate::factorization::{ExactFactorization, SparseRow};
 use crate::qvec::QVec;
-use crate::ring::{lcm, Int, Ring};
+use crate::ring::{Int, Ring};
 use api::backend::{check_len, validate_family, validate_weights};
 use api::{
     BackendError, Factorization, Inconsistency, PreparedLeastSquares, Rational, RhsFamily,
@@ -53,6 +55,8 @@ pub struct ExactLeastSquares<R: Ring = Int> {
     /// `G = Â V Âᵀ` prepared for lifting (`None` when `r = 0`).
     normal: Option<LiftingSolver>,
     checks: Vec<ConsistencyCheck<R>>,
+    /// The responses to the anchors and the last base per column ([`affine`]).
+    memo: affine::AffineMemo<R>,
 }
 
 fn dot_sparse<R: Ring>(row: &[(usize, R)], x: &[R]) -> R {
@@ -161,6 +165,7 @@ impl<R: Ring> ExactLeastSquares<R> {
             v,
             normal,
             checks,
+            memo: affine::AffineMemo::new(family.constant.len()),
         })
     }
 
@@ -234,6 +239,26 @@ fn normal_matrix<R: Ring>(
         .collect()
 }
 
+/// Below this many `bits of the denominator × values`, reducing is faster on one thread than the
+/// fork and join of a parallel loop.
+const PARALLEL_REDUCTION_WORK: u64 = 1 << 16;
+
+/// `numerators[i] / den`, each reduced; the GCDs (the largest cost of an exact update on real
+/// meshes, where denominators have thousands of digits) run on all cores when the work is large.
+fn reduce_all(numerators: Vec<BigInt>, den: &BigInt) -> Vec<Rational> {
+    use rayon::prelude::*;
+    if den.bits() * (numerators.len() as u64) < PARALLEL_REDUCTION_WORK {
+        return numerators
+            .into_iter()
+            .map(|n| crate::gcd::reduced_ratio(n, den.clone()))
+            .collect();
+    }
+    numerators
+        .into_par_iter()
+        .map(|n| crate::gcd::reduced_ratio(n, den.clone()))
+        .collect()
+}
+
 impl<R: Ring> PreparedLeastSquares for ExactLeastSquares<R> {
     type Scalar = Rational;
 
@@ -250,10 +275,7 @@ impl<R: Ring> PreparedLeastSquares for ExactLeastSquares<R> {
     ) -> Result<Vec<Rational>, SolveError<Rational>> {
         Ok(match self.numerators(column, alpha, hints)? {
             None => hints.to_vec(),
-            Some((numerators, den)) => numerators
-                .into_iter()
-                .map(|n| crate::gcd::reduced_ratio(n, den.clone()))
-                .collect(),
+            Some((numerators, den)) => reduce_all(numerators, &den),
         })
     }
 
@@ -296,49 +318,9 @@ impl<R: Ring> ExactLeastSquares<R> {
         let Some(normal) = &self.normal else {
             return Ok(None);
         };
-        let r = self.a_hat.len();
-        let c = &self.c_hat[column];
-        let common = lcm(&lcm(&h.den, &alpha.den), &c.den);
-        let fh = common.div_exact(&h.den);
-        let fa = common.div_exact(&alpha.den);
-        let fc = common.div_exact(&c.den);
-        // ρ = Â h − ĉ + K̂ α, over `common`.
-        let rho: Vec<BigInt> = (0..r)
-            .map(|k| {
-                let mut s = dot_sparse(&self.a_hat[k], &h.num).mul(&fh);
-                if !c.num[k].is_zero() {
-                    s = s.sub(&c.num[k].mul(&fc));
-                }
-                let ka = dot_sparse(&self.k_hat[k], &alpha.num);
-                if !ka.is_zero() {
-                    s = s.add(&ka.mul(&fa));
-                }
-                s.to_bigint()
-            })
-            .collect();
-        // G λ' = ρ (numerators over `common`): λ = λ_num / (λ_den · common).
-        let (lambda, lambda_den) = normal.solve(&rho);
-        // x = h − V Âᵀ λ over h.den · λ_den · common.
-        let mut correction: Vec<BigInt> = vec![<BigInt as Zero>::zero(); self.n];
-        for (row, l) in self.a_hat.iter().zip(&lambda) {
-            if Zero::is_zero(l) {
-                continue;
-            }
-            for (s, a) in row {
-                correction[*s] += l * a.to_bigint();
-            }
-        }
-        let h_den = h.den.to_bigint();
-        let h_scale = &lambda_den * common.to_bigint();
-        let den = &h_den * &h_scale;
-        let numerators = h
-            .num
-            .iter()
-            .zip(correction)
-            .zip(&self.v)
-            .map(|((hs, corr), vs)| hs.to_bigint() * &h_scale - &h_den * vs * corr)
-            .collect();
-        Ok(Some((numerators, den)))
+        let base = self.base(normal, column, &h);
+        let x = affine::combine(base, self.responses(normal), &alpha);
+        Ok(Some((x.num, x.den)))
     }
 
     /// Number of redundant rows whose consistency each update checks.

@@ -1,0 +1,287 @@
+//! The solution of an update as an affine function of the anchor values:
+//!
+//! ```text
+//! x(α, h) = base_j(h) − Σ_k α_k resp_k,
+//! base_j(h) = h − V Âᵀ G⁻¹ (Â h − ĉ_j),      resp_k = V Âᵀ G⁻¹ K̂_{:,k}
+//! ```
+//!
+//! (expand `x = h − V Âᵀ G⁻¹ (Â h − ĉ_j + K̂ α)`). The responses to the anchors are lifted once,
+//! at the first update, and the base is kept for the last hints of each column: an update whose
+//! hints are those of the previous one (a generic edit's steps, a drag with fixed hints) costs
+//! `O(n · a)` big-number multiplications instead of a lifted solve. Both are memos of pure
+//! functions of the prepared data: they never change an answer.
+
+use super::ExactLeastSquares;
+use crate::dixon::LiftingSolver;
+use crate::qvec::QVec;
+use crate::ring::{lcm, Ring};
+use num_bigint::BigInt;
+use num_traits::Zero;
+use std::sync::{Mutex, OnceLock};
+
+/// A rational vector as integer numerators over one positive denominator.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub(super) struct Numerators {
+    pub(super) num: Vec<BigInt>,
+    pub(super) den: BigInt,
+}
+
+impl Numerators {
+    /// Divides the numerators and the denominator by their common content, so every update
+    /// built from this vector (and the GCDs that reduce its results) works on smaller numbers.
+    fn without_content(mut self) -> Self {
+        let mut g = self.den.clone();
+        for x in &self.num {
+            if g == BigInt::from(1) {
+                return self;
+            }
+            if !Zero::is_zero(x) {
+                g = crate::gcd::gcd_bigint(&g, x);
+            }
+        }
+        if g != BigInt::from(1) {
+            for x in &mut self.num {
+                *x /= &g;
+            }
+            self.den /= &g;
+        }
+        self
+    }
+}
+
+/// The last hint vector of one column and its base.
+type BaseMemo<R> = Mutex<Option<(QVec<R>, Numerators)>>;
+
+/// The memos of [`ExactLeastSquares`]: the responses to the anchors and the last base per
+/// column. Copies start with the same contents; two memos always compare equal (they hold
+/// values derived from the rest of the prepared data, not part of it).
+#[derive(Debug, Default)]
+pub(super) struct AffineMemo<R: Ring> {
+    responses: OnceLock<Vec<Numerators>>,
+    bases: Vec<BaseMemo<R>>,
+}
+
+impl<R: Ring> AffineMemo<R> {
+    /// Empty memos for `columns` right-hand-side columns.
+    pub(super) fn new(columns: usize) -> Self {
+        AffineMemo {
+            responses: OnceLock::new(),
+            bases: (0..columns).map(|_| Mutex::new(None)).collect(),
+        }
+    }
+}
+
+impl<R: Ring> Clone for AffineMemo<R> {
+    fn clone(&self) -> Self {
+        AffineMemo {
+            responses: self.responses.clone(),
+            bases: self
+                .bases
+                .iter()
+                .map(|m| Mutex::new(m.lock().map(|g| g.clone()).unwrap_or(None)))
+                .collect(),
+        }
+    }
+}
+
+impl<R: Ring> PartialEq for AffineMemo<R> {
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
+}
+
+impl<R: Ring> Eq for AffineMemo<R> {}
+
+impl<R: Ring> ExactLeastSquares<R> {
+    /// `V Âᵀ G⁻¹ ρ` for `ρ = rho / rho_den`, lifted exactly.
+    fn projected(&self, normal: &LiftingSolver, rho: &[BigInt], rho_den: &BigInt) -> Numerators {
+        let (lambda, lambda_den) = normal.solve(rho);
+        let mut num: Vec<BigInt> = vec![<BigInt as Zero>::zero(); self.n];
+        for (row, l) in self.a_hat.iter().zip(&lambda) {
+            if Zero::is_zero(l) {
+                continue;
+            }
+            for (s, a) in row {
+                num[*s] += l * a.to_bigint();
+            }
+        }
+        for (x, v) in num.iter_mut().zip(&self.v) {
+            *x *= v;
+        }
+        Numerators {
+            num,
+            den: lambda_den * rho_den,
+        }
+    }
+
+    /// `resp_k = V Âᵀ G⁻¹ K̂_{:,k}` for every anchor coordinate `k`, lifted at the first call.
+    pub(super) fn responses(&self, normal: &LiftingSolver) -> &[Numerators] {
+        self.memo.responses.get_or_init(|| {
+            (0..self.parameters)
+                .map(|k| {
+                    let rho: Vec<BigInt> = self
+                        .k_hat
+                        .iter()
+                        .map(|row| {
+                            row.iter()
+                                .find(|(c, _)| *c == k)
+                                .map(|(_, v)| v.to_bigint())
+                                .unwrap_or_default()
+                        })
+                        .collect();
+                    self.projected(normal, &rho, &BigInt::from(1))
+                        .without_content()
+                })
+                .collect()
+        })
+    }
+
+    /// `base_j(h) = h − V Âᵀ G⁻¹ (Â h − ĉ_j)`, from the memo when `h` is the last hint vector
+    /// of column `j`.
+    pub(super) fn base(&self, normal: &LiftingSolver, column: usize, h: &QVec<R>) -> Numerators {
+        let slot = &self.memo.bases[column];
+        if let Ok(guard) = slot.lock() {
+            if let Some((hints, base)) = guard.as_ref() {
+                if hints == h {
+                    return base.clone();
+                }
+            }
+        }
+        let c = &self.c_hat[column];
+        let common = lcm(&h.den, &c.den);
+        let fh = common.div_exact(&h.den);
+        let fc = common.div_exact(&c.den);
+        // Â h − ĉ over `common`.
+        let rho: Vec<BigInt> = self
+            .a_hat
+            .iter()
+            .zip(&c.num)
+            .map(|(row, ck)| {
+                let mut s = super::dot_sparse(row, &h.num).mul(&fh);
+                if !ck.is_zero() {
+                    s = s.sub(&ck.mul(&fc));
+                }
+                s.to_bigint()
+            })
+            .collect();
+        let p = self.projected(normal, &rho, &common.to_bigint());
+        // h − p over h.den · p.den.
+        let h_den = h.den.to_bigint();
+        let base = Numerators {
+            num: h
+                .num
+                .iter()
+                .zip(&p.num)
+                .map(|(hs, ps)| hs.to_bigint() * &p.den - &h_den * ps)
+                .collect(),
+            den: h_den * p.den,
+        }
+        .without_content();
+        if let Ok(mut guard) = slot.lock() {
+            *guard = Some((h.clone(), base.clone()));
+        }
+        base
+    }
+}
+
+/// `base − Σ_k α_k resp_k` over one denominator, `α = alpha / alpha_den`.
+pub(super) fn combine<R: Ring>(
+    base: Numerators,
+    responses: &[Numerators],
+    alpha: &QVec<R>,
+) -> Numerators {
+    let moving: Vec<(BigInt, &Numerators)> = alpha
+        .num
+        .iter()
+        .zip(responses)
+        .filter(|(a, _)| !a.is_zero())
+        .map(|(a, r)| (a.to_bigint(), r))
+        .collect();
+    if moving.is_empty() {
+        return base;
+    }
+    // One denominator for the base and the responses: their lcm `L`; then
+    // x = (b (L / b_den) α_den − Σ a_k (L / r_den,k) r_k) / (L α_den).
+    let mut common = base.den.clone();
+    for (_, r) in &moving {
+        common = num_integer::Integer::lcm(&common, &r.den);
+    }
+    let scales: Vec<BigInt> = moving.iter().map(|(a, r)| a * (&common / &r.den)).collect();
+    let alpha_den = alpha.den.to_bigint();
+    let base_scale = &alpha_den * (&common / &base.den);
+    let num = base
+        .num
+        .iter()
+        .enumerate()
+        .map(|(s, b)| {
+            let shift: BigInt = moving
+                .iter()
+                .zip(&scales)
+                .map(|((_, r), f)| f * &r.num[s])
+                .sum();
+            b * &base_scale - shift
+        })
+        .collect();
+    Numerators {
+        num,
+        den: common * alpha_den,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::factorization::ExactFactorization;
+    use crate::ring::Int;
+    use crate::Simplification;
+    use api::{Factorization, IntMatrix, PreparedLeastSquares, Rational, RhsFamily};
+
+    fn q(n: i64, d: i64) -> Rational {
+        Rational::new(n.into(), d.into())
+    }
+
+    /// Updates answered from the memos (same hints, new anchor values) equal fresh solves, and
+    /// new hints replace the memo: the memos never change an answer.
+    #[test]
+    fn memoised_updates_equal_fresh_solves() {
+        // Two rows over four unknowns, one anchor coordinate entering both rows.
+        let a = IntMatrix::from_dense(4, &[vec![1, -2, 0, 3], vec![0, 1, 5, -1]]).expect("matrix");
+        let family = RhsFamily {
+            constant: vec![vec![q(1, 2), q(-3, 1)], vec![q(0, 1), q(7, 3)]],
+            coefficients: IntMatrix::from_dense(1, &[vec![2], vec![-1]]).expect("K"),
+        };
+        let weights = vec![q(1, 1), q(2, 1), q(1, 3), q(5, 1)];
+        let f = ExactFactorization::<Int>::new(&a, Simplification::Gcd);
+        let memoised = f.prepare_least_squares(&family, &weights).expect("prepare");
+        let hints_a = vec![q(1, 1), q(-1, 2), q(3, 1), q(0, 1)];
+        let hints_b = vec![q(2, 7), q(0, 1), q(1, 1), q(-4, 5)];
+        for (column, hints, alpha) in [
+            (0, &hints_a, q(0, 1)),
+            (0, &hints_a, q(3, 2)),
+            (0, &hints_a, q(-7, 1)),
+            (1, &hints_a, q(3, 2)),
+            (0, &hints_b, q(3, 2)),
+            (0, &hints_b, q(1, 9)),
+            (0, &hints_a, q(1, 9)),
+        ] {
+            let fresh = f.prepare_least_squares(&family, &weights).expect("prepare");
+            let expected = fresh
+                .solve(column, std::slice::from_ref(&alpha), hints)
+                .expect("consistent");
+            let got = memoised
+                .solve(column, std::slice::from_ref(&alpha), hints)
+                .expect("consistent");
+            assert_eq!(got, expected);
+            // The defining equation: A x = c_j − K α.
+            for (i, row) in [[1, -2, 0, 3], [0, 1, 5, -1]].iter().enumerate() {
+                let lhs: Rational = row
+                    .iter()
+                    .zip(&got)
+                    .map(|(c, x)| Rational::from_integer((*c).into()) * x)
+                    .sum();
+                let k = [2, -1][i];
+                let rhs = &family.constant[column][i] - Rational::from_integer(k.into()) * &alpha;
+                assert_eq!(lhs, rhs);
+            }
+        }
+    }
+}
