@@ -7,7 +7,7 @@
 //! [`Ring`], so the same code runs on plain [`BigInt`] (the fast path forced off) and must give
 //! identical results.
 
-use num_bigint::{BigInt, Sign};
+use num_bigint::{BigInt, BigUint, Sign};
 use num_traits::{One, Signed, ToPrimitive, Zero};
 use std::cmp::Ordering;
 use std::fmt;
@@ -322,10 +322,13 @@ impl Ring for Int {
                 debug_assert!(Zero::is_zero(&(&**a % &**b)), "inexact division");
                 Int::from_big(&**a / &**b)
             }
-            // |a| < |b|: an exact quotient can only be 0.
-            (Int::Small(a), Int::Big(_)) => {
-                debug_assert!(*a == 0, "inexact division");
-                Int::Small(0)
+            // |a| ≤ 2^63 ≤ |b|: the exact quotient is 0, or ±1 for a = i64::MIN, |b| = 2^63.
+            (Int::Small(a), Int::Big(b)) => {
+                debug_assert!(
+                    Zero::is_zero(&(BigInt::from(*a) % &**b)),
+                    "inexact division"
+                );
+                Int::from_big(BigInt::from(*a) / &**b)
             }
         }
     }
@@ -349,8 +352,9 @@ impl Ring for Int {
     fn abs_cmp(&self, other: &Self) -> Ordering {
         match (self, other) {
             (Int::Small(a), Int::Small(b)) => a.unsigned_abs().cmp(&b.unsigned_abs()),
-            (Int::Small(_), Int::Big(_)) => Ordering::Less,
-            (Int::Big(_), Int::Small(_)) => Ordering::Greater,
+            // A big value has |b| ≥ 2^63 ≥ |a|, equal only for a = i64::MIN.
+            (Int::Small(a), Int::Big(b)) => BigUint::from(a.unsigned_abs()).cmp(b.magnitude()),
+            (Int::Big(b), Int::Small(a)) => b.magnitude().cmp(&BigUint::from(a.unsigned_abs())),
             (Int::Big(a), Int::Big(b)) => a.magnitude().cmp(b.magnitude()),
         }
     }
@@ -410,6 +414,22 @@ pub fn lcm<R: Ring>(a: &R, b: &R) -> R {
 mod tests {
     use super::*;
     use proptest::prelude::*;
+
+    /// `i64::MIN` is small but `2^63` is big: quotients and comparisons across the boundary
+    /// (they arise as products of powers of two when elimination runs without simplification).
+    #[test]
+    fn the_boundary_between_small_and_big_values() {
+        let min = Int::Small(i64::MIN);
+        let two_63 = Int::from_bigint(&(BigInt::from(1) << 63));
+        assert!(!two_63.is_small());
+        assert_eq!(min.div_exact(&two_63), Int::Small(-1));
+        assert_eq!(min.div_exact(&two_63.neg()), Int::Small(1));
+        assert_eq!(Int::Small(0).div_exact(&two_63), Int::Small(0));
+        assert_eq!(min.abs_cmp(&two_63), Ordering::Equal);
+        assert_eq!(two_63.abs_cmp(&min), Ordering::Equal);
+        assert_eq!(Int::Small(i64::MAX).abs_cmp(&two_63), Ordering::Less);
+        assert_eq!(two_63.abs_cmp(&Int::Small(5)), Ordering::Greater);
+    }
 
     fn interesting() -> impl Strategy<Value = i64> {
         prop_oneof![

@@ -126,7 +126,14 @@ proptest! {
             let b: Vec<Rational> = a.row_iter().map(|row| {
                 row.iter().map(|(j, v)| Rational::from_integer(v.clone()) * &xr[*j]).sum()
             }).collect();
-            prop_assert_eq!(mono.solve(&b).expect("consistent"), blocks.solve(&b).expect("consistent"));
+            let (sm, sb) = (mono.solve(&b).expect("consistent"), blocks.solve(&b).expect("consistent"));
+            prop_assert_eq!(&sm, &sb);
+            for (side, x) in [("mono", &sm), ("blocks", &sb)] {
+                for (row, bi) in a.row_iter().zip(&b) {
+                    let ax: Rational = row.iter().map(|(j, v)| Rational::from_integer(v.clone()) * &x[*j]).sum();
+                    prop_assert_eq!(&ax, bi, "{:?} {}", method, side);
+                }
+            }
             let hints: Vec<Rational> = (0..c.cols).map(|j| r(h[j % h.len()])).collect();
             let weights: Vec<Rational> = (0..c.cols).map(|j| Rational::new((1 + j as i64 % 3).into(), 2.into())).collect();
             prop_assert_eq!(
