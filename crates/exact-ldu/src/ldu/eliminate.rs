@@ -69,9 +69,7 @@ pub(super) fn eliminate_variable_gcd<R: Ring>(
     if uti.is_zero() {
         if *primitive {
             if pivot.is_negative() {
-                for v in tail.iter_mut() {
-                    *v = v.neg();
-                }
+                negate_nonzero(tail);
             }
             *l_tt = l_tt.mul(&pivot.abs());
             return;
@@ -81,9 +79,7 @@ pub(super) fn eliminate_variable_gcd<R: Ring>(
             return;
         }
         if pivot.is_negative() {
-            for v in tail.iter_mut() {
-                *v = v.neg();
-            }
+            negate_nonzero(tail);
         }
         *l_tt = l_tt.mul(&pivot.abs().mul(&g));
         *primitive = true;
@@ -102,6 +98,14 @@ pub(super) fn eliminate_variable_gcd<R: Ring>(
     }
     *l_tt = l_tt.mul(&h.mul(&g));
     *primitive = true;
+}
+
+/// `row ← −row`, touching only the nonzero entries (rows of constraint systems are mostly zero,
+/// and a negative pivot negates every row it does not eliminate).
+fn negate_nonzero<R: Ring>(row: &mut [R]) {
+    for v in row.iter_mut().filter(|v| !v.is_zero()) {
+        *v = v.neg();
+    }
 }
 
 #[cfg(test)]

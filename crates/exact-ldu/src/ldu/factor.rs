@@ -32,6 +32,12 @@ pub(super) struct WorkingFactors<R: Ring> {
     pub(super) l_diag: Vec<R>,
     /// GCD method: row `t` is known to be primitive in columns `i..n`.
     pub(super) primitive: Vec<bool>,
+    /// Original column of row `t`'s smallest-magnitude entry in the active block, when known
+    /// (the pivot search's memo; `None` means "scan the row").
+    pub(super) row_minimum: Vec<Option<usize>>,
+    /// Nonzero entries of each original column in rows `i..m` (kept up to date by the stages,
+    /// so the pivot step finds zero columns without scanning them).
+    pub(super) column_counts: Vec<usize>,
     /// `D_jj` of the finished stages `j < i`.
     pub(super) d: Vec<R>,
     /// `D_tt`, equal for every row `t ≥ i`.
@@ -85,16 +91,47 @@ pub(super) fn ldu_factor<R: Ring>(
     w.remove_null_parts(method)
 }
 
+/// Nonzero entries per column of `rows` (`cols` columns, working order = original order).
+pub(super) fn column_counts<R: Ring>(rows: &[Vec<R>], cols: usize) -> Vec<usize> {
+    let mut counts = vec![0; cols];
+    for row in rows {
+        for (c, v) in row.iter().enumerate() {
+            if !v.is_zero() {
+                counts[c] += 1;
+            }
+        }
+    }
+    counts
+}
+
+/// Adds (`add`) or removes the nonzero pattern of working row `row` to or from the counts by
+/// original column.
+fn count_nonzeros<R: Ring>(counts: &mut [usize], row: &[R], col_perm: &[usize], add: bool) {
+    for (q, v) in row.iter().enumerate() {
+        if !v.is_zero() {
+            let c = &mut counts[col_perm[q]];
+            if add {
+                *c += 1;
+            } else {
+                *c -= 1;
+            }
+        }
+    }
+}
+
 impl<R: Ring> WorkingFactors<R> {
     /// Algorithm 6 steps 1–2: `Π_R ← I`, `L ← I`, `D ← I`, `U ← A`, `Π_C ← I`, `i ← 1`,
     /// `j ← n` (0-based here: `i = 0`).
     pub(super) fn new(rows: Vec<Vec<R>>, cols: usize) -> Self {
         let m = rows.len();
+        let column_counts = column_counts(&rows, cols);
         WorkingFactors {
+            column_counts,
             u: rows,
             l: vec![Vec::new(); m],
             l_diag: vec![R::one(); m],
             primitive: vec![false; m],
+            row_minimum: vec![None; m],
             d: Vec::new(),
             pending_d: R::one(),
             row_perm: (0..m).collect(),
@@ -140,8 +177,16 @@ impl<R: Ring> WorkingFactors<R> {
         };
         let (head, tail) = self.u.split_at_mut(i + 1);
         let pivot_row = &head[i];
+        // The pivot row leaves the active rows.
+        count_nonzeros(&mut self.column_counts, pivot_row, &self.col_perm, false);
         for (offset, row) in tail.iter_mut().enumerate() {
             let t = i + 1 + offset;
+            let eliminated = !row[i].is_zero();
+            if eliminated {
+                // The row's entries change unevenly: its minimum and nonzero pattern with them.
+                self.row_minimum[t] = None;
+                count_nonzeros(&mut self.column_counts, row, &self.col_perm, false);
+            }
             match method {
                 Simplification::None | Simplification::Turner => {
                     eliminate::eliminate_variable(
@@ -168,6 +213,9 @@ impl<R: Ring> WorkingFactors<R> {
                     &mut self.l_diag[t],
                     &mut self.primitive[t],
                 ),
+            }
+            if eliminated {
+                count_nonzeros(&mut self.column_counts, row, &self.col_perm, true);
             }
         }
         self.pending_d = self.pending_d.mul(&pivot);

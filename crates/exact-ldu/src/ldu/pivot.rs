@@ -23,13 +23,23 @@ impl<R: Ring> WorkingFactors<R> {
     /// otherwise `true` and `U_ii` is the pivot, nonzero.
     pub(super) fn pivot(&mut self, pivoting: Pivoting) -> bool {
         let i = self.i;
-        self.j = gather_nonzero_columns(&mut self.u, &mut self.col_perm, i, self.j);
+        self.j = gather_nonzero_columns(
+            &mut self.u,
+            &mut self.col_perm,
+            &self.column_counts,
+            i,
+            self.j,
+        );
         if self.j <= i {
             return false;
         }
-        let Some((s, t)) =
-            choose_pivot(&self.u, &self.row_perm, &self.col_perm, i, self.j, pivoting)
-        else {
+        let choice = match pivoting {
+            Pivoting::SmallestMagnitude => self.choose_smallest_pivot(),
+            Pivoting::FirstNonzero => {
+                choose_pivot(&self.u, &self.row_perm, &self.col_perm, i, self.j, pivoting)
+            }
+        };
+        let Some((s, t)) = choice else {
             return false;
         };
         if t != i {
@@ -50,28 +60,102 @@ impl<R: Ring> WorkingFactors<R> {
         self.l.swap(a, b);
         self.l_diag.swap(a, b);
         self.primitive.swap(a, b);
+        self.row_minimum.swap(a, b);
         self.row_perm.swap(a, b);
     }
+
+    /// [`choose_pivot`] with [`Pivoting::SmallestMagnitude`], the same choice at `O(m + n)` per
+    /// stage plus one scan per row that changed. Each row keeps the original column of its
+    /// smallest entry in the active block ([`WorkingFactors::row_minimum`]); that stays the
+    /// row's minimum until the row is eliminated against a pivot (`U_ti ≠ 0`, which clears it):
+    /// the other updates of a stage (multiplying by the pivot, dividing by a content or by
+    /// Turner's divisor, negating) scale the whole row, and the columns that leave the block
+    /// (the pivot's, the zero ones) are not a row's nonzero minimum. The global choice is the
+    /// smallest of the rows' minima under the same order (magnitude, original row, original
+    /// column).
+    fn choose_smallest_pivot(&mut self) -> Option<(usize, usize)> {
+        let (i, j) = (self.i, self.j);
+        let mut position = vec![0usize; self.col_perm.len()];
+        for (q, &c) in self.col_perm.iter().enumerate() {
+            position[c] = q;
+        }
+        let mut best: Option<(usize, usize)> = None;
+        for p in i..self.u.len() {
+            let cached = self.row_minimum[p].map(|c| position[c]);
+            let q = match cached {
+                Some(q) if q >= i && q < j && !self.u[p][q].is_zero() => Some(q),
+                _ => {
+                    let q = row_minimum(&self.u[p], &self.col_perm, i, j);
+                    self.row_minimum[p] = q.map(|q| self.col_perm[q]);
+                    q
+                }
+            };
+            let Some(q) = q else {
+                continue;
+            };
+            let better = match best {
+                None => true,
+                Some((bp, bq)) => match self.u[p][q].abs_cmp(&self.u[bp][bq]) {
+                    Ordering::Less => true,
+                    Ordering::Greater => false,
+                    Ordering::Equal => {
+                        (self.row_perm[p], self.col_perm[q])
+                            < (self.row_perm[bp], self.col_perm[bq])
+                    }
+                },
+            };
+            if better {
+                best = Some((p, q));
+            }
+        }
+        best
+    }
+}
+
+/// The working column of the smallest nonzero magnitude in `row` among columns `i..j`, ties on
+/// the lowest original column; `None` when the row is zero there.
+fn row_minimum<R: Ring>(row: &[R], col_perm: &[usize], i: usize, j: usize) -> Option<usize> {
+    let mut best: Option<usize> = None;
+    for (q, v) in row.iter().enumerate().take(j).skip(i) {
+        if v.is_zero() {
+            continue;
+        }
+        let better = match best {
+            None => true,
+            Some(b) => match v.abs_cmp(&row[b]) {
+                Ordering::Less => true,
+                Ordering::Greater => false,
+                Ordering::Equal => col_perm[q] < col_perm[b],
+            },
+        };
+        if better {
+            best = Some(q);
+        }
+    }
+    best
 }
 
 /// `LinSys.GatherNonzeroColumns` (algorithm 7 step 3): moves every column among `i..j` that is
 /// zero in rows `i..` past the new `j`, by swapping it with the last active column.
+/// `counts[c]` is the number of nonzero entries of original column `c` in rows `i..`
+/// ([`WorkingFactors::column_counts`]), so a zero column is found without scanning it.
 ///
 /// # Returns
 /// The new `j`: afterwards each column `i..j` has a nonzero entry in rows `i..`, and columns
 /// `j..` are zero there.
 ///
 /// # Complexity
-/// `O((m − i)(j − i))` zero tests.
+/// `O(j − i)` count tests and `O(m)` per column moved.
 pub(super) fn gather_nonzero_columns<R: Ring>(
     u: &mut [Vec<R>],
     col_perm: &mut [usize],
+    counts: &[usize],
     i: usize,
     mut j: usize,
 ) -> usize {
     let mut q = i;
     while q < j {
-        if u[i..].iter().all(|row| row[q].is_zero()) {
+        if counts[col_perm[q]] == 0 {
             j -= 1;
             if q != j {
                 swap_columns(u, col_perm, q, j);
@@ -202,7 +286,8 @@ mod tests {
             let i = i.min(rows.len() - 1).min(cols);
             let mut u = ints(&rows);
             let mut col_perm: Vec<usize> = (0..cols).collect();
-            let j = gather_nonzero_columns(&mut u, &mut col_perm, i, cols);
+            let counts = super::super::factor::column_counts(&u[i..], cols);
+            let j = gather_nonzero_columns(&mut u, &mut col_perm, &counts, i, cols);
             for c in i..cols {
                 let nonzero = u[i..].iter().any(|row| !row[c].is_zero());
                 prop_assert_eq!(nonzero, c < j);
