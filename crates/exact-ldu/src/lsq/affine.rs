@@ -114,6 +114,11 @@ impl<R: Ring> ExactLeastSquares<R> {
         }
     }
 
+    /// Whether [`Self::responses`] has been lifted already.
+    pub(super) fn responses_ready(&self) -> bool {
+        self.memo.responses.get().is_some()
+    }
+
     /// `resp_k = V Âᵀ G⁻¹ K̂_{:,k}` for every anchor coordinate `k`, lifted at the first call.
     pub(super) fn responses(&self, normal: &LiftingSolver) -> &[Numerators] {
         self.memo.responses.get_or_init(|| {

@@ -318,8 +318,13 @@ impl<R: Ring> ExactLeastSquares<R> {
         let Some(normal) = &self.normal else {
             return Ok(None);
         };
-        let base = self.base(normal, column, &h);
-        let x = affine::combine(base, self.responses(normal), &alpha);
+        // The first update lifts the responses and this base: independent solves, one per core.
+        let (responses, base) = if self.responses_ready() {
+            (self.responses(normal), self.base(normal, column, &h))
+        } else {
+            rayon::join(|| self.responses(normal), || self.base(normal, column, &h))
+        };
+        let x = affine::combine(base, responses, &alpha);
         Ok(Some((x.num, x.den)))
     }
 
