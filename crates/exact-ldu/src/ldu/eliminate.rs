@@ -51,9 +51,16 @@ pub(super) fn eliminate_variable<R: Ring>(
 ///
 /// Afterwards `primitive` tells whether the new row is primitive (false only for a zero row).
 ///
+/// `negated` says that `row` is stored as its negative (the value is `−row`): a row that is not
+/// eliminated and only changes sign under a negative pivot has its flag flipped instead of every
+/// entry rewritten, so a stage costs nothing for the many rows a sparse pivot column misses.
+/// A stored-negated row that must be eliminated is first turned back ([`materialize`]).
+///
 /// # Complexity
-/// `n − i − 1` cross multiplications and one GCD pass over the new row.
+/// `n − i − 1` cross multiplications and one GCD pass over the new row; `O(1)` for a primitive
+/// row with `U_ti = 0`.
 #[inline]
+#[allow(clippy::too_many_arguments)]
 pub(super) fn eliminate_variable_gcd<R: Ring>(
     row: &mut [R],
     pivot_row: &[R],
@@ -62,14 +69,18 @@ pub(super) fn eliminate_variable_gcd<R: Ring>(
     l_row: &mut Vec<R>,
     l_tt: &mut R,
     primitive: &mut bool,
+    negated: &mut bool,
 ) {
+    if !row[i].is_zero() {
+        materialize(row, negated);
+    }
     let uti = std::mem::replace(&mut row[i], R::zero());
     l_row.push(l_tt.mul(&uti));
     let tail = &mut row[i + 1..];
     if uti.is_zero() {
         if *primitive {
             if pivot.is_negative() {
-                negate_nonzero(tail);
+                *negated = !*negated;
             }
             *l_tt = l_tt.mul(&pivot.abs());
             return;
@@ -79,7 +90,7 @@ pub(super) fn eliminate_variable_gcd<R: Ring>(
             return;
         }
         if pivot.is_negative() {
-            negate_nonzero(tail);
+            *negated = !*negated;
         }
         *l_tt = l_tt.mul(&pivot.abs().mul(&g));
         *primitive = true;
@@ -98,6 +109,14 @@ pub(super) fn eliminate_variable_gcd<R: Ring>(
     }
     *l_tt = l_tt.mul(&h.mul(&g));
     *primitive = true;
+}
+
+/// Stores a row flagged as negated ([`eliminate_variable_gcd`]) with its true entries.
+pub(super) fn materialize<R: Ring>(row: &mut [R], negated: &mut bool) {
+    if *negated {
+        negate_nonzero(row);
+        *negated = false;
+    }
 }
 
 /// `row ← −row`, touching only the nonzero entries (rows of constraint systems are mostly zero,
@@ -230,7 +249,9 @@ mod tests {
             let mut fused_l = Vec::new();
             let mut fused_l_tt = l_diag[0].clone();
             let mut fused_primitive = primitive[0];
-            eliminate_variable_gcd(&mut fused, &pivot_row, &pivot, 0, &mut fused_l, &mut fused_l_tt, &mut fused_primitive);
+            let mut fused_negated = false;
+            eliminate_variable_gcd(&mut fused, &pivot_row, &pivot, 0, &mut fused_l, &mut fused_l_tt, &mut fused_primitive, &mut fused_negated);
+            materialize(&mut fused, &mut fused_negated);
 
             prop_assert_eq!(&fused, &plain);
             prop_assert_eq!(&fused_l, &plain_l);

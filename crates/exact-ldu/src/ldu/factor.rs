@@ -32,6 +32,9 @@ pub(super) struct WorkingFactors<R: Ring> {
     pub(super) l_diag: Vec<R>,
     /// GCD method: row `t` is known to be primitive in columns `i..n`.
     pub(super) primitive: Vec<bool>,
+    /// GCD method: row `t` is stored as its negative (see
+    /// [`eliminate::eliminate_variable_gcd`]); pivot rows are always stored as they are.
+    pub(super) negated: Vec<bool>,
     /// Original column of row `t`'s smallest-magnitude entry in the active block, when known
     /// (the pivot search's memo; `None` means "scan the row").
     pub(super) row_minimum: Vec<Option<usize>>,
@@ -131,6 +134,7 @@ impl<R: Ring> WorkingFactors<R> {
             l: vec![Vec::new(); m],
             l_diag: vec![R::one(); m],
             primitive: vec![false; m],
+            negated: vec![false; m],
             row_minimum: vec![None; m],
             d: Vec::new(),
             pending_d: R::one(),
@@ -150,6 +154,7 @@ impl<R: Ring> WorkingFactors<R> {
     /// brought into place; row `i` of `L` and `D_ii` become final (up to algorithm 10).
     pub(super) fn take_pivot(&mut self) {
         let i = self.i;
+        eliminate::materialize(&mut self.u[i], &mut self.negated[i]);
         let pivot = &self.u[i][i];
         let lii = self.l_diag[i].mul(pivot);
         self.l[i].push(lii);
@@ -212,6 +217,7 @@ impl<R: Ring> WorkingFactors<R> {
                     &mut self.l[t],
                     &mut self.l_diag[t],
                     &mut self.primitive[t],
+                    &mut self.negated[t],
                 ),
             }
             if eliminated {
@@ -228,7 +234,12 @@ impl<R: Ring> WorkingFactors<R> {
     fn snapshot(&self) -> StageSnapshot {
         self.u
             .iter()
-            .map(|row| row.iter().map(Ring::to_bigint).collect())
+            .zip(&self.negated)
+            .map(|(row, &negated)| {
+                row.iter()
+                    .map(|v| if negated { v.neg() } else { v.clone() }.to_bigint())
+                    .collect()
+            })
             .collect()
     }
 
@@ -318,6 +329,7 @@ pub(super) mod tests {
                         continue;
                     }
                     let coeff = Rational::new(lkj.to_bigint(), d_of(j).to_bigint());
+                    let coeff = if self.negated[j] { -coeff } else { coeff };
                     for c in 0..n {
                         out[self.row_perm[k]][self.col_perm[c]] +=
                             &coeff * Rational::from_integer(self.u[j][c].to_bigint());

@@ -60,6 +60,7 @@ impl<R: Ring> WorkingFactors<R> {
         self.l.swap(a, b);
         self.l_diag.swap(a, b);
         self.primitive.swap(a, b);
+        self.negated.swap(a, b);
         self.row_minimum.swap(a, b);
         self.row_perm.swap(a, b);
     }
