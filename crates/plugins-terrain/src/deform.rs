@@ -304,13 +304,22 @@ impl Psi {
     }
 
     /// Maps every vertex of `model` by `ψ`; vertices outside the prisms keep their position and
-    /// are listed. Allocates only the output.
+    /// are listed. Vertices are mapped in parallel (rayon, chunks of consecutive vertices so
+    /// neighbours share the locator's cache lines); the result does not depend on the number of
+    /// threads (each vertex's image is computed on its own).
     pub fn deform(&self, model: &Model) -> DeformedModel {
+        use rayon::prelude::*;
+        let mapped: Vec<Result<[f64; 3], Outside>> = model
+            .positions
+            .par_iter()
+            .with_min_len(4096)
+            .map(|p| self.map(*p))
+            .collect();
         let mut positions = Vec::with_capacity(model.positions.len());
         let mut outside_mesh = Vec::new();
         let mut outside_layer = Vec::new();
-        for (v, p) in model.positions.iter().enumerate() {
-            match self.map(*p) {
+        for (v, (p, image)) in model.positions.iter().zip(mapped).enumerate() {
+            match image {
                 Ok(q) => positions.push(q),
                 Err(reason) => {
                     positions.push(*p);
