@@ -278,9 +278,8 @@ pub(super) mod tests {
             .collect()
     }
 
-    /// The thesis matrix (4.3) as working rows.
-    pub(crate) fn matrix_4_3() -> (Vec<Vec<Int>>, usize) {
-        let a = backend_contract::thesis::matrix_4_3();
+    /// A contract-suite matrix as working rows and its column count.
+    fn working_rows(a: &api::IntMatrix) -> (Vec<Vec<Int>>, usize) {
         let rows = a
             .to_dense()
             .iter()
@@ -289,15 +288,14 @@ pub(super) mod tests {
         (rows, a.cols())
     }
 
+    /// The thesis matrix (4.3) as working rows.
+    pub(crate) fn matrix_4_3() -> (Vec<Vec<Int>>, usize) {
+        working_rows(&backend_contract::thesis::matrix_4_3())
+    }
+
     /// Turner's 4 × 4 example (thesis 7.1–7.3) as working rows.
     pub(crate) fn turner_matrix() -> (Vec<Vec<Int>>, usize) {
-        let a = backend_contract::thesis::turner_7_1();
-        let rows = a
-            .to_dense()
-            .iter()
-            .map(|r| r.iter().map(Int::from_bigint).collect())
-            .collect();
-        (rows, a.cols())
+        working_rows(&backend_contract::thesis::turner_7_1())
     }
 
     pub(crate) fn rational(v: &Int) -> Rational {
