@@ -24,7 +24,7 @@
 //! side `k (n² + nnz(A))` word operations for `k ≈ (bits of numerators + denominator) / 31`
 //! lifting steps, plus the reconstruction.
 
-use crate::modular::{lifting_primes, ModularLu, Modulus};
+use crate::modular::{fill_reducing_order, lifting_primes, ModularLu, Modulus, SparseLdlt};
 use num_bigint::{BigInt, BigUint, Sign};
 use num_integer::Integer;
 use num_traits::{One, Signed, ToPrimitive, Zero};
@@ -43,7 +43,7 @@ pub(crate) struct LiftingSolver {
     rows: Vec<Vec<(usize, BigInt)>>,
     /// The rows again, when every entry is below `2^62` in absolute value.
     small_rows: Option<Vec<Vec<(usize, i64)>>>,
-    lu: ModularLu,
+    inverse: ModularInverse,
     /// `Σ_j ⌈log₂ ‖A_{:,j}‖⌉`, an upper bound of `log₂ |det A|` (Hadamard).
     hadamard_bits: u64,
 }
@@ -54,13 +54,94 @@ fn norm_bits<'a>(entries: impl Iterator<Item = &'a BigInt>) -> u64 {
     squares.bits().div_ceil(2)
 }
 
+/// `A⁻¹ mod p` as a factoring.
+#[derive(Debug, Clone, PartialEq, Eq)]
+enum ModularInverse {
+    Dense(ModularLu),
+    Sparse(SparseLdlt),
+}
+
+impl ModularInverse {
+    fn modulus(&self) -> Modulus {
+        match self {
+            ModularInverse::Dense(lu) => lu.modulus(),
+            ModularInverse::Sparse(ldlt) => ldlt.modulus(),
+        }
+    }
+
+    fn solve_in_place(&self, b: &mut [u64], scratch: &mut Vec<u64>) {
+        match self {
+            ModularInverse::Dense(lu) => lu.solve_in_place(b, scratch),
+            ModularInverse::Sparse(ldlt) => ldlt.solve_in_place(b, scratch),
+        }
+    }
+}
+
+/// How many primes the sparse symmetric factoring tries before the dense one takes over: a
+/// prime fails only when it divides one of the leading principal minors, so a second failure is
+/// already a rarity.
+const SPARSE_ATTEMPTS: usize = 4;
+
+/// The residues of `rows` modulo `modulus`, zeros dropped.
+fn residue_rows(rows: &[Vec<(usize, BigInt)>], modulus: &Modulus) -> Vec<Vec<(usize, u64)>> {
+    rows.iter()
+        .map(|row| {
+            row.iter()
+                .map(|(j, v)| (*j, modulus.residue_big(v)))
+                .filter(|(_, r)| *r != 0)
+                .collect()
+        })
+        .collect()
+}
+
 impl LiftingSolver {
-    /// Prepares `A` (`n × n`, sparse rows with column indices below `n`); `None` when `A` is
-    /// singular.
-    pub(crate) fn new(n: usize, rows: Vec<Vec<(usize, BigInt)>>) -> Option<Self> {
+    /// Prepares a symmetric positive definite `A` (`n × n`, both triangles given as sparse
+    /// rows, column indices increasing): `L D Lᵀ` modulo a prime in a fill-reducing order, so
+    /// factoring and lifting follow the sparsity of `A`. Falls back to [`LiftingSolver::new`]
+    /// (dense, any nonsingular matrix) when no prime tried gives nonzero pivots; `None` when
+    /// `A` is singular.
+    pub(crate) fn new_symmetric(n: usize, rows: Vec<Vec<(usize, BigInt)>>) -> Option<Self> {
         debug_assert_eq!(rows.len(), n);
+        let pattern: Vec<Vec<(usize, u64)>> = rows
+            .iter()
+            .map(|row| row.iter().map(|(j, _)| (*j, 0)).collect())
+            .collect();
+        let order = fill_reducing_order(&pattern);
+        for p in lifting_primes().take(SPARSE_ATTEMPTS) {
+            let modulus = Modulus::new(p);
+            if let Some(ldlt) = SparseLdlt::factor(&residue_rows(&rows, &modulus), &order, modulus)
+            {
+                return Self::with_inverse(n, rows, ModularInverse::Sparse(ldlt));
+            }
+        }
+        Self::new(n, rows)
+    }
+
+    /// The solver for `A` with `A⁻¹ mod p` given; `None` when a column of `A` is zero.
+    fn with_inverse(
+        n: usize,
+        rows: Vec<Vec<(usize, BigInt)>>,
+        inverse: ModularInverse,
+    ) -> Option<Self> {
+        let (small_rows, hadamard_bits) = Self::bounds(n, &rows)?;
+        Some(LiftingSolver {
+            n,
+            rows,
+            small_rows,
+            inverse,
+            hadamard_bits,
+        })
+    }
+
+    /// The rows as machine integers when they all fit, and the Hadamard bound; `None` when a
+    /// column of `A` is zero (`A` singular).
+    #[allow(clippy::type_complexity)]
+    fn bounds(
+        n: usize,
+        rows: &[Vec<(usize, BigInt)>],
+    ) -> Option<(Option<Vec<Vec<(usize, i64)>>>, u64)> {
         let mut columns: Vec<Vec<&BigInt>> = vec![Vec::new(); n];
-        for row in &rows {
+        for row in rows {
             for (j, v) in row {
                 if !v.is_zero() {
                     columns[*j].push(v);
@@ -80,26 +161,25 @@ impl LiftingSolver {
                     .collect::<Option<Vec<_>>>()
             })
             .collect::<Option<Vec<_>>>();
+        Some((small_rows, hadamard_bits))
+    }
+
+    /// Prepares `A` (`n × n`, sparse rows with column indices below `n`), factored densely
+    /// modulo a prime; `None` when `A` is singular.
+    pub(crate) fn new(n: usize, rows: Vec<Vec<(usize, BigInt)>>) -> Option<Self> {
+        debug_assert_eq!(rows.len(), n);
+        let (small_rows, hadamard_bits) = Self::bounds(n, &rows)?;
         // A prime that divides det A ≠ 0 is at least 2^30, so more than
         // `hadamard_bits / 30` such primes prove det A = 0.
         let mut failures = 0u64;
         for p in lifting_primes() {
             let modulus = Modulus::new(p);
-            let residues: Vec<Vec<(usize, u64)>> = rows
-                .iter()
-                .map(|row| {
-                    row.iter()
-                        .map(|(j, v)| (*j, modulus.residue_big(v)))
-                        .filter(|(_, r)| *r != 0)
-                        .collect()
-                })
-                .collect();
-            if let Some(lu) = ModularLu::factor(n, &residues, modulus) {
+            if let Some(lu) = ModularLu::factor(n, &residue_rows(&rows, &modulus), modulus) {
                 return Some(LiftingSolver {
                     n,
                     rows,
                     small_rows,
-                    lu,
+                    inverse: ModularInverse::Dense(lu),
                     hadamard_bits,
                 });
             }
@@ -118,7 +198,7 @@ impl LiftingSolver {
         if n == 0 {
             return (Vec::new(), BigInt::one());
         }
-        let modulus = self.lu.modulus();
+        let modulus = self.inverse.modulus();
         // Cramer and Hadamard: |den| ≤ 2^H, |num_i| ≤ ‖b‖ 2^H; p^k > 2 N D suffices.
         let b_bits = norm_bits(b.iter());
         let last_step =
@@ -131,7 +211,7 @@ impl LiftingSolver {
         let mut step = 0;
         loop {
             residual.residues(&modulus, &mut work);
-            self.lu.solve_in_place(&mut work, &mut scratch);
+            self.inverse.solve_in_place(&mut work, &mut scratch);
             digits.extend(work.iter().map(|&d| d as u32));
             residual.lift(self, &work, modulus.prime());
             step += 1;

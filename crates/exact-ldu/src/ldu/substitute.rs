@@ -66,21 +66,28 @@ impl<R: Ring> Ldu<R> {
     /// `t ≥ r`, i.e. row `t` of `L̃ L̂⁻¹` (thesis 4.3, (8.10)), over a common denominator:
     /// the solution of `L̂ᵀ w = l_t`.
     ///
+    /// Solved column by column of `L̂ᵀ` (row by row of `L̂`, from the last unknown to the
+    /// first): once `w_k` is known, row `k` of `L̂` is subtracted from the pending entries, and an
+    /// unknown that stays zero costs nothing. A dependency involves few rows, so this touches
+    /// only those, where a dot product per unknown would read the whole triangle.
+    ///
     /// # Complexity
-    /// `O(r²)` ring operations.
+    /// `O(Σ_{k: w_k ≠ 0} |row k of L̂|)` ring operations plus the rescaling of nonzero entries.
     pub fn redundancy_weights(&self, t: usize) -> QVec<R> {
         debug_assert!(t >= self.rank && t < self.rows);
         let mut w = QVec::from_integers(self.l[t].clone());
-        // Solve L̂ᵀ w = l_t (upper triangular), from the last unknown to the first.
         for k in (0..self.rank).rev() {
-            let mut s = w.num[k].clone();
-            for j in k + 1..self.rank {
-                let ljk = &self.l[j][k];
-                if !ljk.is_zero() && !w.num[j].is_zero() {
-                    s = s.sub(&ljk.mul(&w.num[j]));
+            if w.num[k].is_zero() {
+                continue;
+            }
+            let s = w.num[k].clone();
+            w.divide_entry(k, s, &self.l[k][k]);
+            let wk = w.num[k].clone();
+            for (j, lkj) in self.l[k][..k].iter().enumerate() {
+                if !lkj.is_zero() {
+                    w.num[j] = w.num[j].sub(&lkj.mul(&wk));
                 }
             }
-            w.divide_entry(k, s, &self.l[k][k]);
         }
         w
     }

@@ -69,7 +69,7 @@ fn dot_sparse<R: Ring>(row: &[(usize, R)], x: &[R]) -> R {
 
 impl<R: Ring> ExactLeastSquares<R> {
     /// Algorithm 15 (`LSQ.Solve`, thesis 9.1) up to the data of one update: `Â`, `G = Â V Âᵀ`
-    /// (9.6)–(9.8) factored modulo a prime for lifting, the family at the independent rows, and one left-null-space
+    /// (9.6)–(9.8) factored modulo a prime for lifting (sparse `L D Lᵀ`), the family at the independent rows, and one left-null-space
     /// vector per redundant row for the weak check.
     pub(crate) fn prepare(
         f: &ExactFactorization<R>,
@@ -115,7 +115,7 @@ impl<R: Ring> ExactLeastSquares<R> {
 
         let v: Vec<BigInt> = v.iter().map(Ring::to_bigint).collect();
         let normal = (r > 0).then(|| {
-            LiftingSolver::new(r, normal_matrix(&a_hat, &v, n))
+            LiftingSolver::new_symmetric(r, normal_matrix(&a_hat, &v, n))
                 .expect("Â V Âᵀ is positive definite for independent rows Â and positive V")
         });
 
