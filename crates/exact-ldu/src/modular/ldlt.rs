@@ -305,13 +305,17 @@ mod tests {
     #[test]
     fn a_fill_reducing_order_avoids_fill() {
         let n = 30;
-        let mut a = vec![vec![0i64; n]; n];
-        for i in 0..n {
-            a[i][i] = 100;
-            a[0][i] = 1;
-            a[i][0] = 1;
-        }
-        a[0][0] = 100;
+        let a: Vec<Vec<i64>> = (0..n)
+            .map(|i| {
+                (0..n)
+                    .map(|j| match (i, j) {
+                        _ if i == j => 100,
+                        (0, _) | (_, 0) => 1,
+                        _ => 0,
+                    })
+                    .collect()
+            })
+            .collect();
         let m = Modulus::new(1_000_003);
         let rows = residues(&a, &m);
         let identity: Vec<usize> = (0..n).collect();
