@@ -29,6 +29,7 @@ mod ldu;
 mod lsq;
 mod modular;
 mod qvec;
+mod reduce;
 mod ring;
 pub mod sparse;
 
@@ -38,6 +39,7 @@ pub use gcd::{gcd_bigint, reduced_ratio};
 pub use ldu::{Ldu, Pivoting, Simplification, StageSnapshot};
 pub use lsq::ExactLeastSquares;
 pub use qvec::QVec;
+pub use reduce::reduce_over;
 pub use ring::{gcd_all, Int, Ring};
 
 use api::{BackendError, IntMatrix, LinearBackend};

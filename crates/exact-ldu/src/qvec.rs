@@ -53,13 +53,12 @@ impl<R: Ring> QVec<R> {
         }
     }
 
-    /// The entries as reduced rationals.
+    /// The entries as reduced rationals ([`crate::reduce_over`]).
     pub fn to_rationals(&self) -> Vec<BigRational> {
-        let den = self.den.to_bigint();
-        self.num
-            .iter()
-            .map(|v| crate::gcd::reduced_ratio(v.to_bigint(), den.clone()))
-            .collect()
+        crate::reduce::reduce_over(
+            self.num.iter().map(Ring::to_bigint).collect(),
+            &self.den.to_bigint(),
+        )
     }
 
     /// Length.
@@ -70,6 +69,14 @@ impl<R: Ring> QVec<R> {
     /// True when empty.
     pub fn is_empty(&self) -> bool {
         self.num.is_empty()
+    }
+
+    /// `−v`, over the same denominator.
+    pub fn negated(&self) -> Self {
+        QVec {
+            num: self.num.iter().map(Ring::neg).collect(),
+            den: self.den.clone(),
+        }
     }
 
     /// Sets entry `k` to `s / (den · divisor)` and rescales the other entries so that all keep

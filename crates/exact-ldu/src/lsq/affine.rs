@@ -15,6 +15,7 @@ use super::ExactLeastSquares;
 use crate::dixon::LiftingSolver;
 use crate::qvec::QVec;
 use crate::ring::{lcm, Ring};
+use api::Rational;
 use num_bigint::BigInt;
 use num_traits::Zero;
 use std::sync::{Mutex, OnceLock};
@@ -142,7 +143,13 @@ impl<R: Ring> ExactLeastSquares<R> {
     }
 
     /// `base_j(h) = h − V Âᵀ G⁻¹ (Â h − ĉ_j)`, from the memo when `h` is the last hint vector
-    /// of column `j`.
+    /// of column `j`. Lifts the responses first if they are not ready (alongside the base's own
+    /// solve, one per core).
+    ///
+    /// When the hints' residual is a combination of the anchors' columns, `Â h − ĉ_j = −K̂ β`
+    /// (the usual case: the current values, which satisfy every constraint with the anchors at
+    /// their current values `β`, suggested as hints), the base needs no solve of its own:
+    /// `base_j(h) = h + Σ_k β_k resp_k`.
     pub(super) fn base(&self, normal: &LiftingSolver, column: usize, h: &QVec<R>) -> Numerators {
         let slot = &self.memo.bases[column];
         if let Ok(guard) = slot.lock() {
@@ -152,12 +159,49 @@ impl<R: Ring> ExactLeastSquares<R> {
                 }
             }
         }
+        let (rho, common) = self.hint_residual(column, h);
+        let hints = Numerators {
+            num: h.num.iter().map(Ring::to_bigint).collect(),
+            den: h.den.to_bigint(),
+        };
+        let base = match self.anchor_combination(&rho, &common) {
+            Some(beta) => combine(hints, self.responses(normal), &beta.negated()),
+            None => {
+                let p = if self.responses_ready() {
+                    self.projected(normal, &rho, &common)
+                } else {
+                    rayon::join(
+                        || self.responses(normal),
+                        || self.projected(normal, &rho, &common),
+                    )
+                    .1
+                };
+                // h − p over h.den · p.den.
+                Numerators {
+                    num: hints
+                        .num
+                        .iter()
+                        .zip(&p.num)
+                        .map(|(hs, ps)| hs * &p.den - &hints.den * ps)
+                        .collect(),
+                    den: hints.den * p.den,
+                }
+            }
+        }
+        .without_content();
+        if let Ok(mut guard) = slot.lock() {
+            *guard = Some((h.clone(), base.clone()));
+        }
+        base
+    }
+
+    /// `Â h − ĉ_j` as numerators over one positive denominator.
+    fn hint_residual(&self, column: usize, h: &QVec<R>) -> (Vec<BigInt>, BigInt) {
         let c = &self.c_hat[column];
         let common = lcm(&h.den, &c.den);
         let fh = common.div_exact(&h.den);
         let fc = common.div_exact(&c.den);
-        // Â h − ĉ over `common`.
-        let rho: Vec<BigInt> = self
+        let rho = self
             .a_hat
             .iter()
             .zip(&c.num)
@@ -169,24 +213,71 @@ impl<R: Ring> ExactLeastSquares<R> {
                 s.to_bigint()
             })
             .collect();
-        let p = self.projected(normal, &rho, &common.to_bigint());
-        // h − p over h.den · p.den.
-        let h_den = h.den.to_bigint();
-        let base = Numerators {
-            num: h
-                .num
-                .iter()
-                .zip(&p.num)
-                .map(|(hs, ps)| hs.to_bigint() * &p.den - &h_den * ps)
-                .collect(),
-            den: h_den * p.den,
-        }
-        .without_content();
-        if let Ok(mut guard) = slot.lock() {
-            *guard = Some((h.clone(), base.clone()));
-        }
-        base
+        (rho, common.to_bigint())
     }
+
+    /// Some `β` with `K̂ β = −ρ / ρ_den`, when there is one: exact elimination on the rows of
+    /// `K̂` (as many unknowns as anchor coordinates), every row checked; `None` as soon as a row
+    /// without anchors has a nonzero residual.
+    fn anchor_combination(&self, rho: &[BigInt], rho_den: &BigInt) -> Option<QVec<R>> {
+        let unknowns = self.parameters;
+        let mut equations: Vec<Vec<Rational>> = Vec::new();
+        for (row, r) in self.k_hat.iter().zip(rho) {
+            if row.is_empty() {
+                if !Zero::is_zero(r) {
+                    return None;
+                }
+                continue;
+            }
+            let mut equation = vec![Rational::zero(); unknowns + 1];
+            for (k, v) in row {
+                equation[*k] = Rational::from_integer(v.to_bigint());
+            }
+            equation[unknowns] = Rational::new(-r, rho_den.clone());
+            equations.push(equation);
+        }
+        let beta = solve_consistent(equations, unknowns)?;
+        Some(QVec::from_rationals(&beta))
+    }
+}
+
+/// A solution of the equations `[coefficients | right-hand side]` (free unknowns set to zero)
+/// by exact Gauss–Jordan elimination, or `None` when they are inconsistent.
+fn solve_consistent(mut equations: Vec<Vec<Rational>>, unknowns: usize) -> Option<Vec<Rational>> {
+    let mut pivots: Vec<(usize, usize)> = Vec::new();
+    let mut next = 0;
+    for k in 0..unknowns {
+        let Some(found) = (next..equations.len()).find(|&i| !equations[i][k].is_zero()) else {
+            continue;
+        };
+        equations.swap(next, found);
+        let pivot = equations[next][k].clone();
+        for v in equations[next].iter_mut() {
+            *v = &*v / &pivot;
+        }
+        let pivot_row = equations[next].clone();
+        for (i, row) in equations.iter_mut().enumerate() {
+            if i == next || row[k].is_zero() {
+                continue;
+            }
+            let f = row[k].clone();
+            for (v, pv) in row.iter_mut().zip(&pivot_row) {
+                if !pv.is_zero() {
+                    *v -= &f * pv;
+                }
+            }
+        }
+        pivots.push((next, k));
+        next += 1;
+    }
+    if equations[next..].iter().any(|row| !row[unknowns].is_zero()) {
+        return None;
+    }
+    let mut beta = vec![Rational::zero(); unknowns];
+    for (i, k) in pivots {
+        beta[k] = equations[i][unknowns].clone();
+    }
+    Some(beta)
 }
 
 /// `base − Σ_k α_k resp_k` over one denominator, `α = alpha / alpha_den`.

@@ -239,26 +239,6 @@ fn normal_matrix<R: Ring>(
         .collect()
 }
 
-/// Below this many `bits of the denominator × values`, reducing is faster on one thread than the
-/// fork and join of a parallel loop.
-const PARALLEL_REDUCTION_WORK: u64 = 1 << 16;
-
-/// `numerators[i] / den`, each reduced; the GCDs (the largest cost of an exact update on real
-/// meshes, where denominators have thousands of digits) run on all cores when the work is large.
-fn reduce_all(numerators: Vec<BigInt>, den: &BigInt) -> Vec<Rational> {
-    use rayon::prelude::*;
-    if den.bits() * (numerators.len() as u64) < PARALLEL_REDUCTION_WORK {
-        return numerators
-            .into_iter()
-            .map(|n| crate::gcd::reduced_ratio(n, den.clone()))
-            .collect();
-    }
-    numerators
-        .into_par_iter()
-        .map(|n| crate::gcd::reduced_ratio(n, den.clone()))
-        .collect()
-}
-
 impl<R: Ring> PreparedLeastSquares for ExactLeastSquares<R> {
     type Scalar = Rational;
 
@@ -275,7 +255,7 @@ impl<R: Ring> PreparedLeastSquares for ExactLeastSquares<R> {
     ) -> Result<Vec<Rational>, SolveError<Rational>> {
         Ok(match self.numerators(column, alpha, hints)? {
             None => hints.to_vec(),
-            Some((numerators, den)) => reduce_all(numerators, &den),
+            Some((numerators, den)) => crate::reduce::reduce_over(numerators, &den),
         })
     }
 
@@ -318,13 +298,8 @@ impl<R: Ring> ExactLeastSquares<R> {
         let Some(normal) = &self.normal else {
             return Ok(None);
         };
-        // The first update lifts the responses and this base: independent solves, one per core.
-        let (responses, base) = if self.responses_ready() {
-            (self.responses(normal), self.base(normal, column, &h))
-        } else {
-            rayon::join(|| self.responses(normal), || self.base(normal, column, &h))
-        };
-        let x = affine::combine(base, responses, &alpha);
+        let base = self.base(normal, column, &h);
+        let x = affine::combine(base, self.responses(normal), &alpha);
         Ok(Some((x.num, x.den)))
     }
 

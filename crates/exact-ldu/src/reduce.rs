@@ -1,0 +1,273 @@
+//! Reducing a vector of fractions over one denominator, `nᵢ / d`, to lowest terms.
+//!
+//! Entry by entry this is one big GCD per value, the largest cost of an exact update on real
+//! meshes (denominators of thousands of digits). But the common factors are structured: on the
+//! least-squares solutions of mesh edits `gcd(nᵢ, d)` is a product of small primes that divide
+//! `d`, different for each value. So `d = S · B` is split into its smooth part `S` (primes below
+//! [`SMALL_PRIME_BOUND`], found by trial division once per vector) and the rest `B`:
+//!
+//! - `gcd(nᵢ, S)` is read off by dividing `nᵢ` by the few primes of `S` (a pass over `nᵢ`'s
+//!   limbs per prime, instead of a GCD);
+//! - a value with a small reduced denominator (a parameter the constraints leave at its hint)
+//!   is a multiple of `B`: `nᵢ mod B = 0` (a division with a small quotient) says so, and
+//!   `gcd(nᵢ, B) = B`;
+//! - every prime dividing both `B` and one of the other `nᵢ` divides
+//!   `g = gcd(Π (nᵢ mod B) mod B, B)` (one product chain modulo `B` and one GCD). Usually
+//!   `g = 1` and `B` is done; otherwise only `B_g`, the part of `B` made of the primes of `g`,
+//!   matters: `gcd(nᵢ, B) = gcd(nᵢ mod B_g, B_g)`.
+//!
+//! On the figure mesh at δ_max = 16 (811 values over 7 100-bit denominators) this takes 20 ms
+//! of CPU per coordinate against 60–110 ms for one GCD per value.
+
+use crate::gcd::{gcd_bigint, reduced_ratio};
+use api::Rational;
+use num_bigint::{BigInt, BigUint};
+use num_integer::Integer;
+use num_traits::{One, Signed, ToPrimitive, Zero};
+use rayon::prelude::*;
+use std::sync::OnceLock;
+
+/// Below this many `bits of the denominator × values`, the plain entry-by-entry reduction is as
+/// fast and parallel loops do not pay for their fork and join.
+const COMMON_FACTOR_WORK: u64 = 1 << 16;
+
+/// Values per product chain (chains run in parallel, their products are multiplied at the end).
+const CHAIN: usize = 64;
+
+/// Primes below this bound are split off the denominator by trial division (larger shared
+/// primes are still found, through `g`).
+const SMALL_PRIME_BOUND: u32 = 1 << 12;
+
+/// The primes below [`SMALL_PRIME_BOUND`] (sieve of Eratosthenes, once).
+fn small_primes() -> &'static [u32] {
+    static PRIMES: OnceLock<Vec<u32>> = OnceLock::new();
+    PRIMES.get_or_init(|| {
+        let n = SMALL_PRIME_BOUND as usize;
+        let mut composite = vec![false; n];
+        let mut primes = Vec::new();
+        for i in 2..n {
+            if !composite[i] {
+                primes.push(i as u32);
+                let mut j = i * i;
+                while j < n {
+                    composite[j] = true;
+                    j += i;
+                }
+            }
+        }
+        primes
+    })
+}
+
+/// `numerators[i] / den`, each in lowest terms with a positive denominator (`den ≠ 0`).
+pub fn reduce_over(numerators: Vec<BigInt>, den: &BigInt) -> Vec<Rational> {
+    debug_assert!(!den.is_zero());
+    if den.bits() * (numerators.len() as u64) < COMMON_FACTOR_WORK {
+        return numerators
+            .into_iter()
+            .map(|n| reduced_ratio(n, den.clone()))
+            .collect();
+    }
+    let (numerators, den) = if den.is_negative() {
+        (numerators.into_iter().map(|n| -n).collect(), -den)
+    } else {
+        (numerators, den.clone())
+    };
+    let (smooth, rest) = split_smooth(den.magnitude());
+    let rest = BigInt::from(rest);
+    // Values that are multiples of `rest` (those with small reduced denominators, such as
+    // parameters the constraints leave at their hints) would make the product vanish.
+    let residues: Vec<BigInt> = numerators
+        .par_iter()
+        .map(|n| n.mod_floor(&rest))
+        .collect();
+    let g = gcd_bigint(&product_modulo(&residues, &rest), &rest);
+    let rough = (!g.is_one()).then(|| part_made_of(&rest, &g));
+    numerators
+        .into_par_iter()
+        .zip(residues)
+        .map(|(n, residue)| {
+            if n.is_zero() {
+                return Rational::from_integer(BigInt::zero());
+            }
+            let (n, mut common) = divide_out_smooth(n, &smooth);
+            let mut n = n;
+            if residue.is_zero() {
+                n /= &rest;
+                common *= &rest;
+            } else if let Some(part) = &rough {
+                let c = gcd_bigint(&n.mod_floor(part), part);
+                if !c.is_one() {
+                    n /= &c;
+                    common *= c;
+                }
+            }
+            if common.is_one() {
+                Rational::new_raw(n, den.clone())
+            } else {
+                Rational::new_raw(n, &den / common)
+            }
+        })
+        .collect()
+}
+
+/// `d = Π pᵉ · rest` over the primes `p` below [`SMALL_PRIME_BOUND`]: the `(p, e)` with `e > 0`
+/// and `rest`.
+fn split_smooth(d: &BigUint) -> (Vec<(u32, u32)>, BigUint) {
+    let mut rest = d.clone();
+    let mut factors = Vec::new();
+    // One pass over the limbs per group of primes whose product fits a word, then each prime
+    // against the group's remainder.
+    let primes = small_primes();
+    let mut start = 0;
+    while start < primes.len() {
+        let mut product: u64 = 1;
+        let mut end = start;
+        while end < primes.len() && product * u64::from(primes[end]) < 1 << 32 {
+            product *= u64::from(primes[end]);
+            end += 1;
+        }
+        let remainder = (&rest % product as u32).to_u64().unwrap_or(0);
+        for &p in &primes[start..end] {
+            if remainder % u64::from(p) != 0 {
+                continue;
+            }
+            let mut e = 0;
+            while (&rest % p).is_zero() {
+                rest /= p;
+                e += 1;
+            }
+            factors.push((p, e));
+        }
+        start = end;
+    }
+    (factors, rest)
+}
+
+/// `n / c` and `c = gcd(n, Π pᵉ)` for the prime powers of the smooth part.
+fn divide_out_smooth(mut n: BigInt, smooth: &[(u32, u32)]) -> (BigInt, BigInt) {
+    let mut common: u64 = 1;
+    let mut big_common = BigInt::one();
+    for &(p, e) in smooth {
+        for _ in 0..e {
+            if !(n.magnitude() % p).is_zero() {
+                break;
+            }
+            n /= p;
+            match common.checked_mul(u64::from(p)) {
+                Some(c) => common = c,
+                None => {
+                    big_common *= common;
+                    common = u64::from(p);
+                }
+            }
+        }
+    }
+    (n, big_common * common)
+}
+
+/// `Π nᵢ mod m` over the nonzero `nᵢ` (magnitudes), in parallel chains.
+fn product_modulo(values: &[BigInt], m: &BigInt) -> BigInt {
+    if m.is_one() {
+        return BigInt::zero();
+    }
+    let chain = |chunk: &[BigInt]| -> BigInt {
+        chunk
+            .iter()
+            .filter(|v| !v.is_zero())
+            .fold(BigInt::one(), |acc, v| (acc * v.abs()) % m)
+    };
+    values
+        .par_chunks(CHAIN)
+        .map(chain)
+        .reduce(BigInt::one, |a, b| (a * b) % m)
+}
+
+/// The largest divisor of `d` whose primes all divide `g` (`g` a divisor of `d`).
+fn part_made_of(d: &BigInt, g: &BigInt) -> BigInt {
+    let mut part = BigInt::one();
+    let mut rest = d.clone();
+    let mut factor = g.clone();
+    loop {
+        let c = gcd_bigint(&rest, &factor);
+        if c.is_one() {
+            return part;
+        }
+        rest /= &c;
+        part *= &c;
+        factor = c;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// A Mersenne prime above the trial-division bound.
+    fn large_prime() -> BigInt {
+        (BigInt::one() << 127) - 1
+    }
+
+    /// Large enough for the common-factor path; `3^700 · 2^90 · extra`, times the large prime
+    /// when asked.
+    fn big_denominator(extra: &BigInt, with_large_prime: bool) -> BigInt {
+        let d = BigInt::from(3).pow(700u32) * BigInt::from(2).pow(90u32) * extra;
+        if with_large_prime {
+            d * large_prime()
+        } else {
+            d
+        }
+    }
+
+    proptest! {
+        /// The same fractions as `Rational::new`, on every path: factors shared through the
+        /// smooth part, values with small reduced denominators (multiples of the rest), a large
+        /// shared prime (found through `g`), and coprime values.
+        #[test]
+        fn equals_reducing_each_value(
+            values in prop::collection::vec(-1_000_000i64..1_000_000, 1..200),
+            extra in 1i64..10_000,
+            negative in any::<bool>(),
+            with_large_prime in any::<bool>(),
+        ) {
+            let extra = BigInt::from(extra);
+            let mut den = big_denominator(&extra, with_large_prime);
+            let sixth = &den / 6;
+            if negative {
+                den = -den;
+            }
+            let numerators: Vec<BigInt> = values
+                .iter()
+                .enumerate()
+                .map(|(i, v)| {
+                    let v = BigInt::from(*v);
+                    match i % 5 {
+                        0 => v * BigInt::from(3).pow(5u32),
+                        1 => v * &extra,
+                        2 => v * &sixth,
+                        3 => v * large_prime() + 1,
+                        _ => v * large_prime(),
+                    }
+                })
+                .collect();
+            let expected: Vec<Rational> = numerators
+                .iter()
+                .map(|n| Rational::new(n.clone(), den.clone()))
+                .collect();
+            prop_assert_eq!(reduce_over(numerators, &den), expected);
+        }
+    }
+
+    /// Coprime numerators take the fast path and come back unchanged over the denominator.
+    #[test]
+    fn coprime_values_keep_their_denominator() {
+        let den = BigInt::from(2).pow(4000u32) + 1;
+        let numerators: Vec<BigInt> = (1..50).map(|i| BigInt::from(2).pow(i)).collect();
+        let reduced = reduce_over(numerators.clone(), &den);
+        for (r, n) in reduced.iter().zip(&numerators) {
+            assert_eq!(r.numer(), n);
+            assert_eq!(r.denom(), &den);
+        }
+    }
+}
