@@ -118,17 +118,11 @@ fn split_smooth(d: &BigUint) -> (Vec<(u32, u32)>, BigUint) {
     let mut factors = Vec::new();
     // One pass over the limbs per group of primes whose product fits a word, then each prime
     // against the group's remainder.
-    let primes = small_primes();
-    let mut start = 0;
-    while start < primes.len() {
-        let mut product: u64 = 1;
-        let mut end = start;
-        while end < primes.len() && product * u64::from(primes[end]) < 1 << 32 {
-            product *= u64::from(primes[end]);
-            end += 1;
-        }
+    let primes: Vec<(u32, u32)> = small_primes().iter().map(|&p| (p, 1)).collect();
+    for group in word_groups(&primes) {
+        let product: u64 = group.iter().map(|(p, _)| u64::from(*p)).product();
         let remainder = (&rest % product as u32).to_u64().unwrap_or(0);
-        for &p in &primes[start..end] {
+        for &(p, _) in group {
             if remainder % u64::from(p) != 0 {
                 continue;
             }
@@ -139,31 +133,56 @@ fn split_smooth(d: &BigUint) -> (Vec<(u32, u32)>, BigUint) {
             }
             factors.push((p, e));
         }
-        start = end;
     }
     (factors, rest)
 }
 
-/// `n / c` and `c = gcd(n, Π pᵉ)` for the prime powers of the smooth part.
+/// `n / c` and `c = gcd(n, Π pᵉ)` for the prime powers of the smooth part: one pass over
+/// `n`'s limbs per group of primes whose product fits a word, a division only by a prime that
+/// divides.
 fn divide_out_smooth(mut n: BigInt, smooth: &[(u32, u32)]) -> (BigInt, BigInt) {
     let mut common: u64 = 1;
     let mut big_common = BigInt::one();
-    for &(p, e) in smooth {
-        for _ in 0..e {
-            if !(n.magnitude() % p).is_zero() {
-                break;
+    for group in word_groups(smooth) {
+        let product: u64 = group.iter().map(|(p, _)| u64::from(*p)).product();
+        let remainder = (n.magnitude() % product as u32).to_u64().unwrap_or(0);
+        for &(p, e) in group {
+            if remainder % u64::from(p) != 0 {
+                continue;
             }
-            n /= p;
-            match common.checked_mul(u64::from(p)) {
-                Some(c) => common = c,
-                None => {
-                    big_common *= common;
-                    common = u64::from(p);
+            for _ in 0..e {
+                if !(n.magnitude() % p).is_zero() {
+                    break;
+                }
+                n /= p;
+                match common.checked_mul(u64::from(p)) {
+                    Some(c) => common = c,
+                    None => {
+                        big_common *= common;
+                        common = u64::from(p);
+                    }
                 }
             }
         }
     }
     (n, big_common * common)
+}
+
+/// Consecutive runs of `(p, e)` whose primes multiply to less than `2^32`.
+fn word_groups(factors: &[(u32, u32)]) -> Vec<&[(u32, u32)]> {
+    let mut groups = Vec::new();
+    let mut start = 0;
+    while start < factors.len() {
+        let mut product: u64 = 1;
+        let mut end = start;
+        while end < factors.len() && product * u64::from(factors[end].0) < 1 << 32 {
+            product *= u64::from(factors[end].0);
+            end += 1;
+        }
+        groups.push(&factors[start..end]);
+        start = end;
+    }
+    groups
 }
 
 /// `Π nᵢ mod m` over the nonzero `nᵢ` (magnitudes), in parallel chains.
