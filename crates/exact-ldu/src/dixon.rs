@@ -577,14 +577,36 @@ fn symmetric_residue(v: BigUint, m: &BigUint) -> BigInt {
 /// The fraction `a / d` with `|a| ≤ n_bound`, `0 < d ≤ d_bound` and `a ≡ d x (mod m)`, by the
 /// half-extended Euclidean algorithm (Wang's rational reconstruction); `None` when there is
 /// none within the bounds.
+///
+/// While the remainder is far above `n_bound` the steps go in batches certified by the leading
+/// bits (Lehmer, [`crate::gcd::lehmer_matrix`]): one pass over the numbers per ~30 quotient
+/// bits instead of a big division per quotient. A batch shrinks the remainder by at most about
+/// 64 bits, so batches stop [`LEHMER_MARGIN_BITS`] above the bound and single steps find the
+/// exact stopping point.
 fn rational_reconstruction(
     x: &BigUint,
     m: &BigUint,
     n_bound: &BigUint,
     d_bound: &BigUint,
 ) -> Option<(BigInt, BigUint)> {
-    let (mut r0, mut r1) = (BigInt::from(m.clone()), BigInt::from(x.clone()));
+    use crate::gcd::{apply_lehmer, bit_len, from_limbs, lehmer_matrix, to_limbs, Limbs};
+    let stop = n_bound.bits() as usize + LEHMER_MARGIN_BITS;
+    let (mut a, mut b): (Limbs, Limbs) = (to_limbs(m), to_limbs(x));
     let (mut t0, mut t1) = (BigInt::zero(), BigInt::one());
+    let (mut next_a, mut next_b) = (Vec::new(), Vec::new());
+    while bit_len(&b) > stop {
+        let Some(matrix) = lehmer_matrix(&a, &b) else {
+            break;
+        };
+        apply_lehmer(&a, &b, matrix, &mut next_a, &mut next_b);
+        std::mem::swap(&mut a, &mut next_a);
+        std::mem::swap(&mut b, &mut next_b);
+        let [ca, cb, cc, cd] = matrix;
+        let t = &t0 * ca + &t1 * cb;
+        t1 = &t0 * cc + &t1 * cd;
+        t0 = t;
+    }
+    let (mut r0, mut r1) = (BigInt::from(from_limbs(&a)), BigInt::from(from_limbs(&b)));
     let n_bound = BigInt::from(n_bound.clone());
     while r1 > n_bound {
         let (q, r) = r0.div_rem(&r1);
@@ -598,6 +620,9 @@ fn rational_reconstruction(
     let numerator = if t1.is_negative() { -r1 } else { r1 };
     Some((numerator, t1.magnitude().clone()))
 }
+
+/// How far above the numerator bound the Lehmer batches of [`rational_reconstruction`] stop.
+const LEHMER_MARGIN_BITS: usize = 128;
 
 /// `p^(2^ℓ)` for combining p-adic digits into integers by halves.
 struct PadicPowers {
@@ -820,6 +845,26 @@ mod tests {
         let tiny = BigUint::from(10u32);
         let x = BigUint::from(10u32).pow(20) + 7u32;
         assert!(rational_reconstruction(&x, &m, &tiny, &tiny).is_none());
+    }
+
+    proptest! {
+        /// Large fractions (the Lehmer batches run for most of the steps) come back exactly.
+        #[test]
+        fn large_fractions_are_reconstructed(
+            a_bits in 1u32..380, d_bits in 1u32..380, seed in any::<u64>(), negative in any::<bool>(),
+        ) {
+            let m = BigUint::from(2_147_483_629u32).pow(26);
+            let bound: BigUint = ((&m - 1u32) >> 1u32).sqrt();
+            let mi = BigInt::from(m.clone());
+            let a = (BigInt::one() << a_bits) - BigInt::from(seed % 1000);
+            let a = if negative { -a } else { a };
+            let d = (BigInt::one() << d_bits) + BigInt::from(2 * (seed % 977) + 1);
+            prop_assume!(a.gcd(&d).is_one());
+            let inverse = d.extended_gcd(&mi).x;
+            let x = (&a * inverse).mod_floor(&mi).to_biguint().expect("non-negative");
+            let got = rational_reconstruction(&x, &m, &bound, &bound).expect("in bounds");
+            prop_assert_eq!(got, (a, d.to_biguint().expect("positive")));
+        }
     }
 
     /// A right-hand side far larger than the matrix: the residual starts as big integers.

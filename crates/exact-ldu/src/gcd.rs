@@ -16,7 +16,7 @@ use num_integer::Integer;
 use num_traits::Zero;
 
 /// Little-endian 64-bit limbs without high zero limbs.
-type Limbs = Vec<u64>;
+pub(crate) type Limbs = Vec<u64>;
 
 fn trim(v: &mut Limbs) {
     while v.last() == Some(&0) {
@@ -24,11 +24,11 @@ fn trim(v: &mut Limbs) {
     }
 }
 
-fn to_limbs(v: &BigUint) -> Limbs {
+pub(crate) fn to_limbs(v: &BigUint) -> Limbs {
     v.to_u64_digits()
 }
 
-fn from_limbs(v: &[u64]) -> BigUint {
+pub(crate) fn from_limbs(v: &[u64]) -> BigUint {
     let mut digits = Vec::with_capacity(v.len() * 2);
     for limb in v {
         digits.push(*limb as u32);
@@ -51,7 +51,7 @@ fn bits_at(v: &[u64], shift: usize) -> u64 {
     word & (u64::MAX >> 1)
 }
 
-fn bit_len(v: &[u64]) -> usize {
+pub(crate) fn bit_len(v: &[u64]) -> usize {
     match v.last() {
         None => 0,
         Some(top) => v.len() * 64 - top.leading_zeros() as usize,
@@ -140,59 +140,77 @@ fn gcd_limbs(mut a: Limbs, mut b: Limbs) -> Limbs {
             trim(&mut out);
             return out;
         }
-        // Leading 62 bits of a and the same bits of b: every cofactor and intermediate below
-        // stays under 2^63, so the emulated Euclid runs in machine words.
-        let shift = bit_len(&a).saturating_sub(62);
-        let mut x = (bits_at(&a, shift) & (u64::MAX >> 2)) as i64;
-        let mut y = (bits_at(&b, shift) & (u64::MAX >> 2)) as i64;
-        let (mut ca, mut cb, mut cc, mut cd): (i64, i64, i64, i64) = (1, 0, 0, 1);
-        loop {
-            // Knuth's test: the quotient is certain when ⌊(x+A)/(y+C)⌋ = ⌊(x+B)/(y+D)⌋.
-            let (xa, xb, yc, yd) = (x + ca, x + cb, y + cc, y + cd);
-            if yc <= 0 || yd <= 0 || xa < 0 || xb < 0 {
-                break;
-            }
-            // Quotients are mostly tiny: find small ones by subtraction, not division.
-            let mut q = 0i64;
-            let mut rem = xa;
-            while rem >= yc && q < 4 {
-                rem -= yc;
-                q += 1;
-            }
-            if rem >= yc {
-                q = xa / yc;
-            }
-            // ⌊xb/yd⌋ = q  ⇔  q·yd ≤ xb < (q+1)·yd, checked with one multiplication.
-            let low = q as i128 * yd as i128;
-            if (xb as i128) < low || xb as i128 >= low + yd as i128 {
-                break;
-            }
-            (ca, cc) = (cc, ca - q * cc);
-            (cb, cd) = (cd, cb - q * cd);
-            (x, y) = (y, x - q * y);
-        }
-        if cb == 0 {
+        let Some(matrix) = lehmer_matrix(&a, &b) else {
             // No quotient could be certified from the leading bits: one exact division step.
             let (ab, bb) = (from_limbs(&a), from_limbs(&b));
             let r = ab % &bb;
             a = b;
             b = to_limbs(&r);
             continue;
-        }
-        // New a = ca·a + cb·b, new b = cc·a + cd·b; in each pair the signs differ (one of them
-        // may be zero), so each is a difference of two non-negative products.
-        if cb <= 0 {
-            combine(&mut next_a, &a, ca as u64, &b, (-cb) as u64);
-        } else {
-            combine(&mut next_a, &b, cb as u64, &a, (-ca) as u64);
-        }
-        if cd <= 0 {
-            combine(&mut next_b, &a, cc as u64, &b, (-cd) as u64);
-        } else {
-            combine(&mut next_b, &b, cd as u64, &a, (-cc) as u64);
-        }
+        };
+        apply_lehmer(&a, &b, matrix, &mut next_a, &mut next_b);
         std::mem::swap(&mut a, &mut next_a);
         std::mem::swap(&mut b, &mut next_b);
+    }
+}
+
+/// The cofactors `[A, B, C, D]` of the Euclidean steps on `a ≥ b > 0` that the leading 62 bits
+/// certify (Knuth's algorithm L): after them the pair is `(A a + B b, C a + D b)`. `None` when
+/// not even one quotient is certain.
+pub(crate) fn lehmer_matrix(a: &[u64], b: &[u64]) -> Option<[i64; 4]> {
+    // Leading 62 bits of a and the same bits of b: every cofactor and intermediate below
+    // stays under 2^63, so the emulated Euclid runs in machine words.
+    let shift = bit_len(a).saturating_sub(62);
+    let mut x = (bits_at(a, shift) & (u64::MAX >> 2)) as i64;
+    let mut y = (bits_at(b, shift) & (u64::MAX >> 2)) as i64;
+    let (mut ca, mut cb, mut cc, mut cd): (i64, i64, i64, i64) = (1, 0, 0, 1);
+    loop {
+        // Knuth's test: the quotient is certain when ⌊(x+A)/(y+C)⌋ = ⌊(x+B)/(y+D)⌋.
+        let (xa, xb, yc, yd) = (x + ca, x + cb, y + cc, y + cd);
+        if yc <= 0 || yd <= 0 || xa < 0 || xb < 0 {
+            break;
+        }
+        // Quotients are mostly tiny: find small ones by subtraction, not division.
+        let mut q = 0i64;
+        let mut rem = xa;
+        while rem >= yc && q < 4 {
+            rem -= yc;
+            q += 1;
+        }
+        if rem >= yc {
+            q = xa / yc;
+        }
+        // ⌊xb/yd⌋ = q  ⇔  q·yd ≤ xb < (q+1)·yd, checked with one multiplication.
+        let low = q as i128 * yd as i128;
+        if (xb as i128) < low || xb as i128 >= low + yd as i128 {
+            break;
+        }
+        (ca, cc) = (cc, ca - q * cc);
+        (cb, cd) = (cd, cb - q * cd);
+        (x, y) = (y, x - q * y);
+    }
+    (cb != 0).then_some([ca, cb, cc, cd])
+}
+
+/// `(A a + B b, C a + D b)` into `next_a`, `next_b` for a matrix of [`lehmer_matrix`]: in each
+/// pair the signs differ (one may be zero), so each is a difference of two non-negative
+/// products.
+pub(crate) fn apply_lehmer(
+    a: &[u64],
+    b: &[u64],
+    [ca, cb, cc, cd]: [i64; 4],
+    next_a: &mut Limbs,
+    next_b: &mut Limbs,
+) {
+    if cb <= 0 {
+        combine(next_a, a, ca as u64, b, (-cb) as u64);
+    } else {
+        combine(next_a, b, cb as u64, a, (-ca) as u64);
+    }
+    if cd <= 0 {
+        combine(next_b, a, cc as u64, b, (-cd) as u64);
+    } else {
+        combine(next_b, b, cd as u64, a, (-cc) as u64);
     }
 }
 
