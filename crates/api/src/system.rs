@@ -463,13 +463,41 @@ fn exact_residual<'a>(
             match pairs.next() {
                 None => next.push((a, b)),
                 Some((c, d)) if b == d => next.push((a + c, b)),
-                Some((c, d)) => next.push((a * &d + c * &b, b * d)),
+                Some((c, d)) => match shared_factor(&b, &d) {
+                    // Over lcm(b, d) = b · (d / g): the denominators of one solution share
+                    // almost all their factors, so this keeps the sums at their size.
+                    Some(g) => {
+                        let (fb, fd) = (&d / &g, &b / &g);
+                        next.push((a * &fb + c * fd, b * fb));
+                    }
+                    None => next.push((a * &d + c * &b, b * d)),
+                },
             }
         }
         parts = next;
     }
     let (numer, denom) = parts.pop()?;
     (!numer.is_zero()).then(|| Rational::new(numer, denom))
+}
+
+/// Euclid steps [`shared_factor`] takes before giving up.
+const SHARED_FACTOR_STEPS: usize = 24;
+
+/// `gcd(a, b)` of positive `a`, `b` when Euclid's algorithm ends within [`SHARED_FACTOR_STEPS`] steps, else `None`.
+/// Denominators such as `D / 6` and `D / 10` (the reduced values of one exact solution over a
+/// common `D`) end in a few steps of small quotients, each a single pass over the numbers,
+/// where a general GCD of numbers with thousands of digits would cost far more.
+fn shared_factor(a: &Integer, b: &Integer) -> Option<Integer> {
+    use num_integer::Integer as _;
+    let (mut x, mut y) = (a.clone(), b.clone());
+    for _ in 0..SHARED_FACTOR_STEPS {
+        if y.is_zero() {
+            return Some(x);
+        }
+        let r = x.mod_floor(&y);
+        x = std::mem::replace(&mut y, r);
+    }
+    None
 }
 
 /// The serialised form of a [`ConstraintSystem`].
@@ -628,6 +656,29 @@ impl Values {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Residuals of values over denominators that share almost all their factors (`D / 6`,
+    /// `D / 10`, `D`), through the short Euclid, and over coprime ones, through the product.
+    #[test]
+    fn residuals_over_related_and_unrelated_denominators() {
+        let d = Integer::from(2).pow(300u32) * Integer::from(3).pow(90u32) * Integer::from(5);
+        let q = |n: i64, den: &Integer| Rational::new(Integer::from(n), den.clone());
+        let terms = [Integer::from(1), Integer::from(1), Integer::from(-1)];
+        let sum = |values: [Rational; 3]| {
+            exact_residual(values.iter().zip(terms.iter()), &Integer::from(0))
+        };
+        let (sixth, tenth) = (&d / 6, &d / 10);
+        assert_eq!(sum([q(1, &sixth), q(1, &tenth), q(16, &d)]), None);
+        assert_eq!(
+            sum([q(1, &sixth), q(1, &tenth), q(17, &d)]),
+            Some(q(-1, &d))
+        );
+        let p = Integer::from(2).pow(127u32) - 1;
+        assert_eq!(
+            sum([q(1, &p), q(1, &d), Rational::new(&p + &d, &p * &d)]),
+            None
+        );
+    }
 
     fn r(n: i64) -> Rational {
         Rational::from_integer(n.into())

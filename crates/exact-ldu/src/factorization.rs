@@ -12,15 +12,17 @@ use api::{
 };
 use num_bigint::BigInt;
 use num_traits::Zero;
+use std::sync::Arc;
 
 /// A sparse integer row: `(column, value)` by increasing column.
 pub(crate) type SparseRow<R> = Vec<(usize, R)>;
 
-/// An exactly factored matrix: the original rows and their fraction-free LDU factoring.
+/// An exactly factored matrix: the original rows and their fraction-free LDU factoring, shared
+/// (a copy costs two reference counts: the factors are never changed once made).
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct ExactFactorization<R: Ring = Int> {
-    a: Vec<SparseRow<R>>,
-    ldu: Ldu<R>,
+    a: Arc<Vec<SparseRow<R>>>,
+    ldu: Arc<Ldu<R>>,
 }
 
 impl<R: Ring> ExactFactorization<R> {
@@ -41,7 +43,10 @@ impl<R: Ring> ExactFactorization<R> {
             })
             .collect();
         let ldu = Ldu::factor(dense, matrix.cols(), method).expect("an IntMatrix is rectangular");
-        ExactFactorization { a, ldu }
+        ExactFactorization {
+            a: Arc::new(a),
+            ldu: Arc::new(ldu),
+        }
     }
 
     /// The factoring itself.

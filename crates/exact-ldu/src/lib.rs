@@ -27,6 +27,7 @@ mod factorization;
 mod gcd;
 mod ldu;
 mod lsq;
+mod memo;
 mod modular;
 mod qvec;
 mod reduce;
@@ -93,8 +94,10 @@ impl<R: Ring> LinearBackend for ExactLdu<R> {
         "exact-ldu"
     }
 
+    /// Factors `matrix`; the same matrix factored twice in a row is factored once (the memo of
+    /// the last factoring: ExpandDerived and ECLES Initialize factor the same `R_ED`).
     fn factor(&self, matrix: &IntMatrix) -> Result<Self::Factorization, BackendError> {
-        Ok(ExactFactorization::new(matrix, self.method))
+        Ok(memo::factor(matrix, self.method))
     }
 }
 

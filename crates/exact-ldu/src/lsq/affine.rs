@@ -361,9 +361,13 @@ mod tests {
         };
         let prepared = f.prepare_least_squares(&family, &weights).expect("prepare");
         // 1 + 2 = 1/2 + α0 + 2 α1 holds for α = (5/2, 0) and for (1/2, 1).
-        let got = prepared.solve(0, &[q(1, 2), q(1, 1)], &on_set).expect("consistent");
+        let got = prepared
+            .solve(0, &[q(1, 2), q(1, 1)], &on_set)
+            .expect("consistent");
         assert_eq!(got, vec![q(1, 1), q(2, 1)]);
-        let got = prepared.solve(0, &[q(3, 2), q(1, 1)], &on_set).expect("consistent");
+        let got = prepared
+            .solve(0, &[q(3, 2), q(1, 1)], &on_set)
+            .expect("consistent");
         assert_eq!(got, vec![q(3, 2), q(5, 2)]);
     }
 
