@@ -18,7 +18,7 @@
 //! backend, `f64` for a floating-point one. That makes the answers of two backends directly
 //! comparable.
 
-use crate::exact::{rational_to_f64, Rational};
+use crate::exact::{rational_to_f64, Integer, Rational};
 use crate::matrix::IntMatrix;
 use std::fmt;
 
@@ -265,6 +265,57 @@ pub trait PreparedLeastSquares {
     ) -> Result<Vec<f64>, SolveError<Self::Scalar>> {
         self.solve(column, alpha, hints)
             .map(|x| x.iter().map(Value::to_f64).collect())
+    }
+
+    /// Like [`PreparedLeastSquares::solve`] (same checks, same verdict, the same values) but
+    /// exact fractions not reduced to lowest terms, for exact drag frames. `None` from backends
+    /// whose answers are not exact or that have no cheaper unreduced form (then reduce
+    /// [`PreparedLeastSquares::solve`]'s answer, or convert it).
+    #[allow(clippy::type_complexity)]
+    fn solve_unreduced(
+        &self,
+        _column: usize,
+        _alpha: &[Rational],
+        _hints: &[Rational],
+    ) -> Result<Option<Vec<Fraction>>, SolveError<Self::Scalar>> {
+        Ok(None)
+    }
+}
+
+/// An exact value as a fraction not reduced to lowest terms (positive denominator): the values of
+/// an exact solution over their common denominator, as an exact drag frame returns them
+/// ([`PreparedLeastSquares::solve_unreduced`]). Reducing costs a GCD per value, the largest part
+/// of an exact update on real meshes; a frame that is drawn and then replaced never needs it.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Fraction {
+    /// The numerator.
+    pub numerator: Integer,
+    /// The denominator, positive.
+    pub denominator: Integer,
+}
+
+impl Fraction {
+    /// The value in lowest terms.
+    pub fn reduced(&self) -> Rational {
+        Rational::new(self.numerator.clone(), self.denominator.clone())
+    }
+
+    /// The value rounded to `f64`.
+    pub fn to_f64(&self) -> f64 {
+        rational_to_f64(&Rational::new_raw(
+            self.numerator.clone(),
+            self.denominator.clone(),
+        ))
+    }
+}
+
+impl From<Rational> for Fraction {
+    fn from(r: Rational) -> Self {
+        let (numerator, denominator) = r.into_raw();
+        Fraction {
+            numerator,
+            denominator,
+        }
     }
 }
 

@@ -23,8 +23,8 @@ pub mod source;
 pub mod system;
 
 pub use backend::{
-    BackendError, Factorization, Inconsistency, LinearBackend, PreparedLeastSquares, RankMargin,
-    Redundancy, RhsFamily, SolveError, StrongFailure, Value,
+    BackendError, Factorization, Fraction, Inconsistency, LinearBackend, PreparedLeastSquares,
+    RankMargin, Redundancy, RhsFamily, SolveError, StrongFailure, Value,
 };
 pub use exact::{
     coprime_integers, format_rational, parse_rational, Integer, ParseRationalError, Rational,

@@ -1,9 +1,9 @@
 //! The exact path on a real-looking irregular mesh: `data/figure.obj` (588 vertices, 1 052
 //! triangles, coordinates on a 0.5 lattice, made by `tools/make_figure_mesh.py`), degree 5, C1.
 //! A soft translation of the vertex `v255` near the middle by (20, 60) with neighbourhoods
-//! δ_max = 8, 12 and 16, as a mouse-down (Select + ExpandDerived + Initialize), one Update (an
-//! exact drag frame), its float preview, and the commit (Update written into the values), exact
-//! and float backends.
+//! δ_max = 8, 12 and 16, as a mouse-down (Select + ExpandDerived + Initialize), one Update (the
+//! first and a repeated one), an exact drag frame (the Update unreduced), its float preview, and
+//! the commit (Update written into the values), exact and float backends.
 //!
 //! `cargo bench -p benchmarks --bench real_mesh`
 
@@ -120,6 +120,24 @@ fn edits(c: &mut Criterion) {
     edits_with(c, "float", &FloatQr::default());
 }
 
+/// An exact drag frame (`Edit::frame`): the exact Update over its common denominator, not
+/// reduced (the reduction waits for the commit).
+fn frames(c: &mut Criterion) {
+    let fixture = Fixture::new();
+    let mut group = c.benchmark_group("real-mesh-edit");
+    group.sample_size(10);
+    for radius in [8u32, 12, 16] {
+        let (plan, edit) = fixture.mouse_down(&ExactLdu::default(), radius);
+        let step = &plan.steps[0];
+        edit.update(&step.anchors, &step.hints).expect("solvable");
+        group.bench_function(
+            BenchmarkId::new("exact-frame", format!("exact-delta{radius}")),
+            |b| b.iter(|| black_box(edit.frame(&step.anchors, &step.hints).is_ok())),
+        );
+    }
+    group.finish();
+}
+
 /// The commit at mouse-up: the exact Update written into a copy of the values (`Edit::apply`).
 fn commits(c: &mut Criterion) {
     let fixture = Fixture::new();
@@ -144,5 +162,5 @@ fn commits(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, edits, commits);
+criterion_group!(benches, edits, frames, commits);
 criterion_main!(benches);

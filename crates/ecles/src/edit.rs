@@ -4,8 +4,8 @@ use crate::error::{Conflict, ConflictingRow, EditError};
 use crate::reduce::{reduce, ReducedSystem};
 use crate::relevant::{extract_relevant, Relevant};
 use api::{
-    ConstraintSystem, Factorization, Inconsistency, LinearBackend, ParamId, PreparedLeastSquares,
-    Rational, RowId, SolveError, StrongFailure, Values,
+    ConstraintSystem, Factorization, Fraction, Inconsistency, LinearBackend, ParamId,
+    PreparedLeastSquares, Rational, RowId, SolveError, StrongFailure, Values,
 };
 use num_traits::{One, Zero};
 use std::collections::HashMap;
@@ -411,6 +411,30 @@ impl<F: Factorization> Edit<F> {
 }
 
 impl<F: Factorization<Scalar = Rational>> Edit<F> {
+    /// ECLES.Update as an exact drag frame: the same verdict and the same values as
+    /// [`Edit::update`] (`derived[k][j]` for derived parameter `k`, coordinate `j`), as fractions
+    /// over the solution's common denominator, not reduced — what a frame needs that is drawn
+    /// (`Fraction::to_f64`) or inspected exactly and then replaced by the next one. Reducing,
+    /// the largest cost of an exact update on real meshes, is left to the commit
+    /// ([`Edit::apply`]). Backends without an unreduced form answer through [`Edit::update`].
+    pub fn frame(
+        &self,
+        anchor_values: &[Vec<Rational>],
+        hints: &[Vec<Rational>],
+    ) -> Result<Vec<Vec<Fraction>>, EditError<Rational>> {
+        self.solve_with(anchor_values, hints, |column, alpha, h| {
+            match self.prepared.solve_unreduced(column, alpha, h)? {
+                Some(x) => Ok(x),
+                None => Ok(self
+                    .prepared
+                    .solve(column, alpha, h)?
+                    .into_iter()
+                    .map(Fraction::from)
+                    .collect()),
+            }
+        })
+    }
+
     /// Runs [`Edit::update`] and, only if it succeeds, writes the anchor and derived values into
     /// `values`. On any error `values` is left exactly as it was.
     pub fn apply(

@@ -167,6 +167,49 @@ fn parallelogram_vector_and_scalar_layouts_agree() {
     }
 }
 
+/// An exact frame is the update, unreduced: the same values once reduced, on the exact backend
+/// (unreduced fractions from the lifting) and on the block-wise one (the reduced answer as
+/// fractions), in both layouts; and the same refusal for an impossible move.
+#[test]
+fn exact_frames_are_the_update_unreduced() {
+    for split in [false, true] {
+        let (s, p, values) = parallelogram(split);
+        let spec = EditSpec::new(vec![p[0]], vec![p[1], p[2], p[3]]);
+        let hints: Vec<Vec<Rational>> = (1..4)
+            .map(|i| values.get(p[i]).iter().map(|v| v + q(1, 3)).collect())
+            .collect();
+        let anchors = [vec![q(7, 2), q(-6, 5)]];
+        let exact: ExactEdit = Edit::initialize(&backend(), &s, &values, &spec).expect("init");
+        let blockwise = Edit::initialize(
+            &exact_ldu::BlockwiseLdu::new(exact_ldu::Simplification::Gcd),
+            &s,
+            &values,
+            &spec,
+        )
+        .expect("init");
+        let update = exact.update(&anchors, &hints).expect("update");
+        for frame in [
+            exact.frame(&anchors, &hints).expect("frame"),
+            blockwise.frame(&anchors, &hints).expect("frame"),
+        ] {
+            let reduced: Vec<Vec<Rational>> = frame
+                .iter()
+                .map(|v| v.iter().map(api::Fraction::reduced).collect())
+                .collect();
+            let expected: Vec<Vec<Rational>> =
+                update.derived.iter().map(|(_, v)| v.clone()).collect();
+            assert_eq!(reduced, expected);
+        }
+    }
+    let (s, p, values) = chain();
+    let spec = EditSpec::new(vec![p[0], p[2]], vec![p[1]]);
+    let edit: ExactEdit = Edit::initialize(&backend(), &s, &values, &spec).expect("init");
+    assert!(matches!(
+        edit.frame(&[vec![z(5)], vec![z(0)]], &[vec![z(0)]]),
+        Err(EditError::Conflict(_))
+    ));
+}
+
 /// p1 = p2 = p3 with A = {p1, p3}, D = {p2}: anchors can only move together.
 fn chain() -> (ConstraintSystem, Vec<ParamId>, Values) {
     let mut s = ConstraintSystem::new();

@@ -259,6 +259,25 @@ impl<R: Ring> PreparedLeastSquares for ExactLeastSquares<R> {
         })
     }
 
+    /// The exact solution over its common denominator, not reduced.
+    fn solve_unreduced(
+        &self,
+        column: usize,
+        alpha: &[Rational],
+        hints: &[Rational],
+    ) -> Result<Option<Vec<api::Fraction>>, SolveError<Rational>> {
+        Ok(Some(match self.numerators(column, alpha, hints)? {
+            None => hints.iter().cloned().map(api::Fraction::from).collect(),
+            Some((numerators, den)) => numerators
+                .into_iter()
+                .map(|numerator| api::Fraction {
+                    numerator,
+                    denominator: den.clone(),
+                })
+                .collect(),
+        }))
+    }
+
     /// The exact solution rounded to `f64` without reducing it: the same verdict and the same
     /// values (to rounding) as [`PreparedLeastSquares::solve`], for drawing every frame of a
     /// drag, skipping the GCDs that dominate an exact update.
