@@ -241,7 +241,7 @@ pub trait Factorization {
 
 /// Weighted least squares with constraints `A x = c_j − K α`, prepared by
 /// [`Factorization::prepare_least_squares`].
-pub trait PreparedLeastSquares {
+pub trait PreparedLeastSquares: Send + Sync {
     /// Number type of the answers.
     type Scalar: Value;
     /// Weak consistency of `A x = c_j − K α`.

@@ -8,6 +8,7 @@ use api::{
     PreparedLeastSquares, Rational, RowId, SolveError, StrongFailure, Values,
 };
 use num_traits::{One, Zero};
+use rayon::prelude::*;
 use std::collections::HashMap;
 
 /// What the user asks for: anchors `A`, derived parameters `D` with weights, and whether strong
@@ -323,8 +324,9 @@ impl<F: Factorization> Edit<F> {
         anchor_values: &[Vec<Rational>],
         hints: &[Vec<Rational>],
     ) -> Result<UpdateResult<F::Scalar>, EditError<F::Scalar>> {
+        let prepared = &self.prepared;
         let derived_values = self.solve_with(anchor_values, hints, |column, alpha, h| {
-            self.prepared.solve(column, alpha, h)
+            prepared.solve(column, alpha, h)
         })?;
         Ok(UpdateResult {
             anchors: self
@@ -346,20 +348,23 @@ impl<F: Factorization> Edit<F> {
         anchor_values: &[Vec<Rational>],
         hints: &[Vec<Rational>],
     ) -> Result<Vec<Vec<f64>>, EditError<F::Scalar>> {
+        let prepared = &self.prepared;
         self.solve_with(anchor_values, hints, |column, alpha, h| {
-            self.prepared.solve_approx(column, alpha, h)
+            prepared.solve_approx(column, alpha, h)
         })
     }
 
-    /// Validates the inputs, then solves per column (vector layout) or once (scalar layout).
+    /// Validates the inputs, then solves per column (vector layout, the columns in parallel:
+    /// on large exact edits each is a lifted solve of its own) or once (scalar layout). The
+    /// first failing column in order gives the error, as a sequential loop would.
     fn solve_with<T>(
         &self,
         anchor_values: &[Vec<Rational>],
         hints: &[Vec<Rational>],
-        solve: impl Fn(usize, &[Rational], &[Rational]) -> Result<Vec<T>, SolveError<F::Scalar>>,
+        solve: impl Fn(usize, &[Rational], &[Rational]) -> Result<Vec<T>, SolveError<F::Scalar>> + Sync,
     ) -> Result<Vec<Vec<T>>, EditError<F::Scalar>>
     where
-        T: Clone,
+        T: Clone + Send,
     {
         self.check_values(
             "anchor values",
@@ -370,11 +375,18 @@ impl<F: Factorization> Edit<F> {
         self.check_values("hints", hints, &self.derived_names, &self.derived_dims)?;
         match self.layout {
             Layout::Vector { dim } => {
+                let columns: Vec<Result<Vec<T>, SolveError<F::Scalar>>> = (0..dim)
+                    .into_par_iter()
+                    .map(|j| {
+                        let alpha: Vec<Rational> =
+                            anchor_values.iter().map(|v| v[j].clone()).collect();
+                        let h: Vec<Rational> = hints.iter().map(|v| v[j].clone()).collect();
+                        solve(j, &alpha, &h)
+                    })
+                    .collect();
                 let mut out: Vec<Vec<T>> = vec![Vec::with_capacity(dim); self.derived.len()];
-                for j in 0..dim {
-                    let alpha: Vec<Rational> = anchor_values.iter().map(|v| v[j].clone()).collect();
-                    let h: Vec<Rational> = hints.iter().map(|v| v[j].clone()).collect();
-                    let x = solve(j, &alpha, &h).map_err(|e| self.solve_error(e, j))?;
+                for (j, column) in columns.into_iter().enumerate() {
+                    let x = column.map_err(|e| self.solve_error(e, j))?;
                     for (slot, value) in out.iter_mut().zip(x) {
                         slot.push(value);
                     }
@@ -422,11 +434,11 @@ impl<F: Factorization<Scalar = Rational>> Edit<F> {
         anchor_values: &[Vec<Rational>],
         hints: &[Vec<Rational>],
     ) -> Result<Vec<Vec<Fraction>>, EditError<Rational>> {
+        let prepared = &self.prepared;
         self.solve_with(anchor_values, hints, |column, alpha, h| {
-            match self.prepared.solve_unreduced(column, alpha, h)? {
+            match prepared.solve_unreduced(column, alpha, h)? {
                 Some(x) => Ok(x),
-                None => Ok(self
-                    .prepared
+                None => Ok(prepared
                     .solve(column, alpha, h)?
                     .into_iter()
                     .map(Fraction::from)

@@ -39,6 +39,7 @@ pub use factorization::ExactFactorization;
 pub use gcd::{gcd_bigint, reduced_ratio};
 pub use ldu::{Ldu, Pivoting, Simplification, StageSnapshot};
 pub use lsq::ExactLeastSquares;
+pub use memo::forget_last_factoring;
 pub use qvec::QVec;
 pub use reduce::reduce_over;
 pub use ring::{gcd_all, Int, Ring};

@@ -24,6 +24,14 @@ struct LastFactored {
 
 static LAST_FACTORED: Mutex<Option<LastFactored>> = Mutex::new(None);
 
+/// Empties the memo, so that the next factoring is made afresh (benchmarks of a first
+/// mouse-down; nothing else needs it, the memo never changes an answer).
+pub fn forget_last_factoring() {
+    if let Ok(mut guard) = LAST_FACTORED.lock() {
+        *guard = None;
+    }
+}
+
 /// The factoring of `matrix` by `method` in the ring `R`, from the memo when it is the last one
 /// made.
 pub(crate) fn factor<R: Ring>(matrix: &IntMatrix, method: Simplification) -> ExactFactorization<R> {

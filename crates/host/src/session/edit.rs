@@ -14,6 +14,7 @@ use ecles::{Edit, EditError, EditSpec, UpdateResult};
 use exact_ldu::ExactFactorization;
 use float_qr::FloatQr;
 use num_traits::One;
+use rayon::prelude::*;
 use std::collections::BTreeMap;
 
 impl Session {
@@ -201,13 +202,19 @@ impl Session {
             Ok(results) => {
                 report.solvable = true;
                 if let Some(last) = results.last() {
-                    report.values = last
-                        .anchors
+                    let entries: Vec<&(ParamId, Vec<Rational>)> =
+                        last.anchors.iter().chain(&last.derived).collect();
+                    // Decimal text of values with thousands of digits: on all cores.
+                    let texts: Vec<Vec<String>> = entries
+                        .par_iter()
+                        .map(|(_, v)| v.iter().map(format_rational).collect())
+                        .collect();
+                    report.values = entries
                         .iter()
-                        .chain(&last.derived)
-                        .map(|(id, v)| ValueReport {
+                        .zip(texts)
+                        .map(|((id, v), exact)| ValueReport {
                             name: self.name(*id),
-                            exact: v.iter().map(format_rational).collect(),
+                            exact,
                             approx: v.iter().map(Value::to_f64).collect(),
                         })
                         .collect();
