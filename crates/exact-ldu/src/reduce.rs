@@ -80,6 +80,7 @@ pub fn reduce_over(numerators: Vec<BigInt>, den: &BigInt) -> Vec<Rational> {
     let residues: Vec<BigInt> = numerators.par_iter().map(|n| n.mod_floor(&rest)).collect();
     let g = gcd_bigint(&product_modulo(&residues, &rest), &rest);
     let rough = (!g.is_one()).then(|| part_made_of(&rest, &g));
+    let smooth = SmoothPart::new(&smooth);
     numerators
         .into_par_iter()
         .zip(residues)
@@ -87,8 +88,7 @@ pub fn reduce_over(numerators: Vec<BigInt>, den: &BigInt) -> Vec<Rational> {
             if n.is_zero() {
                 return Rational::from_integer(BigInt::zero());
             }
-            let (n, mut common) = divide_out_smooth(n, &smooth);
-            let mut n = n;
+            let (mut n, mut common) = smooth.divide_out(n);
             if residue.is_zero() {
                 n /= &rest;
                 common *= &rest;
@@ -134,35 +134,92 @@ fn split_smooth(d: &BigUint) -> (Vec<(u32, u32)>, BigUint) {
     (factors, rest)
 }
 
-/// `n / c` and `c = gcd(n, Π pᵉ)` for the prime powers of the smooth part: one pass over
-/// `n`'s limbs per group of primes whose product fits a word, a division only by a prime that
-/// divides.
-fn divide_out_smooth(mut n: BigInt, smooth: &[(u32, u32)]) -> (BigInt, BigInt) {
-    let mut common: u64 = 1;
-    let mut big_common = BigInt::one();
-    for group in word_groups(smooth) {
-        let product: u64 = group.iter().map(|(p, _)| u64::from(*p)).product();
-        let remainder = (n.magnitude() % product as u32).to_u64().unwrap_or(0);
-        for &(p, e) in group {
-            if remainder % u64::from(p) != 0 {
+/// A prime `p` of the smooth part with its exponent `e` in `d`, and `pᵉ < 2^32`.
+#[derive(Debug, Clone, Copy)]
+struct PrimePower {
+    p: u32,
+    e: u32,
+    power: u64,
+}
+
+/// The smooth part's primes: those whose power `pᵉ` fits a word, in groups whose product fits
+/// a word (one pass over a numerator's limbs per group gives its remainder modulo every power
+/// in the group), and the others as `(p, e)`, divided out one factor at a time.
+#[derive(Debug, Default)]
+struct SmoothPart {
+    groups: Vec<(u64, Vec<PrimePower>)>,
+    large: Vec<(u32, u32)>,
+}
+
+impl SmoothPart {
+    fn new(smooth: &[(u32, u32)]) -> Self {
+        let mut part = SmoothPart::default();
+        for &(p, e) in smooth {
+            let power = (0..e).try_fold(1u64, |acc, _| {
+                acc.checked_mul(u64::from(p)).filter(|v| *v < 1 << 32)
+            });
+            let Some(power) = power else {
+                part.large.push((p, e));
                 continue;
+            };
+            let pp = PrimePower { p, e, power };
+            match part.groups.last_mut() {
+                Some((product, members)) if *product * power < 1 << 32 => {
+                    *product *= power;
+                    members.push(pp);
+                }
+                _ => part.groups.push((power, vec![pp])),
             }
+        }
+        part
+    }
+
+    /// `n / c` and `c = gcd(n, S)`: for each word-sized power `pᵉ`, the exponent of `p` in
+    /// `n mod pᵉ` (all of `e` when the remainder is zero) read on words, one division of `n` by
+    /// their product; then the large powers a factor at a time.
+    fn divide_out(&self, n: BigInt) -> (BigInt, BigInt) {
+        let mut common = BigUint::one();
+        let mut word: u64 = 1;
+        let push =
+            |p: u32, word: &mut u64, common: &mut BigUint| match word.checked_mul(u64::from(p)) {
+                Some(w) => *word = w,
+                None => {
+                    *common *= *word;
+                    *word = u64::from(p);
+                }
+            };
+        for (product, members) in &self.groups {
+            let remainder = (n.magnitude() % *product as u32).to_u64().unwrap_or(0);
+            for pp in members {
+                let mut r = remainder % pp.power;
+                let mut v = 0;
+                if r == 0 {
+                    v = pp.e;
+                } else {
+                    while r % u64::from(pp.p) == 0 {
+                        r /= u64::from(pp.p);
+                        v += 1;
+                    }
+                }
+                for _ in 0..v {
+                    push(pp.p, &mut word, &mut common);
+                }
+            }
+        }
+        let common = BigInt::from(common * word);
+        let mut n = if common.is_one() { n } else { n / &common };
+        let mut extra = BigInt::one();
+        for &(p, e) in &self.large {
             for _ in 0..e {
                 if !(n.magnitude() % p).is_zero() {
                     break;
                 }
                 n /= p;
-                match common.checked_mul(u64::from(p)) {
-                    Some(c) => common = c,
-                    None => {
-                        big_common *= common;
-                        common = u64::from(p);
-                    }
-                }
+                extra *= p;
             }
         }
+        (n, common * extra)
     }
-    (n, big_common * common)
 }
 
 /// Consecutive runs of `(p, e)` whose primes multiply to less than `2^32`.
@@ -225,10 +282,13 @@ mod tests {
         (BigInt::one() << 127) - 1
     }
 
-    /// Large enough for the common-factor path; `3^700 · 2^90 · extra`, times the large prime
-    /// when asked.
+    /// Large enough for the common-factor path; `3^700 · 2^90 · 7^3 · 11^2 · extra` (powers
+    /// beyond a word and within one), times the large prime when asked.
     fn big_denominator(extra: &BigInt, with_large_prime: bool) -> BigInt {
-        let d = BigInt::from(3).pow(700u32) * BigInt::from(2).pow(90u32) * extra;
+        let d = BigInt::from(3).pow(700u32)
+            * BigInt::from(2).pow(90u32)
+            * BigInt::from(7 * 7 * 7 * 11 * 11)
+            * extra;
         if with_large_prime {
             d * large_prime()
         } else {
@@ -259,7 +319,7 @@ mod tests {
                 .map(|(i, v)| {
                     let v = BigInt::from(*v);
                     match i % 5 {
-                        0 => v * BigInt::from(3).pow(5u32),
+                        0 => v * BigInt::from(3).pow(5u32) * 49,
                         1 => v * &extra,
                         2 => v * &sixth,
                         3 => v * large_prime() + 1,
