@@ -3,7 +3,8 @@
 //! equations using p-adic expansions", Numer. Math. 40, 1982; FLINT's `fmpz_mat_solve_dixon`
 //! follows the same scheme).
 //!
-//! With `C = A⁻¹ mod p` (an LU factoring modulo a word-sized prime), `r₀ = b` and
+//! With `C = A⁻¹ mod p` (a factoring modulo a word-sized prime: sparse `L D Lᵀ` in a
+//! fill-reducing order for symmetric matrices, dense LU otherwise), `r₀ = b` and
 //!
 //! ```text
 //! xᵢ = C rᵢ mod p,    rᵢ₊₁ = (rᵢ − A xᵢ) / p        (an exact division),
@@ -13,16 +14,19 @@
 //! reconstruction of `X_k` gives `x = numerators / denominator` as soon as `p^k > 2 N D` (`N`
 //! and `D` bounding the numerators and the denominator). Every candidate is verified exactly
 //! (`A · numerators = denominator · b`), so the answer is certain whatever the prime: the prime
-//! only decides the speed. Attempts at `k = 8, 16, 24, …, ⌈1.25 k⌉, …` make the work follow the
-//! actual size of the answer; the Hadamard bound caps `k`, so the lifting always ends.
+//! only decides the speed. Attempts at `k = 8, 16, 24, …, ⌈1.25 k⌉, …` (or first at the length
+//! the last solve with this matrix needed) make the work follow the actual size of the answer;
+//! the Hadamard bound caps `k`, so the lifting always ends. Attempts reconstruct a few sampled
+//! entries only; once they agree on a denominator `d`, a second lifting of `d b` with balanced
+//! digits gives the numerators directly ([`LiftingSolver::solve`]).
 //!
 //! Why not fraction-free elimination here: the least-squares systems of edits on real meshes
 //! have solutions with thousands of digits; elimination pays for every digit at every one of its
 //! `n³` steps, lifting pays `n²` word operations per 31 bits of the answer.
 //!
-//! Complexity: `n³/3` word operations for the factoring (once per matrix), then per right-hand
-//! side `k (n² + nnz(A))` word operations for `k ≈ (bits of numerators + denominator) / 31`
-//! lifting steps, plus the reconstruction.
+//! Complexity: the factoring once per matrix (`n³/3` dense, `Σ_j |L_{:,j}|²` sparse), then per
+//! right-hand side `2k (2 nnz(L) + nnz(A))` word operations (`n²` for `nnz(L)` when dense) for
+//! `k ≈ (bits of numerators + denominator) / 31` steps of each phase, plus combining the digits.
 
 use crate::modular::{fill_reducing_order, lifting_primes, ModularLu, Modulus, SparseLdlt};
 use num_bigint::{BigInt, BigUint, Sign};
@@ -371,14 +375,7 @@ impl LiftingSolver {
             extra *= d;
             numerators.push(a);
         }
-        let den = den * BigInt::from(extra);
-        for (row, bi) in self.rows.iter().zip(b) {
-            let lhs: BigInt = row.iter().map(|(j, v)| v * &numerators[*j]).sum();
-            if lhs != &den * bi {
-                return None;
-            }
-        }
-        Some((numerators, den))
+        self.verified(numerators, den * BigInt::from(extra), b)
     }
 
     /// Reconstructs the rational solution from `k` p-adic digits per entry and verifies it.
@@ -391,7 +388,16 @@ impl LiftingSolver {
     ) -> Option<(Vec<BigInt>, BigInt)> {
         let all: Vec<usize> = (0..self.n).collect();
         let (numerators, den) = self.reconstruct_entries(digits, k, p, &all)?;
-        let den = BigInt::from(den);
+        self.verified(numerators, BigInt::from(den), b)
+    }
+
+    /// The candidate `numerators / den` when `A · numerators = den · b` holds exactly.
+    fn verified(
+        &self,
+        numerators: Vec<BigInt>,
+        den: BigInt,
+        b: &[BigInt],
+    ) -> Option<(Vec<BigInt>, BigInt)> {
         for (row, bi) in self.rows.iter().zip(b) {
             let lhs: BigInt = row.iter().map(|(j, v)| v * &numerators[*j]).sum();
             if lhs != &den * bi {
