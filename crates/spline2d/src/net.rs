@@ -1,8 +1,8 @@
 //! The global Bézier control net `G` (thesis 12.1): control points joined as in each triangle's
-//! local triangular grid, and graph distances on it (Dijkstra, `petgraph`).
+//! local triangular grid, and hop distances on it (breadth-first search over a `petgraph`
+//! graph).
 
 use crate::spline::{multi_indices, Spline};
-use petgraph::algo::dijkstra;
 use petgraph::graph::{NodeIndex, UnGraph};
 use std::collections::BTreeSet;
 
@@ -63,17 +63,28 @@ impl ControlNet {
     }
 
     /// Hop distance from the nearest of `sources` to every control point (`None` where
-    /// unreachable), by Dijkstra from a virtual node joined to all sources.
+    /// unreachable), by a breadth-first search from all sources at once (every edge is one
+    /// hop): `O(points + edges)`, without copying the net.
     pub fn distances_from(&self, sources: &[usize]) -> Vec<Option<u32>> {
-        let mut graph = self.graph.clone();
-        let start = graph.add_node(());
+        let mut distance: Vec<Option<u32>> = vec![None; self.len()];
+        let mut queue = std::collections::VecDeque::new();
         for &s in sources {
-            graph.add_edge(start, NodeIndex::new(s), 0);
+            if s < distance.len() && distance[s].is_none() {
+                distance[s] = Some(0);
+                queue.push_back(s);
+            }
         }
-        let found = dijkstra(&graph, start, None, |e| *e.weight());
-        (0..self.len())
-            .map(|i| found.get(&NodeIndex::new(i)).copied())
-            .collect()
+        while let Some(v) = queue.pop_front() {
+            let next = distance[v].map_or(0, |d| d + 1);
+            for w in self.graph.neighbors(NodeIndex::new(v)) {
+                let w = w.index();
+                if distance[w].is_none() {
+                    distance[w] = Some(next);
+                    queue.push_back(w);
+                }
+            }
+        }
+        distance
     }
 }
 
