@@ -649,33 +649,24 @@ impl PadicPowers {
     /// `Σ dᵢ pⁱ`, splitting at the largest power of two below the length (so the cost is that
     /// of a few balanced multiplications rather than `k` passes over a growing number).
     fn combine(&self, digits: &[u32]) -> BigUint {
-        match digits.len() {
-            0 => BigUint::zero(),
-            1 => BigUint::from(digits[0]),
-            len => {
-                let level = (usize::BITS - 1 - (len - 1).leading_zeros()) as usize;
-                let half = 1usize << level;
-                let low = self.combine(&digits[..half]);
-                let high = self.combine(&digits[half..]);
-                if high.is_zero() {
-                    low
-                } else {
-                    low + high * &self.squares[level]
-                }
-            }
-        }
+        self.combine_by(digits, &|d| BigInt::from(d)).into_parts().1
     }
 
-    /// `Σ dᵢ pⁱ` for signed digits, split like [`PadicPowers::combine`].
+    /// `Σ dᵢ pⁱ` for signed digits.
     fn combine_signed(&self, digits: &[i64]) -> BigInt {
+        self.combine_by(digits, &|d| BigInt::from(d))
+    }
+
+    /// `Σ dᵢ pⁱ` by halves, each digit made an integer by `leaf`.
+    fn combine_by<T: Copy>(&self, digits: &[T], leaf: &impl Fn(T) -> BigInt) -> BigInt {
         match digits.len() {
             0 => BigInt::zero(),
-            1 => BigInt::from(digits[0]),
+            1 => leaf(digits[0]),
             len => {
                 let level = (usize::BITS - 1 - (len - 1).leading_zeros()) as usize;
                 let half = 1usize << level;
-                let low = self.combine_signed(&digits[..half]);
-                let high = self.combine_signed(&digits[half..]);
+                let low = self.combine_by(&digits[..half], leaf);
+                let high = self.combine_by(&digits[half..], leaf);
                 if high.is_zero() {
                     low
                 } else {
