@@ -138,11 +138,7 @@ impl LiftingSolver {
     /// `A` is singular.
     pub(crate) fn new_symmetric(n: usize, rows: Vec<Vec<(usize, BigInt)>>) -> Option<Self> {
         debug_assert_eq!(rows.len(), n);
-        let pattern: Vec<Vec<(usize, u64)>> = rows
-            .iter()
-            .map(|row| row.iter().map(|(j, _)| (*j, 0)).collect())
-            .collect();
-        let order = fill_reducing_order(&pattern);
+        let order = fill_reducing_order(&rows);
         for p in lifting_primes().take(SPARSE_ATTEMPTS) {
             let modulus = Modulus::new(p);
             if let Some(ldlt) = SparseLdlt::factor(&residue_rows(&rows, &modulus), &order, modulus)

@@ -77,7 +77,12 @@ pub fn reduce_over(numerators: Vec<BigInt>, den: &BigInt) -> Vec<Rational> {
     let rest = BigInt::from(rest);
     // Values that are multiples of `rest` (those with small reduced denominators, such as
     // parameters the constraints leave at their hints) would make the product vanish.
-    let residues: Vec<BigInt> = numerators.par_iter().map(|n| n.mod_floor(&rest)).collect();
+    // (A smooth denominator leaves no rest to test.)
+    let residues: Vec<BigInt> = if rest.is_one() {
+        vec![BigInt::one(); numerators.len()]
+    } else {
+        numerators.par_iter().map(|n| n.mod_floor(&rest)).collect()
+    };
     let g = gcd_bigint(&product_modulo(&residues, &rest), &rest);
     let rough = (!g.is_one()).then(|| part_made_of(&rest, &g));
     let smooth = SmoothPart::new(&smooth);

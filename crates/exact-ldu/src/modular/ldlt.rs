@@ -18,8 +18,9 @@ use super::Modulus;
 
 /// Pivot `k` of the factoring is row and column `order[k]` of `A`: a fill-reducing order of
 /// the symmetric pattern given by `rows` (each row's column indices, increasing, the diagonal
-/// included). The identity when the ordering cannot be computed (an order only changes speed).
-pub(crate) fn fill_reducing_order(rows: &[Vec<(usize, u64)>]) -> Vec<usize> {
+/// included; the values are not read). The identity when the ordering cannot be computed (an
+/// order only changes speed).
+pub(crate) fn fill_reducing_order<T>(rows: &[Vec<(usize, T)>]) -> Vec<usize> {
     let n = rows.len();
     let identity = || (0..n).collect();
     let Ok(size) = isize::try_from(n) else {
