@@ -50,7 +50,7 @@ fn factoring_examples() -> Result<(), String> {
     let f = ExactLdu::new(Simplification::Turner)
         .factor(&a)
         .map_err(|e| e.to_string())?;
-    let ldu = f.ldu();
+    let ldu = f.ldu().expect("factored fraction-free");
     println!("Matrix (4.3), Turner simplification: rank {}", ldu.rank());
     println!(
         "  row order Π_R = {:?}, column order Π_C = {:?}",

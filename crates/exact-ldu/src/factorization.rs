@@ -1,6 +1,8 @@
 //! The exact answers built on a factoring: solve (algorithm 14), weak and strong consistency
 //! (sections 8.2.1, 8.2.2), redundancies, inconsistency certificates and the null space.
 
+use crate::certified::CertifiedBasis;
+use crate::dixon::LiftingSolver;
 use crate::ldu::{Ldu, Simplification};
 use crate::lsq::ExactLeastSquares;
 use crate::qvec::QVec;
@@ -17,94 +19,120 @@ use std::sync::Arc;
 /// A sparse integer row: `(column, value)` by increasing column.
 pub(crate) type SparseRow<R> = Vec<(usize, R)>;
 
-/// An exactly factored matrix: the original rows and their fraction-free LDU factoring, shared
-/// (a copy costs two reference counts: the factors are never changed once made).
+/// An exactly factored matrix: the original rows and their factoring, shared (a copy costs two
+/// reference counts: the factors are never changed once made).
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct ExactFactorization<R: Ring = Int> {
     a: Arc<Vec<SparseRow<R>>>,
-    ldu: Arc<Ldu<R>>,
+    cols: usize,
+    factoring: Arc<Factoring<R>>,
+}
+
+/// How the rank and the redundancies were decided.
+#[derive(Debug, PartialEq, Eq)]
+enum Factoring<R: Ring> {
+    /// The thesis' fraction-free LDU (algorithms 6–13).
+    FractionFree(Ldu<R>),
+    /// A row basis found modulo a prime and proved over the integers ([`crate::certified`]).
+    Certified(CertifiedBasis),
 }
 
 impl<R: Ring> ExactFactorization<R> {
-    /// Factors `matrix` with the given simplification method.
+    /// Factors `matrix` fraction-free with the given simplification method.
     pub fn new(matrix: &IntMatrix, method: Simplification) -> Self {
-        let a: Vec<SparseRow<R>> = matrix
+        let a = Self::sparse(matrix);
+        let ldu = Self::fraction_free(&a, matrix.cols(), method);
+        ExactFactorization {
+            a: Arc::new(a),
+            cols: matrix.cols(),
+            factoring: Arc::new(Factoring::FractionFree(ldu)),
+        }
+    }
+
+    /// The certified row basis of `matrix` ([`crate::certified`]); fraction-free with `method`
+    /// in the rare case that no prime tried gives a basis that can be proved.
+    pub fn certified(matrix: &IntMatrix, method: Simplification) -> Self {
+        let a = Self::sparse(matrix);
+        let factoring = match CertifiedBasis::new(&a, matrix.cols()) {
+            Some(basis) => Factoring::Certified(basis),
+            None => Factoring::FractionFree(Self::fraction_free(&a, matrix.cols(), method)),
+        };
+        ExactFactorization {
+            a: Arc::new(a),
+            cols: matrix.cols(),
+            factoring: Arc::new(factoring),
+        }
+    }
+
+    fn sparse(matrix: &IntMatrix) -> Vec<SparseRow<R>> {
+        matrix
             .row_iter()
             .map(|row| row.iter().map(|(c, v)| (*c, R::from_bigint(v))).collect())
-            .collect();
+            .collect()
+    }
+
+    fn fraction_free(a: &[SparseRow<R>], cols: usize, method: Simplification) -> Ldu<R> {
         let dense = a
             .iter()
             .map(|row| {
-                let mut d = vec![R::zero(); matrix.cols()];
+                let mut d = vec![R::zero(); cols];
                 for (c, v) in row {
                     d[*c] = v.clone();
                 }
                 d
             })
             .collect();
-        let ldu = Ldu::factor(dense, matrix.cols(), method).expect("an IntMatrix is rectangular");
-        ExactFactorization {
-            a: Arc::new(a),
-            ldu: Arc::new(ldu),
+        Ldu::factor(dense, cols, method).expect("the rows of an IntMatrix have its width")
+    }
+
+    /// The fraction-free factoring, when the matrix was factored that way.
+    pub fn ldu(&self) -> Option<&Ldu<R>> {
+        match self.factoring.as_ref() {
+            Factoring::FractionFree(ldu) => Some(ldu),
+            Factoring::Certified(_) => None,
         }
     }
 
-    /// The factoring itself.
-    pub fn ldu(&self) -> &Ldu<R> {
-        &self.ldu
+    /// True when the rank and the redundancies come from a certified row basis rather than the
+    /// fraction-free LDU.
+    pub fn is_certified(&self) -> bool {
+        matches!(self.factoring.as_ref(), Factoring::Certified(_))
+    }
+
+    /// `Â Âᵀ` of the independent rows prepared for lifting, when a certified basis made it.
+    pub(crate) fn gram_solver(&self) -> Option<&LiftingSolver> {
+        match self.factoring.as_ref() {
+            Factoring::FractionFree(_) => None,
+            Factoring::Certified(basis) => basis.normal(),
+        }
     }
 
     pub(crate) fn sparse_rows(&self) -> &[SparseRow<R>] {
         &self.a
     }
 
-    /// The right-hand side in `Π_R` order over a common denominator.
-    pub(crate) fn permuted(&self, rhs: &[Rational]) -> QVec<R> {
-        let permuted: Vec<Rational> = self
-            .ldu
-            .row_perm()
-            .iter()
-            .map(|&i| rhs[i].clone())
-            .collect();
-        QVec::from_rationals(&permuted)
-    }
-
-    /// Positions `t ≥ r` whose residual after forward substitution is nonzero.
-    fn failing_positions(&self, forwarded: &QVec<R>) -> Vec<usize> {
-        (self.ldu.rank()..self.ldu.rows())
-            .filter(|&t| !forwarded.num[t].is_zero())
-            .collect()
-    }
-
-    /// The primitive integer `y` with `yᵀA = 0` supported on redundant position `t` and the
-    /// independent rows it depends on, as `(original row, y_row)` sorted by row.
-    pub fn dependency(&self, t: usize) -> Vec<(usize, R)> {
-        let w = self.ldu.redundancy_weights(t);
-        let perm = self.ldu.row_perm();
-        let mut y: Vec<(usize, R)> = Vec::new();
-        y.push((perm[t], w.den.clone()));
-        for (k, wk) in w.num.iter().enumerate() {
-            if !wk.is_zero() {
-                y.push((perm[k], wk.neg()));
-            }
+    /// Per redundant row: the primitive integer `y` with `yᵀA = 0` supported on that row and
+    /// the independent rows it depends on, as `(original row, y_row)` sorted by row.
+    pub(crate) fn dependencies(&self) -> Vec<Vec<(usize, R)>> {
+        match self.factoring.as_ref() {
+            Factoring::FractionFree(ldu) => (ldu.rank()..ldu.rows())
+                .map(|t| dependency(ldu, t))
+                .collect(),
+            Factoring::Certified(basis) => basis
+                .dependencies()
+                .iter()
+                .map(|(_, y)| y.iter().map(|(i, v)| (*i, R::from_bigint(v))).collect())
+                .collect(),
         }
-        let values: Vec<R> = y.iter().map(|(_, v)| v.clone()).collect();
-        let primitive = QVec::from_integers(values).primitive_integers();
-        let mut y: Vec<(usize, R)> = y.into_iter().map(|(i, _)| i).zip(primitive).collect();
-        y.sort_by_key(|(i, _)| *i);
-        y
     }
 
-    /// The certificate with the smallest support among the failing redundant positions.
-    fn certificate(&self, failing: &[usize], rhs: &[Rational]) -> Inconsistency<Rational> {
-        let mut best: Option<Vec<(usize, R)>> = None;
-        for &t in failing {
-            let y = self.dependency(t);
-            if best.as_ref().is_none_or(|b| y.len() < b.len()) {
-                best = Some(y);
-            }
-        }
-        let y = best.unwrap_or_default();
+    /// The certificate with the smallest support among `failing` dependencies (`yᵀA = 0`,
+    /// `yᵀb ≠ 0`).
+    fn certificate(
+        failing: impl IntoIterator<Item = Vec<(usize, R)>>,
+        rhs: &[Rational],
+    ) -> Inconsistency<Rational> {
+        let y = failing.into_iter().min_by_key(Vec::len).unwrap_or_default();
         let discrepancy = y.iter().fold(Rational::zero(), |acc, (i, v)| {
             acc + &rhs[*i] * Rational::from_integer(v.to_bigint())
         });
@@ -118,68 +146,125 @@ impl<R: Ring> ExactFactorization<R> {
         }
     }
 
-    /// Forward substitution plus the consistency verdict for one right-hand side: weak
-    /// solvability (thesis 8.2.1, (8.10); `ECLES.CheckWeakSolvability`, algorithm 5), with the
-    /// certificate of the smallest failing circuit.
-    fn forward_checked(&self, rhs: &[Rational]) -> Result<QVec<R>, SolveError<Rational>> {
-        check_len("right-hand side", rhs.len(), self.ldu.rows())?;
-        let mut b = self.permuted(rhs);
-        self.ldu.forward(&mut b);
-        let failing = self.failing_positions(&b);
-        if failing.is_empty() {
-            Ok(b)
-        } else {
-            Err(SolveError::Inconsistent(self.certificate(&failing, rhs)))
-        }
-    }
-
-    /// Algorithm 14 (`LinSys.Solve`, thesis 8.1) after its forward substitution: `Y = D z`,
-    /// `X̂ = Û⁻¹ Y`, `X̃ = 0`, `P = Π_C⁻¹ X` (8.5)–(8.9). Back-substitutes a forwarded
-    /// right-hand side: `x̂ = Û⁻¹ D z`, `x̃ = 0`, in original column
-    /// order.
-    pub(crate) fn basic_solution(&self, forwarded: QVec<R>) -> QVec<R> {
-        let r = self.ldu.rank();
-        let mut y = QVec {
-            num: forwarded
-                .num
-                .into_iter()
-                .take(r)
-                .zip(self.ldu.d())
-                .map(|(z, d)| z.mul(d))
-                .collect(),
-            den: forwarded.den,
-        };
-        self.ldu.backward(&mut y);
-        let mut x = vec![R::zero(); self.ldu.cols()];
-        for (k, v) in y.num.into_iter().enumerate() {
-            x[self.ldu.col_perm()[k]] = v;
-        }
-        let mut out = QVec { num: x, den: y.den };
-        out.normalize();
-        out
-    }
-
-    /// The null space as primitive integer vectors: one per free column, in `Π_C` order.
-    pub fn null_space_integers(&self) -> Vec<Vec<BigInt>> {
-        let r = self.ldu.rank();
-        let n = self.ldu.cols();
-        (r..n)
-            .map(|f| {
-                let mut y =
-                    QVec::from_integers((0..r).map(|k| self.ldu.u_row(k)[f].neg()).collect());
-                self.ldu.backward(&mut y);
-                let mut x = vec![R::zero(); n];
-                for (k, v) in y.num.iter().enumerate() {
-                    x[self.ldu.col_perm()[k]] = v.clone();
+    /// Weak solvability of `A x = rhs` (thesis 8.2.1, (8.10); `ECLES.CheckWeakSolvability`,
+    /// algorithm 5), with the certificate of the smallest failing circuit. Fraction-free: the
+    /// forward substitution, returned for the back substitution.
+    fn forward_checked(&self, rhs: &[Rational]) -> Result<Option<QVec<R>>, SolveError<Rational>> {
+        check_len("right-hand side", rhs.len(), self.a.len())?;
+        match self.factoring.as_ref() {
+            Factoring::FractionFree(ldu) => {
+                let mut b = permuted(ldu, rhs);
+                ldu.forward(&mut b);
+                let failing: Vec<usize> = (ldu.rank()..ldu.rows())
+                    .filter(|&t| !b.num[t].is_zero())
+                    .collect();
+                if failing.is_empty() {
+                    Ok(Some(b))
+                } else {
+                    Err(SolveError::Inconsistent(Self::certificate(
+                        failing.into_iter().map(|t| dependency(ldu, t)),
+                        rhs,
+                    )))
                 }
-                x[self.ldu.col_perm()[f]] = y.den.clone();
-                QVec::from_integers(x)
-                    .primitive_integers()
+            }
+            Factoring::Certified(basis) => {
+                let failing: Vec<Vec<(usize, R)>> = basis
+                    .dependencies()
                     .iter()
-                    .map(Ring::to_bigint)
+                    .filter(|(_, y)| {
+                        !y.iter()
+                            .fold(Rational::zero(), |acc, (i, v)| {
+                                acc + &rhs[*i] * Rational::from_integer(v.clone())
+                            })
+                            .is_zero()
+                    })
+                    .map(|(_, y)| y.iter().map(|(i, v)| (*i, R::from_bigint(v))).collect())
+                    .collect();
+                if failing.is_empty() {
+                    Ok(None)
+                } else {
+                    Err(SolveError::Inconsistent(Self::certificate(failing, rhs)))
+                }
+            }
+        }
+    }
+
+    /// A solution of `A x = rhs` after its consistency check. Fraction-free: algorithm 14
+    /// (`LinSys.Solve`, thesis 8.1) after its forward substitution, `Y = D z`, `X̂ = Û⁻¹ Y`,
+    /// `X̃ = 0`, `P = Π_C⁻¹ X` (8.5)–(8.9). Certified: the minimum-norm solution `Âᵀ λ` with
+    /// `Â Âᵀ λ = b̂`.
+    fn solution(&self, forwarded: Option<QVec<R>>, rhs: &[Rational]) -> Vec<Rational> {
+        match self.factoring.as_ref() {
+            Factoring::FractionFree(ldu) => {
+                let forwarded = forwarded.unwrap_or_else(|| {
+                    let mut b = permuted(ldu, rhs);
+                    ldu.forward(&mut b);
+                    b
+                });
+                basic_solution(ldu, forwarded).to_rationals()
+            }
+            Factoring::Certified(basis) => {
+                let Some(normal) = basis.normal() else {
+                    return vec![Rational::zero(); self.cols];
+                };
+                let picked: Vec<Rational> = basis
+                    .independent()
+                    .iter()
+                    .map(|&i| rhs[i].clone())
+                    .collect();
+                let b_hat = QVec::<BigInt>::from_rationals(&picked);
+                let (lambda, den) = normal.solve(&b_hat.num);
+                let den = den * &b_hat.den;
+                basis
+                    .combine_rows(&self.a, &lambda, self.cols)
+                    .into_iter()
+                    .map(|x| Rational::new(x, den.clone()))
                     .collect()
-            })
-            .collect()
+            }
+        }
+    }
+
+    /// The null space as primitive integer vectors: one per free column (fraction-free: in
+    /// `Π_C` order; certified: the projections of the unit vectors of the non-pivot columns).
+    pub fn null_space_integers(&self) -> Vec<Vec<BigInt>> {
+        match self.factoring.as_ref() {
+            Factoring::FractionFree(ldu) => null_space_fraction_free(ldu),
+            Factoring::Certified(basis) => {
+                let free = basis.free_columns(self.cols);
+                let Some(normal) = basis.normal() else {
+                    return free
+                        .into_iter()
+                        .map(|f| {
+                            let mut e = vec![<BigInt as Zero>::zero(); self.cols];
+                            e[f] = BigInt::from(1);
+                            e
+                        })
+                        .collect();
+                };
+                free.into_iter()
+                    .map(|f| {
+                        let column: Vec<BigInt> = basis
+                            .independent()
+                            .iter()
+                            .map(|&i| {
+                                self.a[i]
+                                    .iter()
+                                    .find(|(c, _)| *c == f)
+                                    .map_or_else(<BigInt as Zero>::zero, |(_, v)| v.to_bigint())
+                            })
+                            .collect();
+                        let (lambda, den) = normal.solve(&column);
+                        let mut v: Vec<BigInt> = basis
+                            .combine_rows(&self.a, &lambda, self.cols)
+                            .into_iter()
+                            .map(|x| -x)
+                            .collect();
+                        v[f] += den;
+                        QVec::from_integers(v).primitive_integers()
+                    })
+                    .collect()
+            }
+        }
     }
 
     fn column_of(matrix: &IntMatrix, k: usize) -> Vec<Rational> {
@@ -189,50 +274,152 @@ impl<R: Ring> ExactFactorization<R> {
     }
 }
 
+/// The right-hand side in `Π_R` order over a common denominator.
+fn permuted<R: Ring>(ldu: &Ldu<R>, rhs: &[Rational]) -> QVec<R> {
+    let permuted: Vec<Rational> = ldu.row_perm().iter().map(|&i| rhs[i].clone()).collect();
+    QVec::from_rationals(&permuted)
+}
+
+/// The primitive integer `y` with `yᵀA = 0` supported on redundant position `t` of the
+/// fraction-free factoring and the independent rows it depends on, as `(original row, y_row)`
+/// sorted by row.
+fn dependency<R: Ring>(ldu: &Ldu<R>, t: usize) -> Vec<(usize, R)> {
+    let w = ldu.redundancy_weights(t);
+    let perm = ldu.row_perm();
+    let mut y: Vec<(usize, R)> = Vec::new();
+    y.push((perm[t], w.den.clone()));
+    for (k, wk) in w.num.iter().enumerate() {
+        if !wk.is_zero() {
+            y.push((perm[k], wk.neg()));
+        }
+    }
+    let values: Vec<R> = y.iter().map(|(_, v)| v.clone()).collect();
+    let primitive = QVec::from_integers(values).primitive_integers();
+    let mut y: Vec<(usize, R)> = y.into_iter().map(|(i, _)| i).zip(primitive).collect();
+    y.sort_by_key(|(i, _)| *i);
+    y
+}
+
+/// Back-substitutes a forwarded right-hand side: `x̂ = Û⁻¹ D z`, `x̃ = 0`, in original column
+/// order.
+fn basic_solution<R: Ring>(ldu: &Ldu<R>, forwarded: QVec<R>) -> QVec<R> {
+    let r = ldu.rank();
+    let mut y = QVec {
+        num: forwarded
+            .num
+            .into_iter()
+            .take(r)
+            .zip(ldu.d())
+            .map(|(z, d)| z.mul(d))
+            .collect(),
+        den: forwarded.den,
+    };
+    ldu.backward(&mut y);
+    let mut x = vec![R::zero(); ldu.cols()];
+    for (k, v) in y.num.into_iter().enumerate() {
+        x[ldu.col_perm()[k]] = v;
+    }
+    let mut out = QVec { num: x, den: y.den };
+    out.normalize();
+    out
+}
+
+/// The null space of a fraction-free factoring: one primitive integer vector per free column,
+/// in `Π_C` order.
+fn null_space_fraction_free<R: Ring>(ldu: &Ldu<R>) -> Vec<Vec<BigInt>> {
+    let r = ldu.rank();
+    let n = ldu.cols();
+    (r..n)
+        .map(|f| {
+            let mut y = QVec::from_integers((0..r).map(|k| ldu.u_row(k)[f].neg()).collect());
+            ldu.backward(&mut y);
+            let mut x = vec![R::zero(); n];
+            for (k, v) in y.num.iter().enumerate() {
+                x[ldu.col_perm()[k]] = v.clone();
+            }
+            x[ldu.col_perm()[f]] = y.den.clone();
+            QVec::from_integers(x)
+                .primitive_integers()
+                .iter()
+                .map(Ring::to_bigint)
+                .collect()
+        })
+        .collect()
+}
+
 impl<R: Ring> Factorization for ExactFactorization<R> {
     type Scalar = Rational;
     type LeastSquares = ExactLeastSquares<R>;
 
     fn rows(&self) -> usize {
-        self.ldu.rows()
+        self.a.len()
     }
 
     fn cols(&self) -> usize {
-        self.ldu.cols()
+        self.cols
     }
 
     fn rank(&self) -> usize {
-        self.ldu.rank()
+        match self.factoring.as_ref() {
+            Factoring::FractionFree(ldu) => ldu.rank(),
+            Factoring::Certified(basis) => basis.rank(),
+        }
     }
 
     fn independent_rows(&self) -> Vec<usize> {
-        self.ldu.row_perm()[..self.ldu.rank()].to_vec()
+        match self.factoring.as_ref() {
+            Factoring::FractionFree(ldu) => ldu.row_perm()[..ldu.rank()].to_vec(),
+            Factoring::Certified(basis) => basis.independent().to_vec(),
+        }
     }
 
     fn redundancies(&self) -> Vec<Redundancy<Rational>> {
-        let perm = self.ldu.row_perm();
-        (self.ldu.rank()..self.ldu.rows())
-            .map(|t| {
-                let w = self.ldu.redundancy_weights(t);
-                let coefficients = w.to_rationals();
-                Redundancy {
-                    row: perm[t],
-                    combination: coefficients
-                        .into_iter()
-                        .enumerate()
-                        .filter(|(_, c)| !c.is_zero())
-                        .map(|(k, c)| (perm[k], c))
-                        .collect(),
-                }
-            })
-            .collect()
+        match self.factoring.as_ref() {
+            Factoring::FractionFree(ldu) => {
+                let perm = ldu.row_perm();
+                (ldu.rank()..ldu.rows())
+                    .map(|t| {
+                        let w = ldu.redundancy_weights(t);
+                        let coefficients = w.to_rationals();
+                        Redundancy {
+                            row: perm[t],
+                            combination: coefficients
+                                .into_iter()
+                                .enumerate()
+                                .filter(|(_, c)| !c.is_zero())
+                                .map(|(k, c)| (perm[k], c))
+                                .collect(),
+                        }
+                    })
+                    .collect()
+            }
+            // y_t a_t + Σ y_i a_i = 0, so a_t = Σ (−y_i / y_t) a_i.
+            Factoring::Certified(basis) => basis
+                .dependencies()
+                .iter()
+                .map(|(t, y)| {
+                    let at_t = y
+                        .iter()
+                        .find(|(i, _)| i == t)
+                        .map_or_else(<BigInt as Zero>::zero, |(_, v)| v.clone());
+                    Redundancy {
+                        row: *t,
+                        combination: y
+                            .iter()
+                            .filter(|(i, _)| i != t)
+                            .map(|(i, v)| (*i, Rational::new(-v.clone(), at_t.clone())))
+                            .collect(),
+                    }
+                })
+                .collect(),
+        }
     }
 
     /// Algorithm 14 (`LinSys.Solve`, thesis 8.1): [`Ldu::forward`], the weak check (8.10), then
-    /// the basic solution (`X̃ = 0`).
+    /// the basic solution (`X̃ = 0`); from a certified basis the minimum-norm solution.
     fn solve(&self, rhs: &[Rational]) -> Result<Vec<Rational>, SolveError<Rational>> {
         let forwarded = self.forward_checked(rhs)?;
-        Ok(self.basic_solution(forwarded).to_rationals())
+        Ok(self.solution(forwarded, rhs))
     }
 
     fn check_consistent(&self, rhs: &[Rational]) -> Result<(), SolveError<Rational>> {
@@ -245,7 +432,7 @@ impl<R: Ring> Factorization for ExactFactorization<R> {
         &self,
         family: &RhsFamily,
     ) -> Result<Result<(), StrongFailure<Rational>>, BackendError> {
-        validate_family(family, self.ldu.rows())?;
+        validate_family(family, self.a.len())?;
         // Directions first: when every column of K is in the range, a constant part outside it
         // means the current values themselves are inconsistent, which is then reported as such.
         for parameter in 0..family.coefficients.cols() {

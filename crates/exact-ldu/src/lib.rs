@@ -22,6 +22,7 @@
 //! ```
 
 mod blocks;
+mod certified;
 mod dixon;
 mod factorization;
 mod gcd;
@@ -48,10 +49,18 @@ use api::{BackendError, IntMatrix, LinearBackend};
 use num_bigint::BigInt;
 use std::marker::PhantomData;
 
-/// The exact backend: factors with the fraction-free LDU in the integer type `R`.
+/// Matrices with more entries (rows × columns) than this are factored through a certified row
+/// basis ([`ExactFactorization::certified`]) rather than the fraction-free LDU: below it the
+/// LDU is as fast and its pivots are the thesis' own (see ARCHITECTURE.md, "Certified row
+/// bases").
+pub const CERTIFIED_ABOVE_ENTRIES: usize = 4096;
+
+/// The exact backend: factors with the fraction-free LDU in the integer type `R`, large
+/// matrices through a certified row basis.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct ExactLdu<R: Ring = Int> {
     method: Simplification,
+    certified_above: usize,
     ring: PhantomData<R>,
 }
 
@@ -60,6 +69,7 @@ impl ExactLdu<Int> {
     pub fn new(method: Simplification) -> Self {
         ExactLdu {
             method,
+            certified_above: CERTIFIED_ABOVE_ENTRIES,
             ring: PhantomData,
         }
     }
@@ -70,6 +80,7 @@ impl ExactLdu<BigInt> {
     pub fn without_machine_integers(method: Simplification) -> Self {
         ExactLdu {
             method,
+            certified_above: CERTIFIED_ABOVE_ENTRIES,
             ring: PhantomData,
         }
     }
@@ -86,6 +97,15 @@ impl<R: Ring> ExactLdu<R> {
     pub fn method(&self) -> Simplification {
         self.method
     }
+
+    /// The same backend with certified row bases for matrices of more than `entries` entries
+    /// (`0`: always; `usize::MAX`: never, the fraction-free LDU throughout).
+    pub fn certified_above(self, entries: usize) -> Self {
+        ExactLdu {
+            certified_above: entries,
+            ..self
+        }
+    }
 }
 
 impl<R: Ring> LinearBackend for ExactLdu<R> {
@@ -95,10 +115,12 @@ impl<R: Ring> LinearBackend for ExactLdu<R> {
         "exact-ldu"
     }
 
-    /// Factors `matrix`; the same matrix factored twice in a row is factored once (the memo of
-    /// the last factoring: ExpandDerived and ECLES Initialize factor the same `R_ED`).
+    /// Factors `matrix` (through a certified row basis above the size limit); the same matrix
+    /// factored twice in a row is factored once (the memo of the last factoring: ExpandDerived
+    /// and ECLES Initialize factor the same `R_ED`).
     fn factor(&self, matrix: &IntMatrix) -> Result<Self::Factorization, BackendError> {
-        Ok(memo::factor(matrix, self.method))
+        let certified = matrix.rows().saturating_mul(matrix.cols()) > self.certified_above;
+        Ok(memo::factor(matrix, self.method, certified))
     }
 }
 

@@ -17,6 +17,7 @@ use std::sync::Mutex;
 
 struct LastFactored {
     method: Simplification,
+    certified: bool,
     ring: TypeId,
     matrix: IntMatrix,
     factorization: Box<dyn Any + Send>,
@@ -32,22 +33,35 @@ pub fn forget_last_factoring() {
     }
 }
 
-/// The factoring of `matrix` by `method` in the ring `R`, from the memo when it is the last one
-/// made.
-pub(crate) fn factor<R: Ring>(matrix: &IntMatrix, method: Simplification) -> ExactFactorization<R> {
+/// The factoring of `matrix` by `method` in the ring `R` (through a certified row basis when
+/// `certified`), from the memo when it is the last one made.
+pub(crate) fn factor<R: Ring>(
+    matrix: &IntMatrix,
+    method: Simplification,
+    certified: bool,
+) -> ExactFactorization<R> {
     if let Ok(guard) = LAST_FACTORED.lock() {
         if let Some(last) = guard.as_ref() {
-            if last.method == method && last.ring == TypeId::of::<R>() && last.matrix == *matrix {
+            if last.method == method
+                && last.certified == certified
+                && last.ring == TypeId::of::<R>()
+                && last.matrix == *matrix
+            {
                 if let Some(f) = last.factorization.downcast_ref::<ExactFactorization<R>>() {
                     return f.clone();
                 }
             }
         }
     }
-    let f = ExactFactorization::<R>::new(matrix, method);
+    let f = if certified {
+        ExactFactorization::<R>::certified(matrix, method)
+    } else {
+        ExactFactorization::<R>::new(matrix, method)
+    };
     if let Ok(mut guard) = LAST_FACTORED.lock() {
         *guard = Some(LastFactored {
             method,
+            certified,
             ring: TypeId::of::<R>(),
             matrix: matrix.clone(),
             factorization: Box::new(f.clone()),
@@ -77,10 +91,13 @@ mod tests {
             (&b, Simplification::Gcd),
             (&a, Simplification::Gcd),
         ] {
-            let memo = factor::<Int>(matrix, method);
+            let memo = factor::<Int>(matrix, method, false);
             assert_eq!(memo, ExactFactorization::<Int>::new(matrix, method));
+            let memo = factor::<Int>(matrix, method, true);
+            assert_eq!(memo, ExactFactorization::<Int>::certified(matrix, method));
+            assert!(memo.is_certified());
         }
-        assert_eq!(factor::<Int>(&a, Simplification::Gcd).rank(), 2);
-        assert_eq!(factor::<Int>(&b, Simplification::Gcd).rank(), 3);
+        assert_eq!(factor::<Int>(&a, Simplification::Gcd, false).rank(), 2);
+        assert_eq!(factor::<Int>(&b, Simplification::Gcd, true).rank(), 3);
     }
 }

@@ -1,5 +1,6 @@
 //! The backend contract (`backend-contract`) on every exact backend: the fraction-free LDU with
-//! each simplification (machine integers and big integers only), the block-wise factoring, and
+//! each simplification (machine integers and big integers only), the certified row basis (every
+//! matrix, also the small fixtures), the block-wise factoring, and
 //! the rank, redundancy and consistency answers of the sparse elimination.
 
 use api::{IntMatrix, Integer, Rational, Redundancy};
@@ -23,6 +24,14 @@ backend_tests!(
 );
 backend_tests!(
     bigint_turner: ExactLdu::without_machine_integers(Simplification::Turner),
+    Contract::exact()
+);
+backend_tests!(
+    certified: ExactLdu::new(Simplification::Gcd).certified_above(0),
+    Contract::exact()
+);
+backend_tests!(
+    bigint_certified: ExactLdu::without_machine_integers(Simplification::Gcd).certified_above(0),
     Contract::exact()
 );
 backend_tests!(

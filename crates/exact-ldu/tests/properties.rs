@@ -25,11 +25,11 @@ proptest! {
         let a = oracle::dense(&matrix);
         for method in METHODS {
             let f = ExactLdu::new(method).factor(&matrix).expect("factor");
-            prop_assert_eq!(&f.ldu().reconstruct(), &a);
+            prop_assert_eq!(&f.ldu().expect("factored fraction-free").reconstruct(), &a);
             let big = ExactLdu::without_machine_integers(method).factor(&matrix).expect("factor");
-            prop_assert_eq!(big.ldu().dense_factors(), f.ldu().dense_factors());
-            prop_assert_eq!(big.ldu().row_perm(), f.ldu().row_perm());
-            prop_assert_eq!(big.ldu().col_perm(), f.ldu().col_perm());
+            prop_assert_eq!(big.ldu().expect("factored fraction-free").dense_factors(), f.ldu().expect("factored fraction-free").dense_factors());
+            prop_assert_eq!(big.ldu().expect("factored fraction-free").row_perm(), f.ldu().expect("factored fraction-free").row_perm());
+            prop_assert_eq!(big.ldu().expect("factored fraction-free").col_perm(), f.ldu().expect("factored fraction-free").col_perm());
         }
     }
 }

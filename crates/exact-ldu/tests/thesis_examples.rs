@@ -30,7 +30,7 @@ fn factoring_of_matrix_4_3() {
     let f = ExactLdu::new(Simplification::Turner)
         .factor(&thesis::matrix_4_3())
         .expect("factor");
-    let ldu = f.ldu();
+    let ldu = f.ldu().expect("factored fraction-free");
     assert_eq!(ldu.rank(), thesis::RANK_4_3);
     assert_eq!(ldu.row_perm(), printed.row_perm.as_slice());
     assert_eq!(ldu.col_perm(), printed.col_perm.as_slice());
@@ -53,12 +53,12 @@ fn factoring_of_matrix_4_3() {
             .factor(&thesis::matrix_4_3())
             .expect("factor");
         assert_eq!(
-            f.ldu().row_perm(),
+            f.ldu().expect("factored fraction-free").row_perm(),
             printed.row_perm.as_slice(),
             "{method:?}"
         );
         assert_eq!(
-            f.ldu().col_perm(),
+            f.ldu().expect("factored fraction-free").col_perm(),
             printed.col_perm.as_slice(),
             "{method:?}"
         );
@@ -67,7 +67,11 @@ fn factoring_of_matrix_4_3() {
             .into_iter()
             .map(|row| row.into_iter().map(Rational::from_integer).collect())
             .collect();
-        assert_eq!(f.ldu().reconstruct(), a, "{method:?}");
+        assert_eq!(
+            f.ldu().expect("factored fraction-free").reconstruct(),
+            a,
+            "{method:?}"
+        );
     }
 }
 
@@ -77,7 +81,7 @@ fn gcd_factoring_of_matrix_4_3() {
     let f = ExactLdu::new(Simplification::Gcd)
         .factor(&thesis::matrix_4_3())
         .expect("factor");
-    let (_, _, u) = f.ldu().dense_factors();
+    let (_, _, u) = f.ldu().expect("factored fraction-free").dense_factors();
     assert_eq!(u, ints(&thesis::u_4_3_gcd()));
 }
 
@@ -92,7 +96,13 @@ fn solve_8_17() {
             .factor(&thesis::matrix_4_3())
             .expect("factor");
         let p = f.solve(&b).expect("solvable");
-        let x: Vec<Rational> = f.ldu().col_perm().iter().map(|&c| p[c].clone()).collect();
+        let x: Vec<Rational> = f
+            .ldu()
+            .expect("factored fraction-free")
+            .col_perm()
+            .iter()
+            .map(|&c| p[c].clone())
+            .collect();
         assert_eq!(x, thesis::x_8_22(), "{method:?}");
         assert_eq!(p, thesis::solution_8_17(), "{method:?}");
     }

@@ -80,9 +80,8 @@ impl<R: Ring> ExactLeastSquares<R> {
         let n = f.cols();
         validate_family(family, m)?;
         validate_weights(weights, n)?;
-        let ldu = f.ldu();
-        let r = ldu.rank();
-        let independent = &ldu.row_perm()[..r];
+        let r = f.rank();
+        let independent = &f.independent_rows();
 
         // V = δ W⁻¹ with δ the lcm of the weight numerators.
         let mut delta = BigInt::from(1);
@@ -114,9 +113,12 @@ impl<R: Ring> ExactLeastSquares<R> {
             .collect();
 
         let v: Vec<BigInt> = v.iter().map(Ring::to_bigint).collect();
-        let normal = (r > 0).then(|| {
-            LiftingSolver::new_symmetric(r, normal_matrix(&a_hat, &v, n))
-                .expect("Â V Âᵀ is positive definite for independent rows Â and positive V")
+        // With unit weights G = Â Âᵀ, which a certified basis has already prepared.
+        let unit_weights = v.iter().all(num_traits::One::is_one);
+        let normal = (r > 0).then(|| match f.gram_solver() {
+            Some(gram) if unit_weights => gram.clone(),
+            _ => LiftingSolver::new_symmetric(r, normal_matrix(&a_hat, &v, n))
+                .expect("Â V Âᵀ is positive definite for independent rows Â and positive V"),
         });
 
         let constants: Vec<QVec<R>> = family
@@ -124,9 +126,10 @@ impl<R: Ring> ExactLeastSquares<R> {
             .iter()
             .map(|c| QVec::from_rationals(c))
             .collect();
-        let checks = (r..m)
-            .map(|t| {
-                let y = f.dependency(t);
+        let checks = f
+            .dependencies()
+            .into_iter()
+            .map(|y| {
                 let mut y_k_dense = vec![R::zero(); family.coefficients.cols()];
                 for (i, yi) in &y {
                     for (c, kv) in &k_rows[*i] {

@@ -1,15 +1,18 @@
 //! Arithmetic modulo a word-sized prime and the factorings of a square integer matrix modulo
 //! that prime: the "cheap inverse" of Dixon's p-adic lifting ([`crate::dixon`]) — a sparse
 //! `L D Lᵀ` in a fill-reducing order for symmetric matrices ([`ldlt`]), a dense `P A = L U`
-//! for the rest ([`dense`]).
+//! for the rest ([`dense`]) — and the row rank profile of a sparse matrix modulo a prime
+//! ([`echelon`]), the first step of the certified row basis ([`crate::certified`]).
 //!
 //! Primes are below `2^31`, so a product of two residues is below `2^62` and a dot product
 //! accumulates in `u128` without reducing every term.
 
 mod dense;
+mod echelon;
 mod ldlt;
 
 pub(crate) use dense::ModularLu;
+pub(crate) use echelon::row_profile;
 pub(crate) use ldlt::{fill_reducing_order, SparseLdlt};
 
 use num_bigint::{BigInt, Sign};
