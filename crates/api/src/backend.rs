@@ -267,6 +267,26 @@ pub trait PreparedLeastSquares: Send + Sync {
             .map(|x| x.iter().map(Value::to_f64).collect())
     }
 
+    /// Like [`PreparedLeastSquares::solve`] (same checks, same verdict) but a point of the
+    /// constraint set near the optimum whose values have small denominators: free values on
+    /// the grid `2^−grid_bits`, the others exact consequences of the constraints (a snapped
+    /// commit, for long editing sessions whose exact optima would grow without bound). Every
+    /// constraint holds exactly; [`Snapped::distance_bound`] says how far it may be from the
+    /// optimum. Backends whose values have no denominators to bound return the optimum.
+    fn solve_snapped(
+        &self,
+        column: usize,
+        alpha: &[Rational],
+        hints: &[Rational],
+        _grid_bits: u32,
+    ) -> Result<Snapped<Self::Scalar>, SolveError<Self::Scalar>> {
+        self.solve(column, alpha, hints).map(|values| Snapped {
+            values,
+            distance_bound: 0.0,
+            optimum: true,
+        })
+    }
+
     /// Like [`PreparedLeastSquares::solve`] (same checks, same verdict, the same values) but
     /// exact fractions not reduced to lowest terms, for exact drag frames. `None` from backends
     /// whose answers are not exact or that have no cheaper unreduced form (then reduce
@@ -280,6 +300,20 @@ pub trait PreparedLeastSquares: Send + Sync {
     ) -> Result<Option<Vec<Fraction>>, SolveError<Self::Scalar>> {
         Ok(None)
     }
+}
+
+/// A solution of the constraints near the least-squares optimum
+/// ([`PreparedLeastSquares::solve_snapped`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Snapped<S> {
+    /// The values, satisfying every constraint exactly.
+    pub values: Vec<S>,
+    /// Every value is within this distance of the optimum's value (an upper bound, rounded
+    /// up; 0 when `optimum`).
+    pub distance_bound: f64,
+    /// The values are the optimum itself: no snapped point was found, or the backend's values
+    /// have no denominators to bound.
+    pub optimum: bool,
 }
 
 /// An exact value as a fraction not reduced to lowest terms (positive denominator): the values of

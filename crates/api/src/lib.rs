@@ -24,7 +24,7 @@ pub mod system;
 
 pub use backend::{
     BackendError, Factorization, Fraction, Inconsistency, LinearBackend, PreparedLeastSquares,
-    RankMargin, Redundancy, RhsFamily, SolveError, StrongFailure, Value,
+    RankMargin, Redundancy, RhsFamily, Snapped, SolveError, StrongFailure, Value,
 };
 pub use exact::{
     coprime_integers, format_rational, parse_rational, Integer, ParseRationalError, Rational,

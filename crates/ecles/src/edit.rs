@@ -115,6 +115,18 @@ impl UpdateResult<Rational> {
     }
 }
 
+/// What a snapped update ([`Edit::update_snapped`]) committed instead of the optimum.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SnapSummary {
+    /// Free values are multiples of `2^−grid_bits`.
+    pub grid_bits: u32,
+    /// Every derived value is within this distance of the least-squares optimum's (an upper
+    /// bound, proved exactly and rounded up).
+    pub distance_bound: f64,
+    /// Right-hand-side columns that could not be snapped and hold the optimum itself.
+    pub optimum_columns: usize,
+}
+
 /// An initialised editing action: call [`Edit::update`] (or [`Edit::apply`]) once per new set of
 /// anchor values and hints.
 #[derive(Debug, Clone)]
@@ -445,6 +457,48 @@ impl<F: Factorization<Scalar = Rational>> Edit<F> {
                     .collect()),
             }
         })
+    }
+
+    /// ECLES.Update committed as a snapped point (see [`api::PreparedLeastSquares::solve_snapped`]):
+    /// the same verdict as [`Edit::update`], derived values that satisfy every relevant
+    /// constraint exactly with small denominators (free values on the grid `2^−grid_bits`),
+    /// and how far they may be from the least-squares optimum. What long editing sessions
+    /// commit: the optimum's denominators grow with every edit, these stay bounded.
+    pub fn update_snapped(
+        &self,
+        anchor_values: &[Vec<Rational>],
+        hints: &[Vec<Rational>],
+        grid_bits: u32,
+    ) -> Result<(UpdateResult<Rational>, SnapSummary), EditError<Rational>> {
+        let prepared = &self.prepared;
+        let summary = std::sync::Mutex::new(SnapSummary {
+            grid_bits,
+            distance_bound: 0.0,
+            optimum_columns: 0,
+        });
+        let derived = self.solve_with(anchor_values, hints, |column, alpha, h| {
+            let snapped = prepared.solve_snapped(column, alpha, h, grid_bits)?;
+            if let Ok(mut s) = summary.lock() {
+                s.distance_bound = s.distance_bound.max(snapped.distance_bound);
+                s.optimum_columns += usize::from(snapped.optimum);
+            }
+            Ok(snapped.values)
+        })?;
+        let summary = summary
+            .into_inner()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        Ok((
+            UpdateResult {
+                anchors: self
+                    .anchors
+                    .iter()
+                    .copied()
+                    .zip(anchor_values.iter().cloned())
+                    .collect(),
+                derived: self.derived.iter().copied().zip(derived).collect(),
+            },
+            summary,
+        ))
     }
 
     /// Runs [`Edit::update`] and, only if it succeeds, writes the anchor and derived values into

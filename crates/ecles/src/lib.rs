@@ -30,7 +30,7 @@ mod reduce;
 mod relevant;
 
 pub use drag::Drag;
-pub use edit::{Edit, EditSpec, InitReport, Layout, RowRef, UpdateResult};
+pub use edit::{Edit, EditSpec, InitReport, Layout, RowRef, SnapSummary, UpdateResult};
 pub use error::{Conflict, ConflictingRow, EditError};
 pub use moves::check_moves;
 pub use reduce::{reduce_edit, ReducedSystem};

@@ -28,7 +28,8 @@
 //! right-hand side `2k (2 nnz(L) + nnz(A))` word operations (`n²` for `nnz(L)` when dense) for
 //! `k ≈ (bits of numerators + denominator) / 31` steps of each phase, plus combining the digits.
 
-use crate::modular::{fill_reducing_order, lifting_primes, ModularLu, Modulus, SparseLdlt};
+use crate::ldlt_symbolic::fill_reducing_order;
+use crate::modular::{lifting_primes, ModularLu, Modulus, SparseLdlt};
 use num_bigint::{BigInt, BigUint, Sign};
 use num_integer::Integer;
 use num_traits::{One, Signed, ToPrimitive, Zero};

@@ -26,6 +26,7 @@ mod certified;
 mod dixon;
 mod factorization;
 mod gcd;
+mod ldlt_symbolic;
 mod ldu;
 mod lsq;
 mod memo;
@@ -33,6 +34,7 @@ mod modular;
 mod qvec;
 mod reduce;
 mod ring;
+mod snap;
 pub mod sparse;
 
 pub use blocks::{components, BlockFactorization, BlockLeastSquares};

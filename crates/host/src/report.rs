@@ -168,6 +168,33 @@ pub struct EditReport {
     pub disagreements: Vec<String>,
     /// Facts from the source's planning.
     pub plan: std::collections::BTreeMap<String, u64>,
+    /// What a snapped commit wrote instead of the optimum (absent for the default commit of
+    /// the optimum).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub snap: Option<SnapReport>,
+}
+
+/// A snapped commit: the values satisfy every constraint exactly (`max_residual` is `"0"`)
+/// and lie near the exact least-squares optimum.
+#[derive(Debug, Clone, Serialize)]
+pub struct SnapReport {
+    /// Free values are multiples of `2^−grid_bits`.
+    pub grid_bits: u32,
+    /// Every derived value is within this distance of the optimum's value (proved exactly by
+    /// weak duality, rounded up).
+    pub distance_bound: f64,
+    /// Right-hand-side columns that could not be snapped and hold the optimum itself.
+    pub optimum_columns: usize,
+}
+
+impl From<ecles::SnapSummary> for SnapReport {
+    fn from(s: ecles::SnapSummary) -> Self {
+        SnapReport {
+            grid_bits: s.grid_bits,
+            distance_bound: s.distance_bound,
+            optimum_columns: s.optimum_columns,
+        }
+    }
 }
 
 /// A parameter value.

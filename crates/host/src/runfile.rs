@@ -94,6 +94,8 @@ pub struct RunFile {
     pub backend: BackendConfig,
     /// Float cross-check settings; `None` turns it off.
     pub cross_check: Option<CrossCheckConfig>,
+    /// What an edit commits: the exact least-squares optimum (default) or a snapped point.
+    pub commit: CommitPolicy,
     /// Edits, run in order.
     pub edits: Vec<EditEntry>,
     /// Outputs rendered by sources after the edits.
@@ -134,6 +136,50 @@ pub struct BackendConfig {
     /// Simplification method.
     #[serde(default)]
     pub simplify: Simplify,
+}
+
+/// Largest grid of a snapped commit, in bits below the unit: `2^−256` is far below any
+/// meaningful coordinate, and it bounds the size of committed values.
+pub const MAX_GRID_BITS: u32 = 256;
+
+/// What an edit commits.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
+#[serde(try_from = "RawCommit")]
+pub enum CommitPolicy {
+    /// The exact least-squares optimum (the thesis' ECLES): its denominators grow with every
+    /// edit of a session.
+    #[default]
+    Optimum,
+    /// A point of the constraint set near the optimum with small denominators: free values on
+    /// the grid `2^−grid_bits`, the others exact consequences of the constraints; every
+    /// constraint holds exactly, the report gives a proved bound on the distance to the
+    /// optimum. Sizes stay bounded over long sessions.
+    Snapped {
+        /// Free values are multiples of `2^−grid_bits` (1 ..= [`MAX_GRID_BITS`]).
+        grid_bits: u32,
+    },
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+enum RawCommit {
+    Optimum,
+    Snapped { grid_bits: u32 },
+}
+
+impl TryFrom<RawCommit> for CommitPolicy {
+    type Error = String;
+    fn try_from(raw: RawCommit) -> Result<Self, String> {
+        match raw {
+            RawCommit::Optimum => Ok(CommitPolicy::Optimum),
+            RawCommit::Snapped { grid_bits } if (1..=MAX_GRID_BITS).contains(&grid_bits) => {
+                Ok(CommitPolicy::Snapped { grid_bits })
+            }
+            RawCommit::Snapped { grid_bits } => Err(format!(
+                "commit grid_bits {grid_bits} must be between 1 and {MAX_GRID_BITS}"
+            )),
+        }
+    }
 }
 
 /// Float cross-check settings.
@@ -327,6 +373,8 @@ struct RawRunFile<'a> {
     backend: BackendConfig,
     #[serde(default = "default_cross_check")]
     cross_check: Option<CrossCheckConfig>,
+    #[serde(default)]
+    commit: CommitPolicy,
     #[serde(borrow, default)]
     edits: Vec<&'a RawValue>,
     #[serde(borrow, default)]
@@ -487,6 +535,7 @@ pub fn parse(text: &str, name: &str) -> Result<RunFile, RunFileError> {
         sources,
         backend: raw.backend,
         cross_check: raw.cross_check,
+        commit: raw.commit,
         edits,
         outputs,
     })

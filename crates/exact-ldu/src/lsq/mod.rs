@@ -23,6 +23,7 @@ mod affine;
 use crate::factorization::{ExactFactorization, SparseRow};
 use crate::qvec::QVec;
 use crate::ring::{Int, Ring};
+use crate::snap::Snapper;
 use api::backend::{check_len, validate_family, validate_weights};
 use api::{
     BackendError, Factorization, Inconsistency, PreparedLeastSquares, Rational, RhsFamily,
@@ -30,6 +31,7 @@ use api::{
 };
 use num_bigint::BigInt;
 use num_traits::Zero;
+use std::sync::OnceLock;
 
 /// One left-null-space vector `y` (`yᵀA = 0`) with its products against the family.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -57,7 +59,23 @@ pub struct ExactLeastSquares<R: Ring = Int> {
     checks: Vec<ConsistencyCheck<R>>,
     /// The responses to the anchors and the last base per column ([`affine`]).
     memo: affine::AffineMemo<R>,
+    /// What snapped solves need, prepared at the first one ([`crate::snap`]).
+    snapper: SnapMemo,
 }
+
+/// The preparation of snapped solves, made at the first one (`None` inside: snapping is not
+/// possible for this edit and the optimum is committed). Like the other memos, copies keep the
+/// contents and two memos compare equal: it is derived from the rest of the prepared data.
+#[derive(Debug, Default, Clone)]
+struct SnapMemo(OnceLock<Option<Snapper>>);
+
+impl PartialEq for SnapMemo {
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
+}
+
+impl Eq for SnapMemo {}
 
 fn dot_sparse<R: Ring>(row: &[(usize, R)], x: &[R]) -> R {
     let mut acc = R::zero();
@@ -169,6 +187,7 @@ impl<R: Ring> ExactLeastSquares<R> {
             normal,
             checks,
             memo: affine::AffineMemo::new(family.constant.len()),
+            snapper: SnapMemo::default(),
         })
     }
 
@@ -262,6 +281,48 @@ impl<R: Ring> PreparedLeastSquares for ExactLeastSquares<R> {
         })
     }
 
+    /// The free values of a peeled basis on the grid, the others exact (see [`crate::snap`]);
+    /// the optimum when this edit cannot be snapped.
+    fn solve_snapped(
+        &self,
+        column: usize,
+        alpha: &[Rational],
+        hints: &[Rational],
+        grid_bits: u32,
+    ) -> Result<api::Snapped<Rational>, SolveError<Rational>> {
+        self.validate(column, alpha)?;
+        check_len("hints", hints.len(), self.n)?;
+        let alpha_q = QVec::<R>::from_rationals(alpha);
+        self.check_prepared(column, &alpha_q)?;
+        let snapper = self.snapper.0.get_or_init(|| {
+            Snapper::new(
+                &self.a_hat,
+                &self.v,
+                normal_matrix(&self.a_hat, &self.v, self.n),
+            )
+        });
+        if let Some(solved) = snapper.as_ref().and_then(|s| {
+            s.solve(
+                &self.a_hat,
+                &self.v,
+                &self.b_hat(column, &alpha_q),
+                hints,
+                grid_bits,
+            )
+        }) {
+            return Ok(api::Snapped {
+                values: solved.values,
+                distance_bound: solved.distance_bound,
+                optimum: false,
+            });
+        }
+        Ok(api::Snapped {
+            values: self.solve(column, alpha, hints)?,
+            distance_bound: 0.0,
+            optimum: true,
+        })
+    }
+
     /// The exact solution over its common denominator, not reduced.
     fn solve_unreduced(
         &self,
@@ -323,6 +384,21 @@ impl<R: Ring> ExactLeastSquares<R> {
         let base = self.base(normal, column, &h);
         let x = affine::combine(base, self.responses(normal), &alpha);
         Ok(Some((x.num, x.den)))
+    }
+
+    /// `b̂ = ĉ_j − K̂ α` at the independent rows, as rationals.
+    fn b_hat(&self, column: usize, alpha: &QVec<R>) -> Vec<Rational> {
+        let c = &self.c_hat[column];
+        let c_den = c.den.to_bigint();
+        let alpha_den = alpha.den.to_bigint();
+        self.k_hat
+            .iter()
+            .zip(&c.num)
+            .map(|(k_row, c_num)| {
+                Rational::new(c_num.to_bigint(), c_den.clone())
+                    - Rational::new(dot_sparse(k_row, &alpha.num).to_bigint(), alpha_den.clone())
+            })
+            .collect()
     }
 
     /// Number of redundant rows whose consistency each update checks.

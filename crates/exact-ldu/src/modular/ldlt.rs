@@ -15,29 +15,7 @@
 //! only for primes dividing one of those minors, and the caller then tries another prime.
 
 use super::Modulus;
-
-/// Pivot `k` of the factoring is row and column `order[k]` of `A`: a fill-reducing order of
-/// the symmetric pattern given by `rows` (each row's column indices, increasing, the diagonal
-/// included; the values are not read). The identity when the ordering cannot be computed (an
-/// order only changes speed).
-pub(crate) fn fill_reducing_order<T>(rows: &[Vec<(usize, T)>]) -> Vec<usize> {
-    let n = rows.len();
-    let identity = || (0..n).collect();
-    let Ok(size) = isize::try_from(n) else {
-        return identity();
-    };
-    let mut starts: Vec<isize> = Vec::with_capacity(n + 1);
-    let mut indices: Vec<isize> = Vec::new();
-    starts.push(0);
-    for row in rows {
-        indices.extend(row.iter().map(|(j, _)| *j as isize));
-        starts.push(indices.len() as isize);
-    }
-    match amd::order::<isize>(size, &starts, &indices, &amd::Control::default()) {
-        Ok((order, _, _)) if order.len() == n => order.into_iter().map(|k| k as usize).collect(),
-        _ => identity(),
-    }
-}
+use crate::ldlt_symbolic::{elimination_tree, RowPatterns};
 
 /// The factors of `P A Pᵀ = L D Lᵀ (mod p)`, `L` kept both by rows and by columns (the forward
 /// and the backward substitution each read one of them as a gather).
@@ -57,9 +35,6 @@ pub(crate) struct SparseLdlt {
     /// `D⁻¹`.
     inverse_diagonal: Vec<u64>,
 }
-
-/// No parent in the elimination tree.
-const ROOT: usize = usize::MAX;
 
 impl SparseLdlt {
     /// Factors the symmetric `A` (`n × n`, both triangles given, as sparse rows of residues)
@@ -83,6 +58,7 @@ impl SparseLdlt {
             position[old] = k;
         }
         let (parent, counts) = elimination_tree(rows, order, &position);
+        let mut walker = RowPatterns::new(n);
         let mut column_starts = Vec::with_capacity(n + 1);
         column_starts.push(0);
         for c in &counts {
@@ -96,37 +72,18 @@ impl SparseLdlt {
         let mut row_entries = Vec::with_capacity(total);
         let mut inverse_diagonal = Vec::with_capacity(n);
         let mut y = vec![0u64; n];
-        let mut flag = vec![ROOT; n];
-        let mut pattern = vec![0usize; n];
         let p = modulus.prime();
         for k in 0..n {
-            // The pattern of row k of L: the nodes reached from A's entries left of the diagonal
-            // by walking up the elimination tree, stacked so that descendants come first.
-            let mut top = n;
-            flag[k] = k;
             for &(j, a) in &rows[order[k]] {
-                let mut i = position[j];
-                if i > k {
-                    continue;
-                }
-                y[i] = modulus.reduce(y[i] + a);
-                let mut len = 0;
-                while flag[i] != k {
-                    pattern[len] = i;
-                    len += 1;
-                    flag[i] = k;
-                    i = parent[i];
-                }
-                while len > 0 {
-                    top -= 1;
-                    len -= 1;
-                    pattern[top] = pattern[len];
+                let i = position[j];
+                if i <= k {
+                    y[i] = modulus.reduce(y[i] + a);
                 }
             }
             // Sparse triangular solve for row k, then its diagonal entry.
             let mut diagonal = y[k];
             y[k] = 0;
-            for &i in &pattern[top..n] {
+            for &i in walker.row(&rows[order[k]], k, &position, &parent) {
                 let yi = y[i];
                 y[i] = 0;
                 let minus_yi = (p - yi) % p;
@@ -205,40 +162,10 @@ impl SparseLdlt {
     }
 }
 
-/// The elimination tree of `P A Pᵀ` (`parent[i]`, [`ROOT`] for a root) and the number of
-/// entries of each column of `L` below the diagonal (Davis' `ldl_symbolic`).
-fn elimination_tree(
-    rows: &[Vec<(usize, u64)>],
-    order: &[usize],
-    position: &[usize],
-) -> (Vec<usize>, Vec<usize>) {
-    let n = rows.len();
-    let mut parent = vec![ROOT; n];
-    let mut counts = vec![0usize; n];
-    let mut flag = vec![ROOT; n];
-    for k in 0..n {
-        flag[k] = k;
-        for &(j, _) in &rows[order[k]] {
-            let mut i = position[j];
-            if i >= k {
-                continue;
-            }
-            while flag[i] != k {
-                if parent[i] == ROOT {
-                    parent[i] = k;
-                }
-                counts[i] += 1;
-                flag[i] = k;
-                i = parent[i];
-            }
-        }
-    }
-    (parent, counts)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::ldlt_symbolic::fill_reducing_order;
 
     /// A symmetric positive definite matrix with the pattern of a path plus a few chords.
     fn sample(n: usize) -> Vec<Vec<i64>> {

@@ -13,7 +13,7 @@ mod ldlt;
 
 pub(crate) use dense::ModularLu;
 pub(crate) use echelon::row_profile;
-pub(crate) use ldlt::{fill_reducing_order, SparseLdlt};
+pub(crate) use ldlt::SparseLdlt;
 
 use num_bigint::{BigInt, Sign};
 use num_traits::ToPrimitive;

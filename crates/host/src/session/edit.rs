@@ -4,8 +4,8 @@
 use super::Session;
 use crate::analysis::{label, max_residual};
 use crate::error::RunError;
-use crate::report::{EditReport, ValueReport};
-use crate::runfile::{EditKind, GenericEdit};
+use crate::report::{EditReport, SnapReport, ValueReport};
+use crate::runfile::{CommitPolicy, EditKind, GenericEdit};
 use api::{
     format_rational, ConstraintSystem, Factorization, Highlight, LinearBackend, ParamId,
     PlanRequest, PlannedStep, Rational, Value, Values,
@@ -184,7 +184,25 @@ impl Session {
         report.anchors = spec.anchors.iter().map(|p| self.name(*p)).collect();
         report.derived = spec.derived.iter().map(|p| self.name(*p)).collect();
         report.steps = steps.len();
-        let exact = execute(&self.exact, &self.system, &self.values, spec, steps);
+        let commit = self.run.commit;
+        let snapped = std::cell::Cell::new(None::<ecles::SnapSummary>);
+        let exact = execute(
+            &self.exact,
+            &self.system,
+            &self.values,
+            spec,
+            steps,
+            |edit, step| match commit {
+                CommitPolicy::Optimum => edit.update(&step.anchors, &step.hints),
+                CommitPolicy::Snapped { grid_bits } => {
+                    let (result, summary) =
+                        edit.update_snapped(&step.anchors, &step.hints, grid_bits)?;
+                    snapped.set(Some(summary));
+                    Ok(result)
+                }
+            },
+        );
+        report.snap = snapped.get().map(SnapReport::from);
         report.structure = ecles::reduce_edit::<Rational>(&self.system, &self.values, spec)
             .ok()
             .map(|(_, reduced)| crate::structural::edit_structure(&self.system, &reduced));
@@ -377,7 +395,14 @@ impl Session {
                 return;
             }
         };
-        let float = execute(&backend, &self.system, &self.values, spec, steps);
+        let float = execute(
+            &backend,
+            &self.system,
+            &self.values,
+            spec,
+            steps,
+            |edit, step| edit.update(&step.anchors, &step.hints),
+        );
         if let (Some(e), Some(f)) = (&exact.init, &float.init) {
             if e.rank != f.rank {
                 report
@@ -397,7 +422,9 @@ impl Session {
                     }
                 }
                 report.float_deviation = Some(deviation);
-                let bound = tolerance.sqrt().max(1e-6);
+                // A snapped commit may differ from the optimum by its proved distance.
+                let snapped = report.snap.as_ref().map_or(0.0, |s| s.distance_bound);
+                let bound = tolerance.sqrt().max(1e-6) + snapped;
                 if deviation > bound {
                     report.disagreements.push(format!(
                         "float values deviate by {deviation:e} (relative), above {bound:e}"
@@ -457,6 +484,18 @@ impl ActiveEdit {
         self.edit.update(&step.anchors, &step.hints)
     }
 
+    /// ECLES.Update committed as a snapped point (free values on the grid `2^−grid_bits`, every
+    /// constraint exact, a proved bound on the distance to the optimum): what a long editing
+    /// session commits so that its values stay small.
+    pub fn update_snapped(
+        &self,
+        step: &PlannedStep,
+        grid_bits: u32,
+    ) -> Result<(UpdateResult<Rational>, ecles::SnapSummary), EditError<Rational>> {
+        self.edit
+            .update_snapped(&step.anchors, &step.hints, grid_bits)
+    }
+
     /// The same verdict as [`ActiveEdit::update`] with the derived values as `f64`, cheaper
     /// (for drag frames).
     pub fn preview(&self, step: &PlannedStep) -> Result<Vec<Vec<f64>>, EditError<Rational>> {
@@ -484,12 +523,22 @@ struct Execution<S: api::Value> {
     outcome: Result<Vec<UpdateResult<S>>, EditError<S>>,
 }
 
+/// Initialises `spec` on `backend` and runs every step through `update` (the optimum, or a
+/// snapped point for the exact backend).
+#[allow(clippy::type_complexity)]
 fn execute<B: LinearBackend>(
     backend: &B,
     system: &ConstraintSystem,
     values: &Values,
     spec: &EditSpec,
     steps: &[PlannedStep],
+    update: impl Fn(
+        &Edit<B::Factorization>,
+        &PlannedStep,
+    ) -> Result<
+        UpdateResult<<B::Factorization as Factorization>::Scalar>,
+        EditError<<B::Factorization as Factorization>::Scalar>,
+    >,
 ) -> Execution<<B::Factorization as Factorization>::Scalar> {
     let edit = match Edit::initialize(backend, system, values, spec) {
         Ok(edit) => edit,
@@ -515,7 +564,7 @@ fn execute<B: LinearBackend>(
     };
     let outcome = steps
         .iter()
-        .map(|s| edit.update(&s.anchors, &s.hints))
+        .map(|s| update(&edit, s))
         .collect::<Result<Vec<_>, _>>();
     Execution {
         init: Some(init),
@@ -581,6 +630,66 @@ mod tests {
         assert!(session.undo());
         assert_eq!(session.values, before);
         assert!(!session.undo());
+    }
+
+    /// The same session of overlapping edits committed as optima and as snapped points: both
+    /// satisfy every row exactly; the snapped values stay small while the optima grow, each
+    /// snapped edit reports a bound, and the float cross-check agrees within it.
+    #[test]
+    fn snapped_commits_keep_values_small_and_every_row_exact() {
+        let edits = r#"edits: [
+            Source(source: "worm", operation: (anchors: ["v3"], neighborhood: 3, translate: ("1/3", "6"))),
+            Source(source: "worm", operation: (anchors: ["v4"], neighborhood: 3, translate: ("-2", "1/7"))),
+            Source(source: "worm", operation: (anchors: ["v2"], neighborhood: 3, translate: ("5/11", "-3"))),
+            Source(source: "worm", operation: (anchors: ["v3"], neighborhood: 3, translate: ("1", "1/13"))),
+        ]"#;
+        let run = |commit: &str| {
+            check(&format!(
+                "(sources: [(name: \"worm\", plugin: \"spline2d\", config: (mesh: \"meshes/worm.obj\"))],\n{commit} {edits})"
+            ))
+            .expect("runs")
+        };
+        let largest_denominator = |report: &crate::report::Report| {
+            report
+                .edits
+                .last()
+                .expect("edits")
+                .values
+                .iter()
+                .flat_map(|v| &v.exact)
+                .map(|x| x.split('/').nth(1).map_or(0, str::len))
+                .max()
+                .unwrap_or(0)
+        };
+        let optimum = run("");
+        let snapped = run("commit: Snapped(grid_bits: 16),");
+        for report in [&optimum, &snapped] {
+            assert_eq!(report.summary.failed, 0);
+            assert_eq!(report.summary.disagreements, 0, "{:?}", report.edits);
+            assert!(report.edits.iter().all(|e| e.max_residual == "0"));
+        }
+        assert!(optimum.edits.iter().all(|e| e.snap.is_none()));
+        for e in &snapped.edits {
+            let snap = e.snap.as_ref().expect("a snapped commit is reported");
+            assert_eq!(snap.grid_bits, 16);
+            assert_eq!(snap.optimum_columns, 0);
+            assert!(
+                snap.distance_bound > 0.0 && snap.distance_bound < 1e-2,
+                "{snap:?}"
+            );
+        }
+        assert!(
+            largest_denominator(&snapped) * 3 < largest_denominator(&optimum),
+            "snapped {} digits, optimum {} digits",
+            largest_denominator(&snapped),
+            largest_denominator(&optimum)
+        );
+        let error =
+            check("(sources: [],\n commit: Snapped(grid_bits: 0))").expect_err("grid out of range");
+        assert!(
+            error.to_string().contains(":2:") && error.to_string().contains("grid_bits 0"),
+            "{error}"
+        );
     }
 
     #[test]

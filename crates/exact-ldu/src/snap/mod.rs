@@ -1,0 +1,245 @@
+//! Snapped commits: a point of the constraint set near the least-squares optimum whose values
+//! have small denominators, with a proved bound on its distance to the optimum.
+//!
+//! The exact optimum of an edit on a real mesh has denominators of thousands of digits
+//! (products of triangle areas over the rank of `G = Â V Âᵀ`), and committing it makes the next
+//! edit start from those numbers: over a session the values grow without bound, and so does
+//! the time of every edit. A snapped commit writes instead
+//!
+//! 1. `x̃ ≈ x*`, the optimum in `f64`: `G λ̃ = ρ` (`ρ = Â h − b̂`) by a sparse `L D Lᵀ` in
+//!    `f64` ([`float_ldlt`]), `x̃ = h − V Âᵀ λ̃`;
+//! 2. the free columns of a peeled basis ([`basis`]) rounded to the grid `2^−g`;
+//! 3. the basic columns solved **exactly** from `Â x = b̂`: every constraint holds exactly
+//!    (the redundant rows too, since the weak check passed for this right-hand side), and a
+//!    basic value divides only by the pivots of its short chain, which depend on the mesh and
+//!    not on the history, so the size of the values stays bounded over a session.
+//!
+//! The distance is proved by weak duality, in exact arithmetic: for any `λ`,
+//! `g(λ) = λᵀρ − ½ λᵀ G λ ≤ φ(x*)` with `φ(x) = ½ Σ (x_s − h_s)² / V_s`, and for every `x`
+//! with `Â x = b̂`, `½ ‖x − x*‖²_{V⁻¹} = φ(x) − φ(x*)` (the optimum is the `V⁻¹`-orthogonal
+//! projection of the hints). So `|x_s − x*_s| ≤ sqrt(2 V_max (φ(x) − g(λ̂)))` with `λ̂` the
+//! `f64` multipliers rounded to a dyadic grid; the bound is computed exactly and rounded up.
+//! Floats only choose the point; whether it satisfies the constraints and how far it is from
+//! the optimum are exact.
+
+mod basis;
+mod float_ldlt;
+
+use crate::factorization::SparseRow;
+use crate::ring::Ring;
+use api::exact::rational_to_f64;
+use api::Rational;
+use basis::PeeledBasis;
+use float_ldlt::FloatLdlt;
+use num_bigint::BigInt;
+use num_traits::{FromPrimitive, Signed, Zero};
+
+/// What a snapped solve needs beyond the exact least squares, prepared once per edit.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Snapper {
+    basis: PeeledBasis,
+    /// `G = Â V Âᵀ` factored in `f64`.
+    normal: FloatLdlt,
+    /// `G` exactly (for the bound).
+    gram: Vec<Vec<(usize, BigInt)>>,
+    /// `Â` in `f64`.
+    a_float: Vec<Vec<(usize, f64)>>,
+    /// `V` in `f64` and exactly, and its largest entry.
+    v_float: Vec<f64>,
+    v_max: BigInt,
+}
+
+/// A snapped solution and the bound on its distance to the optimum (per value, rounded up).
+pub(crate) struct SnappedSolve {
+    pub(crate) values: Vec<Rational>,
+    pub(crate) distance_bound: f64,
+}
+
+impl Snapper {
+    /// Prepares snapping for `Â` (independent rows, `n` columns), weights `V` and
+    /// `G = Â V Âᵀ`; `None` when the peeled basis has a singular block or `G` is too badly
+    /// conditioned for `f64` (the caller commits the optimum instead).
+    pub(crate) fn new<R: Ring>(
+        a_hat: &[SparseRow<R>],
+        v: &[BigInt],
+        gram: Vec<Vec<(usize, BigInt)>>,
+    ) -> Option<Self> {
+        let n = v.len();
+        let basis = PeeledBasis::new(a_hat, n)?;
+        let g_float: Vec<Vec<(usize, f64)>> = gram
+            .iter()
+            .map(|row| row.iter().map(|(c, x)| (*c, big_to_f64(x))).collect())
+            .collect();
+        let normal = FloatLdlt::factor(&g_float)?;
+        let a_float = a_hat
+            .iter()
+            .map(|row| {
+                row.iter()
+                    .map(|(c, x)| (*c, big_to_f64(&x.to_bigint())))
+                    .collect()
+            })
+            .collect();
+        Some(Snapper {
+            basis,
+            normal,
+            gram,
+            a_float,
+            v_float: v.iter().map(big_to_f64).collect(),
+            v_max: v.iter().max().cloned().unwrap_or_else(|| BigInt::from(1)),
+        })
+    }
+
+    /// The snapped solution of `min φ(x)` subject to `Â x = b̂` for hints `h` on the grid
+    /// `2^−grid_bits`; `None` when the `f64` optimum is not finite.
+    pub(crate) fn solve<R: Ring>(
+        &self,
+        a_hat: &[SparseRow<R>],
+        v: &[BigInt],
+        b_hat: &[Rational],
+        hints: &[Rational],
+        grid_bits: u32,
+    ) -> Option<SnappedSolve> {
+        let coefficient = |x: &R| Rational::from_integer(x.to_bigint());
+        // ρ = Â h − b̂, exactly.
+        let rho: Vec<Rational> = a_hat
+            .iter()
+            .zip(b_hat)
+            .map(|(row, b)| {
+                let mut s = -b.clone();
+                for (c, x) in row {
+                    if !hints[*c].is_zero() {
+                        s += &hints[*c] * coefficient(x);
+                    }
+                }
+                s
+            })
+            .collect();
+        // G λ̃ = ρ and x̃ = h − V Âᵀ λ̃ in f64.
+        let mut lambda: Vec<f64> = rho.iter().map(rational_to_f64).collect();
+        self.normal.solve_in_place(&mut lambda);
+        let mut approx: Vec<f64> = hints.iter().map(rational_to_f64).collect();
+        for (row, l) in self.a_float.iter().zip(&lambda) {
+            for (c, a) in row {
+                approx[*c] -= self.v_float[*c] * a * l;
+            }
+        }
+        // Free columns on the grid, basic ones exactly.
+        let scale = 2f64.powi(i32::try_from(grid_bits).ok()?);
+        let denominator = BigInt::from(1) << grid_bits;
+        let mut x: Vec<Rational> = Vec::with_capacity(approx.len());
+        for (c, a) in approx.iter().enumerate() {
+            x.push(if self.basis.is_free(c) {
+                Rational::new(BigInt::from_f64((a * scale).round())?, denominator.clone())
+            } else {
+                Rational::zero()
+            });
+        }
+        self.basis.solve(a_hat, b_hat, &mut x);
+        let distance_bound = self.distance_bound(&x, hints, v, &rho, &lambda);
+        Some(SnappedSolve {
+            values: x,
+            distance_bound,
+        })
+    }
+
+    /// `sqrt(2 V_max (φ(x) − g(λ̂)))` rounded up, with `λ̂` the multipliers `lambda` on a dyadic
+    /// grid fine enough to keep their 52 leading bits (module documentation).
+    fn distance_bound(
+        &self,
+        x: &[Rational],
+        hints: &[Rational],
+        v: &[BigInt],
+        rho: &[Rational],
+        lambda: &[f64],
+    ) -> f64 {
+        // φ(x) = ½ Σ (x − h)² / V.
+        let mut phi = Rational::zero();
+        for ((xs, hs), vs) in x.iter().zip(hints).zip(v) {
+            let d = xs - hs;
+            if !d.is_zero() {
+                phi += &d * &d / Rational::from_integer(vs.clone());
+            }
+        }
+        phi /= Rational::from_integer(2.into());
+        // λ̂ = L / 2^s with integers L.
+        let largest = lambda.iter().fold(0f64, |m, l| m.max(l.abs()));
+        let dual = if largest > 0.0 && largest.is_finite() {
+            let shift = 52 - largest.log2().ceil() as i64;
+            let integers: Vec<BigInt> = lambda.iter().map(|l| dyadic_integer(*l, shift)).collect();
+            let two_s = pow2(shift);
+            // λ̂ᵀρ − ½ λ̂ᵀ G λ̂
+            let mut linear = Rational::zero();
+            for (l, r) in integers.iter().zip(rho) {
+                if !Zero::is_zero(l) {
+                    linear += r * Rational::from_integer(l.clone());
+                }
+            }
+            let mut quadratic = <BigInt as Zero>::zero();
+            for (row, lk) in self.gram.iter().zip(&integers) {
+                if Zero::is_zero(lk) {
+                    continue;
+                }
+                let mut s = <BigInt as Zero>::zero();
+                for (c, g) in row {
+                    s += g * &integers[*c];
+                }
+                quadratic += lk * s;
+            }
+            linear / &two_s
+                - Rational::from_integer(quadratic)
+                    / (&two_s * &two_s * Rational::from_integer(2.into()))
+        } else {
+            Rational::zero()
+        };
+        let gap = phi - dual;
+        // Weak duality makes the gap nonnegative; a negative one would be a bug, not a bound.
+        debug_assert!(!gap.is_negative(), "weak duality");
+        let squared = gap.abs() * Rational::from_integer(self.v_max.clone() * 2);
+        let up = 1.0 + f64::EPSILON * 4.0;
+        (rational_to_f64(&squared) * up).sqrt() * up
+    }
+}
+
+/// `round(l · 2^shift)` as an integer.
+fn dyadic_integer(l: f64, shift: i64) -> BigInt {
+    let (mantissa, exponent) = decompose(l);
+    let e = exponent + shift;
+    if e >= 0 {
+        mantissa << e as usize
+    } else {
+        // Round to nearest: add half before the shift (toward +∞ for ties: any λ̂ gives a
+        // valid bound).
+        let e = (-e) as usize;
+        (mantissa + (BigInt::from(1) << (e - 1))) >> e
+    }
+}
+
+/// `l = mantissa · 2^exponent` exactly.
+fn decompose(l: f64) -> (BigInt, i64) {
+    if l == 0.0 {
+        return (<BigInt as Zero>::zero(), 0);
+    }
+    let bits = l.to_bits();
+    let sign = if bits >> 63 == 1 { -1 } else { 1 };
+    let raw_exponent = ((bits >> 52) & 0x7ff) as i64;
+    let fraction = bits & ((1u64 << 52) - 1);
+    let (mantissa, exponent) = if raw_exponent == 0 {
+        (fraction, -1074)
+    } else {
+        (fraction | (1u64 << 52), raw_exponent - 1075)
+    };
+    (BigInt::from(sign) * BigInt::from(mantissa), exponent)
+}
+
+/// `2^e` as a rational.
+fn pow2(e: i64) -> Rational {
+    if e >= 0 {
+        Rational::from_integer(BigInt::from(1) << e as usize)
+    } else {
+        Rational::new(BigInt::from(1), BigInt::from(1) << (-e) as usize)
+    }
+}
+
+fn big_to_f64(x: &BigInt) -> f64 {
+    rational_to_f64(&Rational::from_integer(x.clone()))
+}
