@@ -14,11 +14,14 @@
 //!    basic value divides only by the pivots of its short chain, which depend on the mesh and
 //!    not on the history, so the size of the values stays bounded over a session.
 //!
-//! The distance is proved by weak duality, in exact arithmetic: for any `λ`,
-//! `g(λ) = λᵀρ − ½ λᵀ G λ ≤ φ(x*)` with `φ(x) = ½ Σ (x_s − h_s)² / V_s`, and for every `x`
-//! with `Â x = b̂`, `½ ‖x − x*‖²_{V⁻¹} = φ(x) − φ(x*)` (the optimum is the `V⁻¹`-orthogonal
-//! projection of the hints). So `|x_s − x*_s| ≤ sqrt(2 V_max (φ(x) − g(λ̂)))` with `λ̂` the
-//! `f64` multipliers rounded to a dyadic grid; the bound is computed exactly and rounded up.
+//! The distance is proved in exact arithmetic. For any multipliers `λ`, the minimiser of the
+//! Lagrangian `φ(x) + λᵀ(Â x − b̂)` (`φ(x) = ½ Σ (x_s − h_s)² / V_s`) is `x̂ = h − V Âᵀ λ`;
+//! `x̂ − x*` lies in the range of `V Âᵀ` and `x − x*` in the kernel of `Â` for every `x` with
+//! `Â x = b̂`, which are orthogonal in the `V⁻¹` inner product, so
+//! `‖x − x*‖²_{V⁻¹} ≤ ‖x − x̂‖²_{V⁻¹}` (Pythagoras; it is also `2 (φ(x) − g(λ))`, the duality
+//! gap). With `λ̂` the `f64` multipliers rounded to a dyadic grid, every `x_s − x̂_s` is computed
+//! exactly and `|x_s − x*_s| ≤ sqrt(V_max Σ (x_s − x̂_s)² / V_s)`, a sum of nonnegative terms
+//! whose rounding is covered when it is taken in `f64`.
 //! Floats only choose the point; whether it satisfies the constraints and how far it is from
 //! the optimum are exact.
 
@@ -40,10 +43,9 @@ pub(crate) struct Snapper {
     basis: PeeledBasis,
     /// `G = Â V Âᵀ` factored in `f64`.
     normal: FloatLdlt,
-    /// `G` exactly (for the bound).
-    gram: Vec<Vec<(usize, BigInt)>>,
-    /// `Â` in `f64`.
+    /// `Â` in `f64` and as integers.
     a_float: Vec<Vec<(usize, f64)>>,
+    a_exact: Vec<Vec<(usize, BigInt)>>,
     /// `V` in `f64` and exactly, and its largest entry.
     v_float: Vec<f64>,
     v_max: BigInt,
@@ -71,19 +73,19 @@ impl Snapper {
             .map(|row| row.iter().map(|(c, x)| (*c, big_to_f64(x))).collect())
             .collect();
         let normal = FloatLdlt::factor(&g_float)?;
-        let a_float = a_hat
+        let a_exact: Vec<Vec<(usize, BigInt)>> = a_hat
             .iter()
-            .map(|row| {
-                row.iter()
-                    .map(|(c, x)| (*c, big_to_f64(&x.to_bigint())))
-                    .collect()
-            })
+            .map(|row| row.iter().map(|(c, x)| (*c, x.to_bigint())).collect())
+            .collect();
+        let a_float = a_exact
+            .iter()
+            .map(|row| row.iter().map(|(c, x)| (*c, big_to_f64(x))).collect())
             .collect();
         Some(Snapper {
             basis,
             normal,
-            gram,
             a_float,
+            a_exact,
             v_float: v.iter().map(big_to_f64).collect(),
             v_max: v.iter().max().cloned().unwrap_or_else(|| BigInt::from(1)),
         })
@@ -135,68 +137,60 @@ impl Snapper {
             });
         }
         self.basis.solve(a_hat, b_hat, &mut x);
-        let distance_bound = self.distance_bound(&x, hints, v, &rho, &lambda);
+        let distance_bound = self.distance_bound(&x, hints, v, &lambda);
         Some(SnappedSolve {
             values: x,
             distance_bound,
         })
     }
 
-    /// `sqrt(2 V_max (φ(x) − g(λ̂)))` rounded up, with `λ̂` the multipliers `lambda` on a dyadic
-    /// grid fine enough to keep their 52 leading bits (module documentation).
+    /// `sqrt(V_max Σ_s (x_s − x̂_s)² / V_s)` rounded up, with `x̂ = h − V Âᵀ λ̂` for the
+    /// multipliers `lambda` on a dyadic grid (module documentation): each difference is exact,
+    /// and the sum of nonnegative terms is taken in `f64` with its rounding error covered.
     fn distance_bound(
         &self,
         x: &[Rational],
         hints: &[Rational],
         v: &[BigInt],
-        rho: &[Rational],
         lambda: &[f64],
     ) -> f64 {
-        // φ(x) = ½ Σ (x − h)² / V.
-        let mut phi = Rational::zero();
-        for ((xs, hs), vs) in x.iter().zip(hints).zip(v) {
-            let d = xs - hs;
-            if !d.is_zero() {
-                phi += &d * &d / Rational::from_integer(vs.clone());
-            }
-        }
-        phi /= Rational::from_integer(2.into());
-        // λ̂ = L / 2^s with integers L.
+        let n = x.len();
+        // Âᵀ λ̂ = (Âᵀ L) / 2^shift with integers L.
         let largest = lambda.iter().fold(0f64, |m, l| m.max(l.abs()));
-        let dual = if largest > 0.0 && largest.is_finite() {
-            let shift = 52 - largest.log2().ceil() as i64;
-            let integers: Vec<BigInt> = lambda.iter().map(|l| dyadic_integer(*l, shift)).collect();
-            let two_s = pow2(shift);
-            // λ̂ᵀρ − ½ λ̂ᵀ G λ̂
-            let mut linear = Rational::zero();
-            for (l, r) in integers.iter().zip(rho) {
-                if !Zero::is_zero(l) {
-                    linear += r * Rational::from_integer(l.clone());
-                }
-            }
-            let mut quadratic = <BigInt as Zero>::zero();
-            for (row, lk) in self.gram.iter().zip(&integers) {
-                if Zero::is_zero(lk) {
+        let shift = if largest > 0.0 && largest.is_finite() {
+            52 - largest.log2().ceil() as i64
+        } else {
+            0
+        };
+        let mut combined = vec![<BigInt as Zero>::zero(); n];
+        if largest > 0.0 && largest.is_finite() {
+            for (row, l) in self.a_exact.iter().zip(lambda) {
+                let l = dyadic_integer(*l, shift);
+                if Zero::is_zero(&l) {
                     continue;
                 }
-                let mut s = <BigInt as Zero>::zero();
-                for (c, g) in row {
-                    s += g * &integers[*c];
+                for (c, a) in row {
+                    combined[*c] += a * &l;
                 }
-                quadratic += lk * s;
             }
-            linear / &two_s
-                - Rational::from_integer(quadratic)
-                    / (&two_s * &two_s * Rational::from_integer(2.into()))
-        } else {
-            Rational::zero()
-        };
-        let gap = phi - dual;
-        // Weak duality makes the gap nonnegative; a negative one would be a bug, not a bound.
-        debug_assert!(!gap.is_negative(), "weak duality");
-        let squared = gap.abs() * Rational::from_integer(self.v_max.clone() * 2);
-        let up = 1.0 + f64::EPSILON * 4.0;
-        (rational_to_f64(&squared) * up).sqrt() * up
+        }
+        let scale = pow2(-shift);
+        let mut sum = 0f64;
+        for s in 0..n {
+            // x_s − x̂_s = (x_s − h_s) + V_s (Âᵀ λ̂)_s, exactly.
+            let d = &x[s] - &hints[s] + Rational::from_integer(&v[s] * &combined[s]) * &scale;
+            if d.is_zero() {
+                continue;
+            }
+            let d = rational_to_f64(&d).abs();
+            sum += d * d / self.v_float[s];
+        }
+        // Each term is within a factor (1 ± 2⁻⁵²)⁴ of its exact value (the rounding of the
+        // difference, of V_s, the square and the quotient) and the sum of n nonnegative terms
+        // within (1 ± 2⁻⁵³)ⁿ: covered by (1 + (n + 8)·2⁻⁵²), then for the product with V_max
+        // and the square root.
+        let up = 1.0 + (n as f64 + 16.0) * f64::EPSILON;
+        (sum * up * big_to_f64(&self.v_max) * up).sqrt() * up
     }
 }
 
