@@ -99,8 +99,12 @@ impl CertifiedBasis {
             is_independent[i] = true;
         }
         let redundant: Vec<usize> = (0..rows.len()).filter(|&t| !is_independent[t]).collect();
+        let local = LocalRows::new(rows, &profile.independent, cols);
         let prove = |&t: &usize| {
-            prove_redundant(rows, &profile.independent, normal.as_ref(), t, cols).map(|y| (t, y))
+            local
+                .prove(rows, t)
+                .or_else(|| prove_redundant(rows, &profile.independent, normal.as_ref(), t, cols))
+                .map(|y| (t, y))
         };
         let dependencies: Option<Vec<Dependency>> = if redundant.len() > PARALLEL_ABOVE {
             redundant.par_iter().map(prove).collect()
@@ -185,6 +189,124 @@ fn gram(a_hat: &[&Vec<(usize, BigInt)>], cols: usize) -> Vec<Vec<(usize, BigInt)
     g.into_iter()
         .map(|row| row.into_iter().filter(|(_, v)| !Zero::is_zero(v)).collect())
         .collect()
+}
+
+/// Local proofs of redundancy: the dependencies of spline-like systems are local (the
+/// conditions around one vertex), so a redundant row is first written as a combination of the
+/// independent rows near it — those sharing a column with it, then those sharing a column with
+/// these, up to [`LOCAL_DEPTH`] steps and [`LOCAL_ROWS`] rows — by the fraction-free LDU of
+/// that small system. A combination found there is the combination (the independent rows are
+/// independent, so it is unique) and proves the row redundant; otherwise the lifting over all
+/// independent rows decides.
+struct LocalRows {
+    /// Per column, the independent rows (indices into the rows) with an entry there.
+    independent_in_column: Vec<Vec<usize>>,
+}
+
+/// Steps of row–column adjacency a local proof looks through.
+const LOCAL_DEPTH: usize = 3;
+
+/// Largest local system tried (independent rows); larger ones go to the lifting.
+const LOCAL_ROWS: usize = 256;
+
+impl LocalRows {
+    fn new(rows: &[Vec<(usize, BigInt)>], independent: &[usize], cols: usize) -> Self {
+        let mut independent_in_column = vec![Vec::new(); cols];
+        for &i in independent {
+            for (c, _) in &rows[i] {
+                independent_in_column[*c].push(i);
+            }
+        }
+        LocalRows {
+            independent_in_column,
+        }
+    }
+
+    /// The primitive dependency of row `t` on nearby independent rows, proved exactly, or
+    /// `None` when none was found nearby.
+    fn prove(&self, rows: &[Vec<(usize, BigInt)>], t: usize) -> Option<Vec<(usize, BigInt)>> {
+        use std::collections::BTreeSet;
+        let mut near: BTreeSet<usize> = BTreeSet::new();
+        let mut frontier: BTreeSet<usize> = rows[t].iter().map(|(c, _)| *c).collect();
+        let mut seen_columns = frontier.clone();
+        for _ in 0..LOCAL_DEPTH {
+            let mut reached = BTreeSet::new();
+            for c in &frontier {
+                for &i in &self.independent_in_column[*c] {
+                    if near.insert(i) {
+                        reached.insert(i);
+                    }
+                }
+            }
+            if near.len() > LOCAL_ROWS || reached.is_empty() {
+                return None;
+            }
+            if let Some(y) = local_dependency(rows, &near, t) {
+                return Some(y);
+            }
+            frontier = reached
+                .iter()
+                .flat_map(|&i| rows[i].iter().map(|(c, _)| *c))
+                .filter(|c| seen_columns.insert(*c))
+                .collect();
+        }
+        None
+    }
+}
+
+/// Row `t` as an exact combination of the rows `near` (independent), as its primitive
+/// dependency `y`, or `None` when it is not one: `Â_Nᵀ λ = a_t` solved by the fraction-free
+/// LDU on the columns of these rows (outside them both sides vanish).
+fn local_dependency(
+    rows: &[Vec<(usize, BigInt)>],
+    near: &std::collections::BTreeSet<usize>,
+    t: usize,
+) -> Option<Vec<(usize, BigInt)>> {
+    use api::{Factorization, Rational};
+    let near: Vec<usize> = near.iter().copied().collect();
+    let mut local_column = std::collections::BTreeMap::new();
+    for &i in near.iter().chain([&t]) {
+        for (c, _) in &rows[i] {
+            let next = local_column.len();
+            local_column.entry(*c).or_insert(next);
+        }
+    }
+    // Â_Nᵀ: one row per column of the neighbourhood, one column per near row.
+    let mut transposed: Vec<Vec<(usize, BigInt)>> = vec![Vec::new(); local_column.len()];
+    for (k, &i) in near.iter().enumerate() {
+        for (c, v) in &rows[i] {
+            transposed[local_column[c]].push((k, v.clone()));
+        }
+    }
+    let mut target = vec![Rational::zero(); local_column.len()];
+    for (c, v) in &rows[t] {
+        target[local_column[c]] = Rational::from_integer(v.clone());
+    }
+    let matrix = api::IntMatrix::from_sparse(near.len(), transposed).ok()?;
+    let lambda =
+        crate::ExactFactorization::<crate::ring::Int>::new(&matrix, crate::Simplification::Gcd)
+            .solve(&target)
+            .ok()?;
+    // y = (−d λ, d at t) with d the common denominator, made primitive.
+    let d = lambda.iter().fold(<BigInt as One>::one(), |acc, l| {
+        num_integer::Integer::lcm(&acc, l.denom())
+    });
+    let mut y: Vec<(usize, BigInt)> = near
+        .iter()
+        .zip(&lambda)
+        .filter(|(_, l)| !Zero::is_zero(*l))
+        .map(|(&i, l)| (i, -(l.numer() * (&d / l.denom()))))
+        .collect();
+    y.push((t, d));
+    y.sort_by_key(|(i, _)| *i);
+    let values: Vec<BigInt> = y.iter().map(|(_, v)| v.clone()).collect();
+    let g = gcd_all(&values);
+    if !Ring::is_one(&g) && !Ring::is_zero(&g) {
+        for (_, v) in &mut y {
+            *v /= &g;
+        }
+    }
+    Some(y)
 }
 
 /// The primitive dependency of row `t` on the independent rows, proved exactly; `None` when
