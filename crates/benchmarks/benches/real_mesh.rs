@@ -143,11 +143,22 @@ fn frames(c: &mut Criterion) {
             BenchmarkId::new("exact-frame", format!("exact-delta{radius}")),
             |b| b.iter(|| black_box(edit.frame(&step.anchors, &step.hints).is_ok())),
         );
+        // A snapped Update as a drag frame (every constraint exact, small values), after the
+        // first one prepared the peeled basis and the f64 factoring.
+        edit.update_snapped(&step.anchors, &step.hints, 24)
+            .expect("solvable");
+        group.bench_function(
+            BenchmarkId::new("snapped-frame", format!("exact-delta{radius}")),
+            |b| b.iter(|| black_box(edit.update_snapped(&step.anchors, &step.hints, 24).is_ok())),
+        );
     }
     group.finish();
 }
 
-/// The commit at mouse-up: the exact Update written into a copy of the values (`Edit::apply`).
+/// The commit at mouse-up: the exact Update written into a copy of the values (`Edit::apply`),
+/// and the snapped commit (`Edit::update_snapped` on the grid `2^−24`, written the same way;
+/// its first call on an edit also peels the basis and factors `G` in `f64`, so each sample
+/// starts from a fresh Initialize taken out of the timing).
 fn commits(c: &mut Criterion) {
     let fixture = Fixture::new();
     let mut group = c.benchmark_group("real-mesh-commit");
@@ -168,8 +179,49 @@ fn commits(c: &mut Criterion) {
             },
         );
     }
+    for radius in [8u32, 16, 40] {
+        let (plan, edit) = fixture.mouse_down(&ExactLdu::default(), radius);
+        let step = &plan.steps[0];
+        group.bench_function(
+            BenchmarkId::new("snapped", format!("exact-delta{radius}")),
+            |b| {
+                b.iter_batched(
+                    || (edit.clone(), fixture.values.clone()),
+                    |(edit, mut values)| {
+                        let (result, summary) = edit
+                            .update_snapped(&step.anchors, &step.hints, 24)
+                            .expect("solvable");
+                        result.write_into(&mut values);
+                        black_box(summary.distance_bound)
+                    },
+                    criterion::BatchSize::LargeInput,
+                )
+            },
+        );
+    }
     group.finish();
 }
 
-criterion_group!(benches, edits, frames, commits);
+/// The whole edit at δ_max = 40 with a snapped commit: mouse-down (cold) and the commit.
+fn big_neighbourhood(c: &mut Criterion) {
+    let fixture = Fixture::new();
+    let mut group = c.benchmark_group("real-mesh-delta40");
+    group.sample_size(10);
+    group.bench_function("mouse-down-and-snapped-commit", |b| {
+        b.iter(|| {
+            exact_ldu::forget_last_factoring();
+            let (plan, edit) = fixture.mouse_down(&ExactLdu::default(), 40);
+            let step = &plan.steps[0];
+            let mut values = fixture.values.clone();
+            let (result, summary) = edit
+                .update_snapped(&step.anchors, &step.hints, 24)
+                .expect("solvable");
+            result.write_into(&mut values);
+            black_box(summary.distance_bound)
+        })
+    });
+    group.finish();
+}
+
+criterion_group!(benches, edits, frames, commits, big_neighbourhood);
 criterion_main!(benches);

@@ -20,11 +20,11 @@
 //! division, larger blocks by the fraction-free LDU. A block that is singular for the actual
 //! coefficients makes the basis unusable (the caller falls back to the optimum).
 
+use super::UnreducedSum;
 use crate::factorization::SparseRow;
 use crate::ring::Ring;
 use crate::{ExactFactorization, Simplification};
 use api::{Factorization, IntMatrix, Integer, Rational};
-use num_traits::Zero;
 use std::collections::{BinaryHeap, VecDeque};
 
 /// Not assigned.
@@ -133,12 +133,13 @@ impl PeeledBasis {
         b_hat: &[Rational],
         x: &mut [Rational],
     ) {
-        // The rest of row i once every column but those of its block is known.
+        // The rest of row i once every column but those of its block is known, summed over an
+        // unreduced common denominator (one GCD per value, at the division).
         let remainder = |i: usize, skip: &dyn Fn(usize) -> bool, x: &[Rational]| {
-            let mut s = b_hat[i].clone();
+            let mut s = UnreducedSum::from(&b_hat[i]);
             for (c, v) in &a_hat[i] {
-                if !skip(*c) && !x[*c].is_zero() {
-                    s -= &x[*c] * Rational::from_integer(v.to_bigint());
+                if !skip(*c) {
+                    s.add_scaled(&x[*c], &(-v.to_bigint()));
                 }
             }
             s
@@ -152,12 +153,12 @@ impl PeeledBasis {
                         .find(|(c, _)| c == col)
                         .map(|(_, v)| v.to_bigint())
                         .expect("a basic column is in its row");
-                    x[*col] = s / Rational::from_integer(pivot);
+                    x[*col] = s.divided_by(&pivot);
                 }
                 Block::Coupled { rows, cols, factor } => {
                     let rhs: Vec<Rational> = rows
                         .iter()
-                        .map(|&i| remainder(i, &|c| cols.contains(&c), x))
+                        .map(|&i| remainder(i, &|c| cols.contains(&c), x).reduced())
                         .collect();
                     let solution = factor
                         .solve(&rhs)
@@ -299,6 +300,7 @@ fn augment<R: Ring>(
 mod tests {
     use super::*;
     use crate::ring::Int;
+    use num_traits::Zero;
 
     fn rows(data: &[&[(usize, i64)]]) -> Vec<SparseRow<Int>> {
         data.iter()

@@ -101,23 +101,20 @@ impl Snapper {
         hints: &[Rational],
         grid_bits: u32,
     ) -> Option<SnappedSolve> {
-        let coefficient = |x: &R| Rational::from_integer(x.to_bigint());
-        // ρ = Â h − b̂, exactly.
-        let rho: Vec<Rational> = a_hat
+        // ρ = Â h − b̂, each entry summed exactly over an unreduced common denominator.
+        let rho: Vec<f64> = a_hat
             .iter()
             .zip(b_hat)
             .map(|(row, b)| {
-                let mut s = -b.clone();
+                let mut sum = UnreducedSum::from(&-b.clone());
                 for (c, x) in row {
-                    if !hints[*c].is_zero() {
-                        s += &hints[*c] * coefficient(x);
-                    }
+                    sum.add_scaled(&hints[*c], &x.to_bigint());
                 }
-                s
+                sum.to_f64()
             })
             .collect();
         // G λ̃ = ρ and x̃ = h − V Âᵀ λ̃ in f64.
-        let mut lambda: Vec<f64> = rho.iter().map(rational_to_f64).collect();
+        let mut lambda = rho;
         self.normal.solve_in_place(&mut lambda);
         let mut approx: Vec<f64> = hints.iter().map(rational_to_f64).collect();
         for (row, l) in self.a_float.iter().zip(&lambda) {
@@ -174,17 +171,19 @@ impl Snapper {
                 }
             }
         }
-        let scale = pow2(-shift);
+        let (multiplier, denominator) = dyadic_scale(shift);
         let mut sum = 0f64;
         for s in 0..n {
-            // x_s − x̂_s = (x_s − h_s) + V_s (Âᵀ λ̂)_s, exactly.
-            let d = &x[s] - &hints[s] + Rational::from_integer(&v[s] * &combined[s]) * &scale;
-            if d.is_zero() {
-                continue;
-            }
-            let d = rational_to_f64(&d).abs();
+            // x_s − x̂_s = (x_s − h_s) + V_s (Âᵀ L)_s / 2^shift, exactly, unreduced.
+            let mut d = UnreducedSum::from(&x[s]);
+            d.add_scaled(&hints[s], &BigInt::from(-1));
+            d.add(&(&v[s] * &combined[s] * &multiplier), &denominator);
+            let d = d.to_f64().abs();
             sum += d * d / self.v_float[s];
         }
+        // Terms below the normal range lose relative precision: their absolute error is covered
+        // by the smallest normal number.
+        sum += f64::MIN_POSITIVE;
         // Each term is within a factor (1 ± 2⁻⁵²)⁴ of its exact value (the rounding of the
         // difference, of V_s, the square and the quotient) and the sum of n nonnegative terms
         // within (1 ± 2⁻⁵³)ⁿ: covered by (1 + (n + 8)·2⁻⁵²), then for the product with V_max
@@ -225,12 +224,68 @@ fn decompose(l: f64) -> (BigInt, i64) {
     (BigInt::from(sign) * BigInt::from(mantissa), exponent)
 }
 
-/// `2^e` as a rational.
-fn pow2(e: i64) -> Rational {
+/// `2^−e` as `(multiplier, denominator)`: `(1, 2^e)` for `e ≥ 0`, `(2^−e, 1)` otherwise.
+fn dyadic_scale(e: i64) -> (BigInt, BigInt) {
     if e >= 0 {
-        Rational::from_integer(BigInt::from(1) << e as usize)
+        (BigInt::from(1), BigInt::from(1) << e as usize)
     } else {
-        Rational::new(BigInt::from(1), BigInt::from(1) << (-e) as usize)
+        (BigInt::from(1) << (-e) as usize, BigInt::from(1))
+    }
+}
+
+/// A sum of rationals over a common denominator that is never reduced (no GCD): for values
+/// that are only converted to `f64` afterwards, or reduced once at the end.
+pub(crate) struct UnreducedSum {
+    numerator: BigInt,
+    denominator: BigInt,
+}
+
+impl UnreducedSum {
+    /// The sum holding `x`.
+    pub(crate) fn from(x: &Rational) -> Self {
+        UnreducedSum {
+            numerator: x.numer().clone(),
+            denominator: x.denom().clone(),
+        }
+    }
+
+    /// Adds `k · x`.
+    pub(crate) fn add_scaled(&mut self, x: &Rational, k: &BigInt) {
+        if Zero::is_zero(x.numer()) || Zero::is_zero(k) {
+            return;
+        }
+        self.add(&(x.numer() * k), x.denom());
+    }
+
+    /// Adds `numerator / denominator` (`denominator > 0`).
+    pub(crate) fn add(&mut self, numerator: &BigInt, denominator: &BigInt) {
+        if Zero::is_zero(numerator) {
+            return;
+        }
+        if *denominator == self.denominator {
+            self.numerator += numerator;
+        } else {
+            self.numerator = &self.numerator * denominator + numerator * &self.denominator;
+            self.denominator *= denominator;
+        }
+    }
+
+    /// The nearest `f64` (one rounding).
+    pub(crate) fn to_f64(&self) -> f64 {
+        api::exact::rational_to_f64_nearest(&Rational::new_raw(
+            self.numerator.clone(),
+            self.denominator.clone(),
+        ))
+    }
+
+    /// The sum in lowest terms.
+    pub(crate) fn reduced(self) -> Rational {
+        crate::gcd::reduced_ratio(self.numerator, self.denominator)
+    }
+
+    /// The sum divided by `divisor` (nonzero), in lowest terms.
+    pub(crate) fn divided_by(self, divisor: &BigInt) -> Rational {
+        crate::gcd::reduced_ratio(self.numerator, self.denominator * divisor)
     }
 }
 
