@@ -75,7 +75,7 @@ fn a_rejected_edit_exits_1_and_names_the_constraint() {
     assert_eq!(report["summary"]["failed"], 1);
     let edit = &report["edits"][1];
     assert_eq!(edit["solvable"], Value::Bool(false));
-    assert_eq!(edit["conflict"][0], "p4 - p3 = 5");
+    assert_eq!(edit["conflict"][0], "pump row 2: p4 - p3 = 5");
     // The failed edit changed nothing: the values after edit 0 stand.
     assert_eq!(report["edits"][0]["values"][3]["exact"][0], "9");
 }
@@ -281,7 +281,7 @@ fn explain_traces_brenners_example_and_analyze_reports_structure() {
     let text = String::from_utf8_lossy(&o.stdout);
     assert!(text.starts_with("b.x6 is fixed by"), "{text}");
     assert!(
-        text.contains("b.x1 and b.x2 are fixed by x1 + x2 = 0, x1 - x2 = 0"),
+        text.contains("b.x1 and b.x2 are fixed by b row 1: x1 + x2 = 0, b row 2: x1 - x2 = 0"),
         "{text}"
     );
     let o = ecles(&["explain", &run, "b.x9"]);

@@ -116,11 +116,11 @@ fn an_alignment_that_over_constrains_the_spline_is_named_and_edits_breaking_it_a
     );
     let over_rows = labels(&over["row_labels"]);
     assert!(
-        over_rows.contains(&"worm: C1 edge 1-2 #0[0]".to_string()),
+        over_rows.contains(&"worm row 1: C1 edge 1-2 #0[0]".to_string()),
         "{over_rows:?}"
     );
     assert!(
-        over_rows.contains(&"align: worm.v1 x = 12".to_string()),
+        over_rows.contains(&"align row 5: worm.v1 x = 12".to_string()),
         "{over_rows:?}"
     );
     // ... and exactly: one redundant row per coordinate, each an exact combination of rows of
@@ -135,8 +135,12 @@ fn an_alignment_that_over_constrains_the_spline_is_named_and_edits_breaking_it_a
             .map(|t| t["row"].as_str().expect("row label"))
             .chain([r["row"].as_str().expect("row label")])
             .collect();
-        assert!(rows.iter().any(|l| l.starts_with("worm: C1")), "{rows:?}");
-        assert!(rows.iter().any(|l| l.starts_with("align: ")), "{rows:?}");
+        assert!(
+            rows.iter()
+                .any(|l| l.starts_with("worm row ") && l.contains(": C1 edge")),
+            "{rows:?}"
+        );
+        assert!(rows.iter().any(|l| l.starts_with("align row ")), "{rows:?}");
     }
 
     let edits = report["edits"].as_array().expect("edits");
@@ -147,7 +151,7 @@ fn an_alignment_that_over_constrains_the_spline_is_named_and_edits_breaking_it_a
     let refused = &edits[2];
     assert_eq!(refused["solvable"], false);
     let message = refused["error"].as_str().expect("reason");
-    assert!(message.contains("align: worm.v1 x = 12"), "{message}");
+    assert!(message.contains("align row 5: worm.v1 x = 12"), "{message}");
 
     // Every alignment holds exactly after the edits.
     let values = final_values(&report);

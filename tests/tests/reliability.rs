@@ -648,7 +648,7 @@ fn refusals_name_the_rows_that_block_the_requested_move() {
         .filter_map(Value::as_str)
         .collect();
     assert_eq!(conflict.len(), 1, "{conflict:?}");
-    assert!(conflict[0].starts_with("al: worm.v0"), "{conflict:?}");
+    assert!(conflict[0].starts_with("al row 1: worm.v0"), "{conflict:?}");
     assert!(!second["explanation"]
         .as_array()
         .expect("explanation")

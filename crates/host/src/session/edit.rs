@@ -692,6 +692,29 @@ mod tests {
         );
     }
 
+    /// Identical equations, in one source and in two, get labels that tell them apart: the
+    /// source, the row's index in it, then the source's own text.
+    #[test]
+    fn every_row_has_a_label_of_its_own() {
+        let (_dir, session) = session(
+            r#"(sources: [
+                (name: "s", plugin: "linear", config: (parameters: {"x": "1"}, equations: ["x = 1", "x = 1"])),
+                (name: "t", plugin: "linear", config: (parameters: {"x": "1"}, equations: ["x = 1"])),
+            ])"#,
+        );
+        let labels: Vec<&str> = session
+            .system
+            .rows()
+            .iter()
+            .map(|r| r.label.as_str())
+            .collect();
+        assert_eq!(labels, ["s row 1: x = 1", "s row 2: x = 1", "t row 1: x = 1"]);
+        assert_eq!(
+            crate::session::unique_label("worm", 4, "worm: C1 edge 1-2 #0"),
+            "worm row 5: C1 edge 1-2 #0"
+        );
+    }
+
     #[test]
     fn runs_report_solutions_refusals_and_located_errors() {
         let report = check(&example("worm.ron")).expect("runs");
@@ -705,7 +728,7 @@ mod tests {
         assert_eq!(report.summary.failed, 1);
         assert_eq!(
             report.edits[1].conflict.as_deref(),
-            Some(&["p4 - p3 = 5".to_string()][..])
+            Some(&["pump row 2: p4 - p3 = 5".to_string()][..])
         );
         let error = check(
             "(\n  sources: [(name: \"worm\", plugin: \"spline2d\", config: (mesh: \"meshes/worm.obj\"))],\n  edits: [Ecles(anchors: {\"worm.v99\": (\"1\", \"2\")})],\n)",

@@ -22,6 +22,18 @@ mod render;
 pub use check::OutputsPlan;
 pub use edit::{ActiveEdit, PlannedEdit, Planning};
 
+/// The label of row `index` (0-based) of source `source` in the system and in reports:
+/// `"{source} row {index + 1}: {text}"`, the source's own label as `text` (without the source's name
+/// when the source already put it in front). Two rows never share a label, even identical
+/// equations from different sources or from one source.
+pub fn unique_label(source: &str, index: usize, label: &str) -> String {
+    let text = label
+        .strip_prefix(source)
+        .and_then(|rest| rest.strip_prefix(": "))
+        .unwrap_or(label);
+    format!("{source} row {}: {text}", index + 1)
+}
+
 /// A built source.
 struct Loaded {
     name: String,
@@ -149,9 +161,12 @@ impl Session {
             input_limit: self.input_limit,
         };
         let context = format!("source {:?} (plugin {})", entry.name, entry.plugin);
-        let contribution = source
+        let mut contribution = source
             .build(&request)
             .map_err(|e| self.source_error(&entry.config, &context, &e))?;
+        for (index, row) in contribution.rows.iter_mut().enumerate() {
+            row.label = unique_label(&entry.name, index, &row.label);
+        }
         contribution
             .apply_to(&mut self.system, &mut self.values)
             .map_err(|e| self.at(entry.at, format!("{context} contributed invalid data: {e}")))?;
