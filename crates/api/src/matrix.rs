@@ -165,17 +165,25 @@ impl IntMatrix {
     /// # Panics
     /// Panics if an index is out of range (callers pass indices they computed themselves).
     pub fn select(&self, rows: &[usize], cols: &[usize]) -> IntMatrix {
-        let mut position = vec![usize::MAX; self.cols];
-        for (k, c) in cols.iter().enumerate() {
-            position[*c] = k;
-        }
+        // A few columns of a wide matrix (a redundant row's neighbourhood in a whole mesh): a
+        // map, so the cost follows the selection and not the width.
+        let position: Box<dyn Fn(usize) -> Option<usize>> = if cols.len() * 16 < self.cols {
+            let map: std::collections::HashMap<usize, usize> =
+                cols.iter().enumerate().map(|(k, c)| (*c, k)).collect();
+            Box::new(move |c| map.get(&c).copied())
+        } else {
+            let mut dense = vec![usize::MAX; self.cols];
+            for (k, c) in cols.iter().enumerate() {
+                dense[*c] = k;
+            }
+            Box::new(move |c| Some(dense[c]).filter(|&k| k != usize::MAX))
+        };
         let rows = rows
             .iter()
             .map(|&i| {
                 let mut row: Vec<(usize, Integer)> = self.rows[i]
                     .iter()
-                    .filter(|(c, _)| position[*c] != usize::MAX)
-                    .map(|(c, v)| (position[*c], v.clone()))
+                    .filter_map(|(c, v)| position(*c).map(|k| (k, v.clone())))
                     .collect();
                 row.sort_by_key(|(c, _)| *c);
                 row

@@ -83,13 +83,43 @@ pub fn components(matrix: &IntMatrix) -> Vec<(Vec<usize>, Vec<usize>)> {
     out
 }
 
+/// [`components`] with each component's submatrix (its rows and columns in increasing order),
+/// built in one pass over the matrix: every column belongs to one component, so a column's
+/// local index is the same in every row.
+pub fn component_matrices(matrix: &IntMatrix) -> Vec<(Vec<usize>, Vec<usize>, IntMatrix)> {
+    let parts = components(matrix);
+    let mut local_col = vec![0usize; matrix.cols()];
+    for (_, cols) in &parts {
+        for (k, &c) in cols.iter().enumerate() {
+            local_col[c] = k;
+        }
+    }
+    parts
+        .into_iter()
+        .map(|(rows, cols)| {
+            let local_rows: Vec<Vec<(usize, api::Integer)>> = rows
+                .iter()
+                .map(|&i| {
+                    matrix
+                        .row(i)
+                        .iter()
+                        .map(|(c, v)| (local_col[*c], v.clone()))
+                        .collect()
+                })
+                .collect();
+            let local = IntMatrix::from_sparse(cols.len(), local_rows)
+                .expect("a component's rows use only its columns");
+            (rows, cols, local)
+        })
+        .collect()
+}
+
 impl<R: Ring> BlockFactorization<R> {
     /// Factors each connected component of `matrix`, sharing identical ones.
     pub fn new(matrix: &IntMatrix, method: Simplification) -> Self {
         let mut cache: HashMap<ComponentKey, Arc<ExactFactorization<R>>> = HashMap::new();
         let mut parts = Vec::new();
-        for (rows, cols) in components(matrix) {
-            let local = matrix.select(&rows, &cols);
+        for (rows, cols, local) in component_matrices(matrix) {
             let key: ComponentKey = local.row_iter().map(|r| r.to_vec()).collect();
             let key = if local.rows() == 0 {
                 // Components without rows (free columns) differ only in their width.

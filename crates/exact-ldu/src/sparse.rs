@@ -289,11 +289,10 @@ pub fn eliminate_blockwise(
         std::collections::HashMap::new();
     let mut pivots = Vec::new();
     let mut redundant = Vec::new();
-    for (rows, cols) in crate::blocks::components(matrix) {
+    for (rows, cols, local) in crate::blocks::component_matrices(matrix) {
         if rows.is_empty() {
             continue;
         }
-        let local = matrix.select(&rows, &cols);
         let local_rhs: Vec<Vec<api::Integer>> = rhs
             .iter()
             .map(|col| rows.iter().map(|&i| col[i].clone()).collect())

@@ -483,12 +483,18 @@ impl Spline {
         let c2 = |n: i64| if n < 2 { 0 } else { n * (n - 1) / 2 };
         let e_i = self.topology.interior_edges() as i64;
         let v_i = self.topology.interior_vertices() as i64;
+        // The neighbours of every vertex, from one pass over the edges.
+        let mut neighbours: Vec<Vec<usize>> = vec![Vec::new(); self.mesh.vertices().len()];
+        for e in &self.topology.edges {
+            neighbours[e.a].push(e.b);
+            neighbours[e.b].push(e.a);
+        }
         let mut sigma = 0i64;
         for (v, interior) in self.topology.interior_vertex.iter().enumerate() {
             if !*interior {
                 continue;
             }
-            let e_v = self.distinct_slopes(v) as i64;
+            let e_v = self.slopes_towards(v, &neighbours[v]) as i64;
             for j in 1..=(d - r) {
                 sigma += (r + j + 1 - j * e_v).max(0);
             }
@@ -498,16 +504,24 @@ impl Spline {
 
     /// Number of distinct lines through vertex `v` among its edges.
     pub fn distinct_slopes(&self, v: usize) -> usize {
+        let neighbours: Vec<usize> = self
+            .topology
+            .edges
+            .iter()
+            .filter_map(|e| match (e.a == v, e.b == v) {
+                (true, _) => Some(e.b),
+                (_, true) => Some(e.a),
+                _ => None,
+            })
+            .collect();
+        self.slopes_towards(v, &neighbours)
+    }
+
+    /// Number of distinct lines through vertex `v` and one of `neighbours`.
+    fn slopes_towards(&self, v: usize, neighbours: &[usize]) -> usize {
         let p = &self.mesh.vertices()[v];
         let mut directions: Vec<(Rational, Rational)> = Vec::new();
-        for e in &self.topology.edges {
-            let other = if e.a == v {
-                e.b
-            } else if e.b == v {
-                e.a
-            } else {
-                continue;
-            };
+        for &other in neighbours {
             let q = &self.mesh.vertices()[other];
             let (dx, dy) = (&q[0] - &p[0], &q[1] - &p[1]);
             // Normalise the direction up to sign: a line, not a ray.

@@ -708,7 +708,10 @@ mod tests {
             .iter()
             .map(|r| r.label.as_str())
             .collect();
-        assert_eq!(labels, ["s row 1: x = 1", "s row 2: x = 1", "t row 1: x = 1"]);
+        assert_eq!(
+            labels,
+            ["s row 1: x = 1", "s row 2: x = 1", "t row 1: x = 1"]
+        );
         assert_eq!(
             crate::session::unique_label("worm", 4, "worm: C1 edge 1-2 #0"),
             "worm row 5: C1 edge 1-2 #0"
