@@ -53,10 +53,28 @@ fn rank(c: &mut Criterion) {
         let (matrix, _, _) = system.scalar_matrix();
         let triangles = 2 * n * n;
         group.bench_function(BenchmarkId::new("sparse-monolithic", triangles), |b| {
-            b.iter(|| black_box(exact_ldu::sparse::eliminate(&matrix, &[], 0).rank))
+            b.iter(|| {
+                black_box(
+                    exact_ldu::sparse::eliminate(
+                        &matrix,
+                        &[],
+                        exact_ldu::sparse::Combinations::Skip,
+                    )
+                    .rank,
+                )
+            })
         });
         group.bench_function(BenchmarkId::new("sparse-blockwise", triangles), |b| {
-            b.iter(|| black_box(exact_ldu::sparse::eliminate_blockwise(&matrix, &[], 0).rank))
+            b.iter(|| {
+                black_box(
+                    exact_ldu::sparse::eliminate_blockwise(
+                        &matrix,
+                        &[],
+                        exact_ldu::sparse::Combinations::Skip,
+                    )
+                    .rank,
+                )
+            })
         });
         if n <= 3 {
             // The dense LDU (the one edits use) is only feasible on small systems.

@@ -6,7 +6,7 @@
 use api::{IntMatrix, Integer, Rational, Redundancy};
 use backend_contract::analysis::{Analysis, RankAnalysis};
 use backend_contract::{analysis_tests, backend_tests, Contract};
-use exact_ldu::sparse::{eliminate, eliminate_blockwise, SparseElimination};
+use exact_ldu::sparse::{eliminate, eliminate_blockwise, Combinations, SparseElimination};
 use exact_ldu::{BlockwiseLdu, ExactLdu, Simplification};
 use num_integer::Integer as _;
 
@@ -48,8 +48,8 @@ analysis_tests!(sparse_blockwise: Sparse(eliminate_blockwise), Contract::exact()
 
 /// The sparse elimination (`eliminate` or `eliminate_blockwise`) as a [`RankAnalysis`]:
 /// rational right-hand sides are scaled to integers column by column (which changes no
-/// verdict), and combinations are solved over any number of rows.
-struct Sparse(fn(&IntMatrix, &[Vec<Integer>], usize) -> SparseElimination);
+/// verdict), and every combination is asked for.
+struct Sparse(fn(&IntMatrix, &[Vec<Integer>], Combinations) -> SparseElimination);
 
 impl RankAnalysis for Sparse {
     type Scalar = Rational;
@@ -66,7 +66,7 @@ impl RankAnalysis for Sparse {
                 b.iter().map(|v| v.numer() * (&den / v.denom())).collect()
             })
             .collect();
-        let e = (self.0)(matrix, &columns, usize::MAX);
+        let e = (self.0)(matrix, &columns, Combinations::Exact);
         Analysis {
             rank: e.rank,
             independent_rows: e.pivots.iter().map(|(row, _)| *row).collect(),
@@ -75,7 +75,7 @@ impl RankAnalysis for Sparse {
                 .iter()
                 .map(|r| Redundancy {
                     row: r.row,
-                    combination: r.combination.clone().unwrap_or_default(),
+                    combination: r.combination.clone().expect("combinations were asked for"),
                 })
                 .collect(),
             consistent: (0..rhs.len())

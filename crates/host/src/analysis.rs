@@ -6,7 +6,7 @@ use api::{
     format_rational, ConstraintSystem, Factorization, IntMatrix, Integer, LinearBackend, Rational,
     RowBody, RowId, Values,
 };
-use exact_ldu::sparse::eliminate_blockwise;
+use exact_ldu::sparse::{eliminate_blockwise, Combinations};
 use exact_ldu::ExactLdu;
 use float_qr::FloatQr;
 use std::collections::BTreeSet;
@@ -15,9 +15,9 @@ use std::collections::BTreeSet;
 /// report says the cross-check was skipped, and why.
 pub const DENSE_LIMIT: usize = 4_000_000;
 
-/// Largest number of independent rows a redundant row's exact combination is solved over; a
-/// longer combination is reported as unknown (`null`) rather than delaying the analysis.
-pub const COMBINATION_LIMIT: usize = 256;
+/// Combinations of more terms than this are written compactly: runs of consecutive rows with
+/// one coefficient become one term (`row`, `through`, `rows`).
+pub const COMPACT_ABOVE: usize = 256;
 
 /// The exact facts about a system.
 #[derive(Debug, Clone, Default)]
@@ -176,7 +176,7 @@ pub fn analyze(
         .iter()
         .map(|col| col.iter().map(|v| v.numer().clone()).collect())
         .collect();
-    let elimination = eliminate_blockwise(&shape.matrix, &rhs, COMBINATION_LIMIT);
+    let elimination = eliminate_blockwise(&shape.matrix, &rhs, Combinations::Exact);
     analysis.rank = elimination.rank * shape.copies;
     analysis.structure = Some(crate::structural::report(graph, &elimination));
     // A row is redundant only if its whole equation, right-hand side included, is the
@@ -188,14 +188,7 @@ pub fn analyze(
         .filter(|red| red.inconsistent_columns.is_empty())
         .map(|red| RedundantRow {
             row: shape.labels[red.row].clone(),
-            combination: red.combination.as_ref().map(|w| {
-                w.iter()
-                    .map(|(i, c)| Term {
-                        row: shape.labels[*i].clone(),
-                        coefficient: format_rational(c),
-                    })
-                    .collect()
-            }),
+            combination: red.combination.as_ref().map(|w| terms(w, &shape.labels)),
         })
         .collect();
     analysis.consistent = elimination.consistent();
@@ -232,6 +225,37 @@ pub fn analyze(
             };
     }
     analysis
+}
+
+/// The terms of a combination `(row, coefficient)` (increasing rows); above
+/// [`COMPACT_ABOVE`] terms, runs of consecutive rows with one coefficient are one term.
+fn terms(w: &[(usize, Rational)], labels: &[String]) -> Vec<Term> {
+    let single = |i: usize, c: &Rational| Term {
+        row: labels[i].clone(),
+        through: None,
+        rows: None,
+        coefficient: format_rational(c),
+    };
+    if w.len() <= COMPACT_ABOVE {
+        return w.iter().map(|(i, c)| single(*i, c)).collect();
+    }
+    let mut out = Vec::new();
+    let mut k = 0;
+    while k < w.len() {
+        let (first, c) = &w[k];
+        let mut end = k + 1;
+        while end < w.len() && w[end].0 == first + (end - k) && w[end].1 == *c {
+            end += 1;
+        }
+        let mut term = single(*first, c);
+        if end - k > 1 {
+            term.through = Some(labels[w[end - 1].0].clone());
+            term.rows = Some(end - k);
+        }
+        out.push(term);
+        k = end;
+    }
+    out
 }
 
 fn cross_check(shape: &SystemMatrix, exact_rank: usize, tolerance: f64) -> CrossCheckReport {

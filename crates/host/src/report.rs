@@ -60,16 +60,23 @@ pub struct OutputNote {
 pub struct RedundantRow {
     /// Its label (with `[k]` for coordinate `k` of a vector row split per coordinate).
     pub row: String,
-    /// `row = Σ coefficient · independent row` (`null` when it runs over more than
-    /// `analysis::COMBINATION_LIMIT` rows).
+    /// `row = Σ coefficient · independent row`, exact, whatever its length (combinations of
+    /// more than `analysis::COMPACT_ABOVE` terms are written compactly).
     pub combination: Option<Vec<Term>>,
 }
 
-/// One term of a combination.
+/// One term of a combination: one row, or a run of consecutive rows (in the system's order)
+/// with the same coefficient.
 #[derive(Debug, Clone, Serialize)]
 pub struct Term {
-    /// Row label.
+    /// Row label (the first row of a run).
     pub row: String,
+    /// The last row of a run (absent for a single row).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub through: Option<String>,
+    /// The number of rows of a run (absent for a single row).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rows: Option<usize>,
     /// Exact coefficient.
     pub coefficient: String,
 }

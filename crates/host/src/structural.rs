@@ -3,7 +3,7 @@
 //! of the structural rank.
 
 use crate::analysis::SystemMatrix;
-use exact_ldu::sparse::{eliminate, SparseElimination};
+use exact_ldu::sparse::{eliminate, Combinations, SparseElimination};
 use serde::Serialize;
 use structure::{
     components, decompose, dulmage_mendelsohn, explain, maximum_matching, Bipartite,
@@ -157,7 +157,7 @@ pub fn report(system: &SystemGraph, exact: &SparseElimination) -> StructureRepor
     // Square blocks: exact rank of each block's own submatrix.
     for (b, block) in dm.blocks.iter().enumerate() {
         let sub = shape.matrix.select(&block.rows, &block.cols);
-        let rank = eliminate(&sub, &[], 0).rank;
+        let rank = eliminate(&sub, &[], Combinations::Skip).rank;
         if rank < block.rows.len() {
             dependent.push(DependentReport {
                 place: format!("block {b}"),

@@ -116,7 +116,7 @@ fn rank(system: &ConstraintSystem) -> usize {
         .collect();
     let zeros = vec![vec![Integer::from(0); rows.len()]];
     let matrix = IntMatrix::from_sparse(system.params().len(), rows).expect("ids in range");
-    exact_ldu::sparse::eliminate(&matrix, &zeros, 0).rank
+    exact_ldu::sparse::eliminate(&matrix, &zeros, exact_ldu::sparse::Combinations::Skip).rank
 }
 
 /// Builds spline2d (C1) + c2 on `mesh` and compares the rank with the dimension formula.

@@ -55,9 +55,13 @@ fn main() -> ExitCode {
         }
         (rank, best)
     };
-    let (rank, mono) = best(&|| exact_ldu::sparse::eliminate(&matrix, &[], 0).rank);
-    let (rank_b, blockwise) =
-        best(&|| exact_ldu::sparse::eliminate_blockwise(&matrix, &[], 0).rank);
+    let (rank, mono) = best(&|| {
+        exact_ldu::sparse::eliminate(&matrix, &[], exact_ldu::sparse::Combinations::Skip).rank
+    });
+    let (rank_b, blockwise) = best(&|| {
+        exact_ldu::sparse::eliminate_blockwise(&matrix, &[], exact_ldu::sparse::Combinations::Skip)
+            .rank
+    });
     if rank != rank_b {
         eprintln!("error: monolithic rank {rank} != block-wise rank {rank_b}");
         return ExitCode::FAILURE;

@@ -718,6 +718,33 @@ mod tests {
         );
     }
 
+    /// A redundant row whose combination runs over hundreds of rows is given exactly, runs of
+    /// consecutive rows with one coefficient as one term.
+    #[test]
+    fn long_combinations_are_given_compactly() {
+        let n = 400;
+        let parameters: Vec<String> = (0..n).map(|i| format!("\"x{i}\": \"0\"")).collect();
+        let equations: Vec<String> = (0..n)
+            .map(|i| format!("\"x{i} - x{} = 0\"", (i + 1) % n))
+            .collect();
+        let report = check(&format!(
+            "(sources: [(name: \"c\", plugin: \"linear\", config: (parameters: {{{}}}, equations: [{}]))], cross_check: None)",
+            parameters.join(", "),
+            equations.join(", ")
+        ))
+        .expect("runs");
+        assert_eq!(report.redundant.len(), 1);
+        let terms = report.redundant[0].combination.as_ref().expect("exact");
+        assert_eq!(terms.len(), 1, "{terms:?}");
+        assert_eq!(terms[0].row, "c row 1: x0 - x1 = 0");
+        assert_eq!(
+            terms[0].through.as_deref(),
+            Some("c row 399: x398 - x399 = 0")
+        );
+        assert_eq!(terms[0].rows, Some(399));
+        assert_eq!(terms[0].coefficient, "-1");
+    }
+
     #[test]
     fn runs_report_solutions_refusals_and_located_errors() {
         let report = check(&example("worm.ron")).expect("runs");
