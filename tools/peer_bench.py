@@ -34,9 +34,10 @@ How each solver does it, and what is timed:
   dragged point's x and y as anchors, every other parameter derived (default hints and unit
   weights: the derived values move as little as possible, in exact least squares). The whole
   process `ecles run FILE --quiet --out DIR` is timed, best of 5, with the edit and with the
-  same file and `edits: []`; their difference is the cost of the edit. The run must exit with 0
-  and its report.json must say the edit is solvable, `max_residual` "0", and give the dragged
-  point exactly its target.
+  same file and `edits: []` (the two alternate); their difference is the cost of the edit
+  (process start-up varies by a millisecond or more, so at small sizes the difference is
+  within that noise). The run must exit with 0 and its report.json must say the edit is
+  solvable, `max_residual` "0", and give the dragged point exactly its target.
 * SolveSpace (py-slvs): the points are 2D points of one workplane; chain and apex by
   SLVS_C_AT_MIDPOINT on a line between the neighbours, grid by SLVS_C_HORIZONTAL /
   SLVS_C_VERTICAL between two points, each parallelogram by a helper point at the midpoint of
@@ -45,9 +46,11 @@ How each solver does it, and what is timed:
   does not expose the solver's `dragged` list). One `solve` is timed from the initial
   positions each time (parameters are reset between solves, untimed), best of up to 5 solves
   within about 2 s of solving. The result must be SLVS_RESULT_OKAY, with the dragged point at
-  its target and every scalar equation satisfied to 1e-9.
+  its target and every scalar equation satisfied to 1e-9. py-slvs 1.0.6 wraps a fork of
+  SolveSpace 2.3 whose solver uses dense matrices of at most 2048 unknowns (after its
+  substitution of equal parameters): a larger system gets SLVS_RESULT_TOO_MANY_UNKNOWNS.
 * kiwisolver: one variable per coordinate, the scalar equations as required constraints (added
-  first: adding them after the stays makes setup much slower), a weak stay `v == initial` on
+  before the stays: the other order makes setup much slower), a weak stay `v == initial` on
   every coordinate, and strong edit variables on the dragged point's x and y. The first
   `suggestValue` + `updateVariables` after setup (the first drag, which does the simplex
   pivoting) is timed once; then 100 solves alternate between the original position and the
@@ -70,7 +73,8 @@ Columns:
 * `kiwi per solve` (µs): best / median of the 100 alternating solves; `kiwi first drag` (ms):
   the first solve after setup;
 * `per edit / SolveSpace`, `per edit / kiwi`: ecles per edit divided by the SolveSpace per solve
-  and by the kiwi best per solve (above 1: ecles is slower).
+  and by the kiwi best per solve (above 1: ecles is slower; `–` when a time is missing or the
+  per-edit difference is not positive).
 """
 import argparse
 import json
@@ -97,7 +101,8 @@ ECLES_REPEATS = 5
 SLVS_MAX_SOLVES = 5
 SLVS_BUDGET_S = 2.0
 KIWI_SOLVES = 100
-# SolveSpace groups: the workplane is fixed (group 1); the points and constraints are solved (group 2).
+# SolveSpace groups: the workplane is fixed (group 1); the points and constraints are solved
+# (group 2).
 SLVS_FIXED, SLVS_SOLVED = 1, 2
 SLVS_RESULTS = {0: "OKAY", 1: "INCONSISTENT", 2: "DIDNT_CONVERGE", 3: "TOO_MANY_UNKNOWNS"}
 
@@ -304,7 +309,8 @@ def measure_slvs(system, stage):
         times.append(time.perf_counter() - start)
         if result != 0:
             return f"result {SLVS_RESULTS.get(result, result)} ({2 * len(entities)} unknowns)"
-        coordinates = [sketch.getParam(h).val for pair in handles[:len(system.points)] for h in pair]
+        coordinates = [sketch.getParam(h).val
+                       for pair in handles[:len(system.points)] for h in pair]
         failure = check_positions(system, coordinates)
         if failure:
             return failure
@@ -387,8 +393,11 @@ def run_isolated(measure, system, timeout):
 
 
 def number(x):
-    """A time with three significant digits or so."""
-    return f"{x:.0f}" if x >= 100 else f"{x:.1f}" if x >= 10 else f"{x:.2f}" if x >= 1 else f"{x:.3f}"
+    """A time or ratio with three significant digits or so (whole numbers from 100 up)."""
+    size = abs(x)
+    if size >= 100:
+        return f"{x:.0f}"
+    return f"{x:.1f}" if size >= 10 else f"{x:.2f}" if size >= 1 else f"{x:.3g}"
 
 
 def failure_cell(text):
@@ -397,8 +406,9 @@ def failure_cell(text):
 
 
 def ratio(a, b):
-    """a / b as `r×`, or `–` when either is missing."""
-    return "–" if a is None or b is None else f"{number(a / b)}×"
+    """a / b as `r×`, or `–` when either is missing or a is not positive (a per-edit time
+    within the noise of process start-up)."""
+    return "–" if a is None or b is None or a <= 0 else f"{number(a / b)}×"
 
 
 def row(system, ecles, solvespace, kiwi):
@@ -416,7 +426,8 @@ def row(system, ecles, solvespace, kiwi):
         cells += [failure_cell(kiwi), ""]
         kiwi_ms = None
     else:
-        cells += [f"{number(kiwi['best_us'])} / {number(kiwi['median_us'])}", number(kiwi["first_ms"])]
+        cells += [f"{number(kiwi['best_us'])} / {number(kiwi['median_us'])}",
+                  number(kiwi["first_ms"])]
         kiwi_ms = kiwi["best_us"] / 1e3
     cells += [ratio(per_edit, slvs_ms), ratio(per_edit, kiwi_ms)]
     return "| " + " | ".join(cells) + " |"
@@ -429,11 +440,13 @@ def main():
     parser.add_argument("--systems", nargs="+", choices=SYSTEMS, default=list(SYSTEMS),
                         help="systems to run (default: all)")
     parser.add_argument("--timeout", type=float, default=60.0,
-                        help="seconds allowed per peer measurement and per ecles process (default: 60)")
+                        help="seconds allowed per peer measurement and per ecles process "
+                             "(default: 60)")
     args = parser.parse_args()
     builders = {"chain": chain, "grid": grid, "parallelograms": parallelograms}
     lines = ["| system | points | equations | ecles with edit (ms) | ecles without (ms) | "
-             "ecles per edit (ms) | SolveSpace per solve (ms) | kiwi per solve, best / median (µs) | "
+             "ecles per edit (ms) | SolveSpace per solve (ms) | "
+             "kiwi per solve, best / median (µs) | "
              "kiwi first drag (ms) | per edit / SolveSpace | per edit / kiwi |",
              "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
     with tempfile.TemporaryDirectory() as directory:

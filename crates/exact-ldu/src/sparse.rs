@@ -158,6 +158,46 @@ pub fn eliminate(
     rhs: &[Vec<api::Integer>],
     combinations: Combinations,
 ) -> SparseElimination {
+    let run = run(matrix, rhs, combinations);
+    let redundant = run
+        .zeroed
+        .iter()
+        .map(|&t| {
+            let inconsistent_columns: Vec<usize> = run.rows[t]
+                .rhs
+                .iter()
+                .enumerate()
+                .filter(|(_, v)| !v.is_zero())
+                .map(|(k, _)| k)
+                .collect();
+            SparseRedundancy {
+                row: t,
+                combination: (combinations == Combinations::Exact).then(|| {
+                    combination(matrix, &run.steps, &run.contents, t, run.rows[t].last_step)
+                }),
+                inconsistent_columns,
+            }
+        })
+        .collect();
+    SparseElimination {
+        rank: run.pivots.len(),
+        pivots: run.pivots,
+        redundant,
+    }
+}
+
+/// What an elimination leaves: the rows as eliminated, the log, the rows' contents, the pivots
+/// and the rows eliminated to zero (increasing).
+struct Run {
+    rows: Vec<Row>,
+    steps: Vec<Step>,
+    contents: Vec<Int>,
+    pivots: Vec<(usize, usize)>,
+    zeroed: Vec<usize>,
+}
+
+/// The elimination itself (see [`eliminate`]); the log only with [`Combinations::Exact`].
+fn run(matrix: &IntMatrix, rhs: &[Vec<api::Integer>], combinations: Combinations) -> Run {
     let (m, n) = (matrix.rows(), matrix.cols());
     let mut contents: Vec<Int> = Vec::with_capacity(m);
     let mut rows: Vec<Row> = matrix
@@ -294,35 +334,23 @@ pub fn eliminate(
         rows[p].entries = pivot.entries;
     }
     zeroed.sort_unstable();
-    let redundant = zeroed
-        .into_iter()
-        .map(|t| {
-            let inconsistent_columns: Vec<usize> = rows[t]
-                .rhs
-                .iter()
-                .enumerate()
-                .filter(|(_, v)| !v.is_zero())
-                .map(|(k, _)| k)
-                .collect();
-            SparseRedundancy {
-                row: t,
-                combination: (combinations == Combinations::Exact)
-                    .then(|| combination(matrix, &steps, &contents, t, rows[t].last_step)),
-                inconsistent_columns,
-            }
-        })
-        .collect();
-    SparseElimination {
-        rank: pivots.len(),
+    Run {
+        rows,
+        steps,
+        contents,
         pivots,
-        redundant,
+        zeroed,
     }
 }
 
-/// The exact `w` with `A[t] = Σ w_k A[k]` over independent rows `k`, by reverse accumulation
-/// over the log (module documentation): the zero that row `t` became at step `last` is
-/// `Σ γ_i · A[i] / content_i` over the rows it was built from, so
-/// `A[t] = −Σ_{i ≠ t} (γ_i content_t / (γ_t content_i)) A[i]`. Verified against the rows.
+/// Combinations over at most this many rows are solved densely over those rows (the
+/// fraction-free LDU of a small system, faster than rational accumulation on large entries);
+/// longer ones (a cycle of equalities) by reverse accumulation over the log.
+const DENSE_COMBINATION: usize = 256;
+
+/// The exact `w` with `A[t] = Σ w_k A[k]` over the independent rows `k` that row `t`'s zero
+/// was built from (found by walking the log from step `last`, without arithmetic): solved
+/// densely when they are few, by reverse accumulation otherwise. Verified against the rows.
 fn combination(
     matrix: &IntMatrix,
     steps: &[Step],
@@ -330,6 +358,75 @@ fn combination(
     t: usize,
     last: u32,
 ) -> Vec<(usize, Rational)> {
+    let support = support(steps, t, last);
+    let w = if support.len() <= DENSE_COMBINATION {
+        solve_over(matrix, t, &support)
+    } else {
+        None
+    };
+    let w = w.unwrap_or_else(|| accumulate(steps, contents, t, last));
+    debug_assert!(verified(matrix, t, &w), "combination of row {t}");
+    w
+}
+
+/// The rows other than `t` whose original form the zero of row `t` (made at step `last`) was
+/// built from, increasing.
+fn support(steps: &[Step], t: usize, last: u32) -> Vec<usize> {
+    let mut seen_steps = std::collections::HashSet::new();
+    let mut rows = std::collections::BTreeSet::new();
+    let mut stack = vec![(t as u32, last)];
+    while let Some((row, step)) = stack.pop() {
+        if step == INITIAL {
+            if row as usize != t {
+                rows.insert(row as usize);
+            }
+            continue;
+        }
+        if !seen_steps.insert(step) {
+            continue;
+        }
+        let s = &steps[step as usize];
+        stack.push((s.target, s.previous));
+        stack.push((s.pivot, s.pivot_step));
+    }
+    rows.into_iter().collect()
+}
+
+/// `A[t] = Σ w_k A[support_k]` solved densely over the support rows (`Aᵀ` restricted to them
+/// by the fraction-free LDU); `None` if `A[t]` is not in their span (which the log rules out).
+fn solve_over(matrix: &IntMatrix, t: usize, support: &[usize]) -> Option<Vec<(usize, Rational)>> {
+    use api::Factorization;
+    if support.is_empty() {
+        return Some(Vec::new());
+    }
+    let mut cols: Vec<usize> = support
+        .iter()
+        .chain(std::iter::once(&t))
+        .flat_map(|&i| matrix.row(i).iter().map(|(c, _)| *c))
+        .collect();
+    cols.sort_unstable();
+    cols.dedup();
+    let transposed = matrix.select(support, &cols).transpose();
+    let target: Vec<Rational> = cols
+        .iter()
+        .map(|&c| Rational::from_integer(matrix.get(t, c)))
+        .collect();
+    let f = crate::ExactFactorization::<Int>::new(&transposed, crate::Simplification::Gcd);
+    let w = f.solve(&target).ok()?;
+    Some(
+        support
+            .iter()
+            .copied()
+            .zip(w)
+            .filter(|(_, v)| !v.is_zero())
+            .collect(),
+    )
+}
+
+/// The same by reverse accumulation over the log (module documentation): the zero that row `t`
+/// became at step `last` is `Σ γ_i · A[i] / content_i` over the rows it was built from, so
+/// `A[t] = −Σ_{i ≠ t} (γ_i content_t / (γ_t content_i)) A[i]`.
+fn accumulate(steps: &[Step], contents: &[Int], t: usize, last: u32) -> Vec<(usize, Rational)> {
     use std::collections::HashMap;
     // Coefficient of each (row, step that produced that version of it).
     let mut coefficient: HashMap<(u32, u32), Rational> = HashMap::new();
@@ -390,7 +487,6 @@ fn combination(
         .map(|(row, gamma)| (*row as usize, -(scaled(*row, gamma) / &own)))
         .collect();
     w.sort_by_key(|(i, _)| *i);
-    debug_assert!(verified(matrix, t, &w), "combination of row {t}");
     w
 }
 
@@ -544,6 +640,14 @@ mod tests {
                     prop_assert_eq!(s, Rational::from_integer(matrix.get(red.row, c)));
                 }
                 prop_assert!(combo.iter().all(|(i, _)| independent.contains(i)));
+            }
+            // Both ways of recovering a combination (dense over the support, reverse
+            // accumulation over the log) give the same, unique, combination.
+            let logged = run(&matrix, &[], Combinations::Exact);
+            for &t in &logged.zeroed {
+                let last = logged.rows[t].last_step;
+                let dense = solve_over(&matrix, t, &support(&logged.steps, t, last));
+                prop_assert_eq!(dense, Some(accumulate(&logged.steps, &logged.contents, t, last)));
             }
         }
     }

@@ -7,13 +7,14 @@ use api::{
     RowBody, RowId, Values,
 };
 use exact_ldu::sparse::{eliminate_blockwise, Combinations};
-use exact_ldu::ExactLdu;
 use float_qr::FloatQr;
 use std::collections::BTreeSet;
 
-/// Largest matrix (rows × columns) the float cross-check factors as one dense block; beyond it the
-/// report says the cross-check was skipped, and why.
-pub const DENSE_LIMIT: usize = 4_000_000;
+/// Largest connected component (rows × columns) the float cross-check factors by the dense
+/// column-pivoted QR (whose pivoting orders rows by new direction, the best rank decision);
+/// larger components go to the sparse Givens QR ([`float_qr::sparse_row_rank`]), so the
+/// cross-check never gives up.
+pub const DENSE_LIMIT: usize = 250_000;
 
 /// Combinations of more terms than this are written compactly: runs of consecutive rows with
 /// one coefficient become one term (`row`, `through`, `rows`).
@@ -207,22 +208,7 @@ pub fn analyze(
         analysis.conflict = Some(rows.iter().map(|&i| shape.labels[i].clone()).collect());
     }
     if let Some(tol) = tolerance {
-        analysis.cross_check =
-            if shape.matrix.rows().saturating_mul(shape.matrix.cols()) > DENSE_LIMIT {
-                CrossCheckReport {
-                    enabled: true,
-                    tolerance: Some(tol),
-                    skipped: Some(format!(
-                        "the float QR would factor a dense {} × {} matrix (limit {} entries)",
-                        shape.matrix.rows(),
-                        shape.matrix.cols(),
-                        DENSE_LIMIT
-                    )),
-                    ..CrossCheckReport::default()
-                }
-            } else {
-                cross_check(shape, elimination.rank, tol)
-            };
+        analysis.cross_check = cross_check(shape, elimination.rank, tol);
     }
     analysis
 }
@@ -258,50 +244,91 @@ fn terms(w: &[(usize, Rational)], labels: &[String]) -> Vec<Term> {
     out
 }
 
+/// The float rank of one connected component, its independent rows (local indices) and margin.
+fn float_component_rank(
+    local: &IntMatrix,
+    tolerance: f64,
+) -> Result<(usize, Vec<usize>, api::RankMargin, &'static str), String> {
+    if local.rows().saturating_mul(local.cols()) <= DENSE_LIMIT {
+        let backend = FloatQr::new(tolerance).map_err(|e| e.to_string())?;
+        let f = backend
+            .factor(local)
+            .map_err(|e| format!("float factoring failed: {e}"))?;
+        let margin = f.rank_margin().unwrap_or(api::RankMargin {
+            smallest_kept: 1.0,
+            largest_dropped: 0.0,
+            tolerance,
+        });
+        Ok((f.rank(), f.independent_rows(), margin, "dense QR"))
+    } else {
+        let r = float_qr::sparse_row_rank(local, tolerance)
+            .map_err(|e| format!("float factoring failed: {e}"))?;
+        Ok((r.rank, r.independent, r.margin, "sparse QR"))
+    }
+}
+
+/// The float backend's view of the whole matrix, per connected component (the dense QR for
+/// small ones, the sparse QR for large ones), compared with the exact rank; when the ranks
+/// agree, the rows the float backend kept are checked to be independent exactly.
 fn cross_check(shape: &SystemMatrix, exact_rank: usize, tolerance: f64) -> CrossCheckReport {
     let mut report = CrossCheckReport {
         enabled: true,
         tolerance: Some(tolerance),
         ..CrossCheckReport::default()
     };
-    let backend = match FloatQr::new(tolerance) {
-        Ok(b) => b,
-        Err(e) => {
-            report.skipped = Some(e.to_string());
-            return report;
+    let mut rank = 0;
+    let mut independent: Vec<usize> = Vec::new();
+    let (mut smallest_kept, mut largest_dropped) = (1.0_f64, 0.0_f64);
+    let mut methods = BTreeSet::new();
+    for (rows, _, local) in exact_ldu::component_matrices(&shape.matrix) {
+        if rows.is_empty() {
+            continue;
         }
-    };
-    let f = match backend.factor(&shape.matrix) {
-        Ok(f) => f,
-        Err(e) => {
-            report.skipped = Some(format!("float factoring failed: {e}"));
-            return report;
+        match float_component_rank(&local, tolerance) {
+            Ok((r, kept, margin, method)) => {
+                rank += r;
+                independent.extend(kept.iter().map(|&k| rows[k]));
+                smallest_kept = smallest_kept.min(margin.smallest_kept);
+                largest_dropped = largest_dropped.max(margin.largest_dropped);
+                methods.insert(method);
+            }
+            Err(why) => {
+                report.skipped = Some(why);
+                return report;
+            }
         }
-    };
-    report.float_rank = Some(f.rank() * shape.copies);
-    report.margin = f.rank_margin().map(|m| Margin {
-        smallest_kept: m.smallest_kept,
-        largest_dropped: m.largest_dropped,
+    }
+    report.method = Some(methods.into_iter().collect::<Vec<_>>().join(", "));
+    report.float_rank = Some(rank * shape.copies);
+    report.margin = Some(Margin {
+        smallest_kept,
+        largest_dropped,
     });
-    if f.rank() != exact_rank {
+    if rank != exact_rank {
         report.disagreements.push(format!(
             "rank: exact {}, float {}",
             exact_rank * shape.copies,
-            f.rank() * shape.copies
+            rank * shape.copies
         ));
-    } else {
-        // Same rank: the float independent rows must be independent exactly.
-        let rows: Vec<usize> = f.independent_rows();
-        let sub = select_rows(&shape.matrix, &rows);
-        if let Ok(g) = ExactLdu::default().factor(&sub) {
-            if g.rank() != rows.len() {
-                report.disagreements.push(format!(
-                    "the float backend kept {} rows as independent, but only {} of them are",
-                    rows.len(),
-                    g.rank()
-                ));
-            }
-        }
+    }
+    // The rows the float backend kept must be independent exactly; name those that are not.
+    independent.sort_unstable();
+    let sub = select_rows(&shape.matrix, &independent);
+    let exact = eliminate_blockwise(&sub, &[], Combinations::Skip);
+    if exact.rank != independent.len() {
+        let named: Vec<&str> = exact
+            .redundant
+            .iter()
+            .take(5)
+            .map(|r| shape.labels[independent[r.row]].as_str())
+            .collect();
+        report.disagreements.push(format!(
+            "the float backend kept {} rows as independent, but only {} of them are (exact combinations of the others: {}{})",
+            independent.len(),
+            exact.rank,
+            named.join("; "),
+            if exact.redundant.len() > named.len() { "; …" } else { "" }
+        ));
     }
     report.agree = Some(report.disagreements.is_empty());
     report

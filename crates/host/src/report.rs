@@ -119,6 +119,10 @@ pub struct CrossCheckReport {
     pub disagreements: Vec<String>,
     /// Why it was skipped, if it was.
     pub skipped: Option<String>,
+    /// How the float rank was found: `"dense QR"` (column-pivoted Householder, every
+    /// component small), `"sparse QR"` (Givens rotations with Heath's rank test, every
+    /// component large) or both, per connected component.
+    pub method: Option<String>,
 }
 
 /// Margin of a float rank decision (diagonal magnitudes relative to the largest).
