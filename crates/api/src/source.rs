@@ -123,24 +123,39 @@ pub struct Contribution {
 
 impl Contribution {
     /// Adds the parameters and rows to `system` and `values`, all or nothing: on any error
-    /// both are left unchanged.
+    /// both are left unchanged. See [`Contribution::apply_into`], which moves them.
     pub fn apply_to(
         &self,
         system: &mut ConstraintSystem,
         values: &mut Values,
     ) -> Result<(), crate::system::SystemError> {
-        let mut new_system = system.clone();
-        let mut new_values = values.clone();
-        for p in &self.parameters {
-            let id = new_system.add_parameter(p.name.clone(), p.value.len())?;
-            new_values.push(&new_system, id, p.value.clone())?;
+        self.clone().apply_into(system, values)
+    }
+
+    /// [`Contribution::apply_to`] moving the parameters and rows in: nothing of the system is
+    /// copied (a failure truncates what was added), so a source that adds a million rows costs
+    /// one copy of them, not three.
+    pub fn apply_into(
+        self,
+        system: &mut ConstraintSystem,
+        values: &mut Values,
+    ) -> Result<(), crate::system::SystemError> {
+        let (params, rows) = (system.params().len(), system.rows().len());
+        let added = (|| {
+            for p in self.parameters {
+                let id = system.add_parameter(p.name, p.value.len())?;
+                values.push(system, id, p.value)?;
+            }
+            for row in self.rows {
+                system.add_row(row)?;
+            }
+            Ok(())
+        })();
+        if added.is_err() {
+            system.truncate(params, rows);
+            values.truncate(params);
         }
-        for row in &self.rows {
-            new_system.add_row(row.clone())?;
-        }
-        *system = new_system;
-        *values = new_values;
-        Ok(())
+        added
     }
 }
 
@@ -479,16 +494,29 @@ mod tests {
                 name: "c".into(),
                 value: vec![r(2)],
             }],
-            rows: vec![ConstraintRow {
-                label: "broken".into(),
-                origin: Origin::default(),
-                body: RowBody::Vector {
-                    terms: vec![(ParamId(9), 1.into())],
-                    rhs: vec![0.into()],
+            // A good row on an existing parameter and the new one, then a broken row: the
+            // good row's incidence entries must go too.
+            rows: vec![
+                ConstraintRow {
+                    label: "good".into(),
+                    origin: Origin::default(),
+                    body: RowBody::Vector {
+                        terms: vec![(ParamId(0), 1.into()), (ParamId(2), (-1).into())],
+                        rhs: vec![0.into()],
+                    },
                 },
-            }],
+                ConstraintRow {
+                    label: "broken".into(),
+                    origin: Origin::default(),
+                    body: RowBody::Vector {
+                        terms: vec![(ParamId(9), 1.into())],
+                        rhs: vec![0.into()],
+                    },
+                },
+            ],
             ..Contribution::default()
         };
+        assert_eq!(system.params().len(), 2, "the new parameter gets id 2");
         let before = (system.clone(), values.clone());
         assert!(bad.apply_to(&mut system, &mut values).is_err());
         assert_eq!((system.clone(), values.clone()), before);

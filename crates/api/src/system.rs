@@ -326,6 +326,23 @@ impl ConstraintSystem {
         Ok(id)
     }
 
+    /// Drops every parameter from `params` on and every row from `rows` on (the rows dropped
+    /// must be all those involving the parameters dropped): undoes additions that failed part
+    /// way.
+    pub(crate) fn truncate(&mut self, params: usize, rows: usize) {
+        for row in self.rows.drain(rows..) {
+            for p in row.body.params() {
+                if let Some(list) = self.incidence.get_mut(p.index()) {
+                    list.retain(|r| r.index() < rows);
+                }
+            }
+        }
+        for p in self.params.drain(params..) {
+            self.by_name.remove(&p.name);
+        }
+        self.incidence.truncate(params);
+    }
+
     fn checked_param(&self, label: &str, id: ParamId) -> Result<&Parameter, SystemError> {
         self.params
             .get(id.index())
@@ -642,6 +659,11 @@ impl Values {
         }
         self.data.push(value);
         Ok(())
+    }
+
+    /// Keeps the first `params` values (undoes [`Values::push`]es).
+    pub(crate) fn truncate(&mut self, params: usize) {
+        self.data.truncate(params);
     }
 
     /// Replaces several parameters at once; used to commit an edit atomically after it has been

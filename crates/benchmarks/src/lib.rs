@@ -117,9 +117,175 @@ pub fn window_edit(params: &[ParamId], width: usize) -> (Vec<ParamId>, Vec<Param
     (vec![anchor], derived)
 }
 
+/// The linear point systems of `tools/peer_bench.py` (SolveSpace and kiwisolver run the same
+/// ones): 2D points with scalar parameters `x<p>`, `y<p>` and scalar rows, as the `linear`
+/// source builds them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PointSystem {
+    /// `n` points `(i, 0)`; each inner point is the midpoint of its neighbours.
+    Chain,
+    /// `k × k` points `(j, i)`, `k²` closest to `n`; rows horizontal, columns vertical.
+    Grid,
+    /// A strip of `n / 2` parallelograms `a_i = (2i, 0)`, `b_i = (2i + 2, 2)` with
+    /// `a_{i+1} − a_i = b_{i+1} − b_i`, plus the midpoint of the last pair.
+    Parallelograms,
+}
+
+/// One drag on a point system: the system, its values, the dragged point's two parameters
+/// (anchors), every other parameter (derived) and the anchors' targets (moved by (3, −2)).
+pub struct PointDrag {
+    /// The constraints.
+    pub system: ConstraintSystem,
+    /// The current (initial) values.
+    pub values: Values,
+    /// `x` and `y` of the dragged point.
+    pub anchors: Vec<ParamId>,
+    /// Every other parameter.
+    pub derived: Vec<ParamId>,
+    /// The anchors' new values.
+    pub targets: Vec<Vec<Rational>>,
+}
+
+/// The system `kind` with about `n` points, as in `tools/peer_bench.py`.
+pub fn point_drag(kind: PointSystem, n: usize) -> PointDrag {
+    use api::{Coord, RowBody};
+    let (points, equations, dragged): (Vec<(i64, i64)>, Vec<Vec<(usize, i64)>>, usize) = match kind
+    {
+        PointSystem::Chain => {
+            let points = (0..n as i64).map(|i| (i, 0)).collect();
+            // Point p has parameters 2p (x) and 2p + 1 (y).
+            let eq = (1..n - 1)
+                .flat_map(|i| {
+                    (0..2).map(move |k| {
+                        vec![(2 * i + k, 2), (2 * (i - 1) + k, -1), (2 * (i + 1) + k, -1)]
+                    })
+                })
+                .collect();
+            (points, eq, n / 2)
+        }
+        PointSystem::Grid => {
+            let k = (n as f64).sqrt().round() as usize;
+            let at = |i: usize, j: usize| i * k + j;
+            let points = (0..k * k)
+                .map(|p| ((p % k) as i64, (p / k) as i64))
+                .collect();
+            let mut eq = Vec::new();
+            for i in 0..k {
+                for j in 1..k {
+                    eq.push(vec![(2 * at(i, j) + 1, 1), (2 * at(i, 0) + 1, -1)]);
+                    eq.push(vec![(2 * at(j, i), 1), (2 * at(0, i), -1)]);
+                }
+            }
+            (points, eq, at(k / 2, k / 2))
+        }
+        PointSystem::Parallelograms => {
+            let m = n / 2;
+            // a_i is point 2i, b_i point 2i + 1, the apex point 2m.
+            let mut points: Vec<(i64, i64)> = (0..m as i64)
+                .flat_map(|i| [(2 * i, 0), (2 * i + 2, 2)])
+                .collect();
+            points.push((2 * m as i64 - 1, 1));
+            let mut eq = Vec::new();
+            for i in 0..m - 1 {
+                let (a, b, a1, b1) = (2 * i, 2 * i + 1, 2 * i + 2, 2 * i + 3);
+                for c in 0..2 {
+                    eq.push(vec![
+                        (2 * a1 + c, 1),
+                        (2 * a + c, -1),
+                        (2 * b1 + c, -1),
+                        (2 * b + c, 1),
+                    ]);
+                }
+            }
+            let (a, b, apex) = (2 * (m - 1), 2 * (m - 1) + 1, 2 * m);
+            for c in 0..2 {
+                eq.push(vec![(2 * apex + c, 2), (2 * a + c, -1), (2 * b + c, -1)]);
+            }
+            (points, eq, 2 * (m / 2))
+        }
+    };
+    let mut system = ConstraintSystem::new();
+    let params: Vec<ParamId> = (0..2 * points.len())
+        .map(|q| {
+            let name = format!("{}{}", if q % 2 == 0 { "x" } else { "y" }, q / 2);
+            system.add_parameter(name, 1).expect("distinct names")
+        })
+        .collect();
+    for (i, terms) in equations.iter().enumerate() {
+        system
+            .add_row(ConstraintRow {
+                label: format!("eq{i}"),
+                origin: Origin {
+                    source: "points".into(),
+                    item: format!("{i}"),
+                },
+                body: RowBody::Scalar {
+                    terms: terms
+                        .iter()
+                        .map(|(q, c)| {
+                            (
+                                Coord {
+                                    param: params[*q],
+                                    component: 0,
+                                },
+                                BigInt::from(*c),
+                            )
+                        })
+                        .collect(),
+                    rhs: BigInt::from(0),
+                },
+            })
+            .expect("valid row");
+    }
+    let values = Values::from_vecs(
+        &system,
+        points
+            .iter()
+            .flat_map(|(x, y)| [*x, *y])
+            .map(|v| vec![Rational::from_integer(v.into())])
+            .collect(),
+    )
+    .expect("one value per parameter");
+    let anchors = vec![params[2 * dragged], params[2 * dragged + 1]];
+    let (x, y) = points[dragged];
+    let targets = vec![
+        vec![Rational::from_integer((x + 3).into())],
+        vec![Rational::from_integer((y - 2).into())],
+    ];
+    let derived = params
+        .iter()
+        .copied()
+        .filter(|p| !anchors.contains(p))
+        .collect();
+    PointDrag {
+        system,
+        values,
+        anchors,
+        derived,
+        targets,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Every point system holds at its initial values, and the sizes are those of the peer
+    /// benchmark.
+    #[test]
+    fn point_systems_hold_initially() {
+        for (kind, n, points) in [
+            (PointSystem::Chain, 100, 100),
+            (PointSystem::Grid, 100, 100),
+            (PointSystem::Grid, 1000, 1024),
+            (PointSystem::Parallelograms, 101, 101),
+        ] {
+            let drag = point_drag(kind, n);
+            assert_eq!(drag.system.params().len(), 2 * points, "{kind:?}");
+            assert!(drag.system.violations(&drag.values).is_empty(), "{kind:?}");
+            assert_eq!(drag.derived.len() + 2, 2 * points);
+        }
+    }
 
     #[test]
     fn banded_values_satisfy_the_rows() {

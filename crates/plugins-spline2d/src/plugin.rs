@@ -77,7 +77,8 @@ pub(crate) struct Built {
     /// The source's name (prefix of its parameters and rows).
     pub(crate) name: String,
     pub(crate) spline: Spline,
-    net: ControlNet,
+    /// The control net, built at the first operation planned (analyses never need it).
+    net: std::sync::OnceLock<ControlNet>,
     /// Where the control points live in the system.
     pub(crate) params: SplineParams,
     /// Id of the row of the first condition (conditions are consecutive rows).
@@ -178,11 +179,10 @@ impl ConstraintSource for Spline2dSource {
         contribution.summary = SummaryItem::sorted(summary);
         contribution.warnings = warnings.iter().map(|w| w.to_string()).collect();
         contribution.inputs = file.into_iter().collect();
-        let net = ControlNet::new(&spline);
         self.built = Some(Built {
             name: request.name.clone(),
             spline,
-            net,
+            net: std::sync::OnceLock::new(),
             params,
             first_row: request.system.rows().len(),
         });
@@ -212,7 +212,7 @@ impl ConstraintSource for Spline2dSource {
         let op = self.check(&request.operation)?;
         let editor = SplineEditor {
             spline: &built.spline,
-            net: &built.net,
+            net: built.net.get_or_init(|| ControlNet::new(&built.spline)),
             params: &built.params,
         };
         let error = |e: SelectError| SourceError::new(format!("{what}: {e}"));

@@ -167,10 +167,17 @@ impl Session {
         for (index, row) in contribution.rows.iter_mut().enumerate() {
             row.label = unique_label(&entry.name, index, &row.label);
         }
-        contribution
-            .apply_to(&mut self.system, &mut self.values)
-            .map_err(|e| self.at(entry.at, format!("{context} contributed invalid data: {e}")))?;
+        let (parameters, rows) = (contribution.parameters.len(), contribution.rows.len());
+        let counts = contribution
+            .summary
+            .iter()
+            .map(|s| (s.key.clone(), s.value))
+            .collect();
+        let warnings = std::mem::take(&mut contribution.warnings);
         self.inputs.extend(contribution.inputs.iter().cloned());
+        contribution
+            .apply_into(&mut self.system, &mut self.values)
+            .map_err(|e| self.at(entry.at, format!("{context} contributed invalid data: {e}")))?;
         let report = SourceReport {
             name: entry.name.clone(),
             plugin: source.kind().to_string(),
@@ -182,14 +189,10 @@ impl Session {
                     path
                 }
             },
-            parameters: contribution.parameters.len(),
-            rows: contribution.rows.len(),
-            counts: contribution
-                .summary
-                .iter()
-                .map(|s| (s.key.clone(), s.value))
-                .collect(),
-            warnings: contribution.warnings.clone(),
+            parameters,
+            rows,
+            counts,
+            warnings,
         };
         self.sources.push(Loaded {
             name: entry.name.clone(),

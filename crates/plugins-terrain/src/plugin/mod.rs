@@ -96,7 +96,8 @@ const SURFACES: [&str; 3] = ["bottom", "top", "xy"];
 struct Built {
     name: String,
     spline: Spline,
-    net: ControlNet,
+    /// The control net, built at the first operation planned (analyses never need it).
+    net: std::sync::OnceLock<ControlNet>,
     layer: PrismLayer,
     bottom: SplineParams,
     top: SplineParams,
@@ -278,11 +279,10 @@ impl ConstraintSource for TerrainSource {
         contribution.summary = SummaryItem::sorted(summary);
         contribution.warnings = warnings.iter().map(|w| w.to_string()).collect();
         contribution.inputs = file.into_iter().collect();
-        let net = ControlNet::new(&spline);
         self.built = Some(Built {
             name: name.clone(),
             spline,
-            net,
+            net: std::sync::OnceLock::new(),
             layer,
             bottom,
             top,
@@ -312,7 +312,7 @@ impl ConstraintSource for TerrainSource {
         let (anchors, neighborhood, operation) = (&op.anchors, op.neighborhood, &op.operation);
         let editor = SplineEditor {
             spline: &built.spline,
-            net: &built.net,
+            net: built.net.get_or_init(|| ControlNet::new(&built.spline)),
             params,
         };
         let refused = |e: SelectError| error(e.to_string());

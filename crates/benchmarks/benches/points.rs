@@ -1,0 +1,69 @@
+//! Generic edits on linear point systems (`benchmarks::point_drag`, the systems of
+//! `tools/peer_bench.py`, which times SolveSpace and kiwisolver on them): one point dragged by
+//! (3, −2), every other parameter derived with unit weights. Per system and size: the whole
+//! edit (Initialize + one Update) and a drag frame (a further Update), exact and float.
+//!
+//! `cargo bench -p benchmarks --bench points`
+
+// `criterion_group!` generates an undocumented public function.
+#![allow(missing_docs)]
+
+use api::LinearBackend;
+use benchmarks::{point_drag, PointSystem};
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
+use ecles::{Edit, EditSpec};
+use exact_ldu::ExactLdu;
+use float_qr::FloatQr;
+use std::hint::black_box;
+
+fn drags_with<B: LinearBackend>(c: &mut Criterion, name: &str, backend: &B)
+where
+    <B::Factorization as api::Factorization>::Scalar: std::fmt::Debug,
+{
+    let mut group = c.benchmark_group("point-drag");
+    group.sample_size(10);
+    for (kind, label) in [
+        (PointSystem::Chain, "chain"),
+        (PointSystem::Grid, "grid"),
+        (PointSystem::Parallelograms, "parallelograms"),
+    ] {
+        for n in [10usize, 100, 1000] {
+            let n = if kind == PointSystem::Parallelograms {
+                n + 1
+            } else {
+                n
+            };
+            let drag = point_drag(kind, n);
+            let spec = EditSpec::new(drag.anchors.clone(), drag.derived.clone());
+            let hints: Vec<Vec<api::Rational>> = drag
+                .derived
+                .iter()
+                .map(|p| drag.values.get(*p).to_vec())
+                .collect();
+            let id = format!("{name}-{label}{n}");
+            group.bench_function(BenchmarkId::new("edit", &id), |b| {
+                b.iter(|| {
+                    exact_ldu::forget_last_factoring();
+                    let edit = Edit::initialize(backend, &drag.system, &drag.values, &spec)
+                        .expect("initialize");
+                    black_box(edit.update(&drag.targets, &hints).is_ok())
+                })
+            });
+            let edit =
+                Edit::initialize(backend, &drag.system, &drag.values, &spec).expect("initialize");
+            edit.update(&drag.targets, &hints).expect("solvable");
+            group.bench_function(BenchmarkId::new("frame", &id), |b| {
+                b.iter(|| black_box(edit.update(&drag.targets, &hints).is_ok()))
+            });
+        }
+    }
+    group.finish();
+}
+
+fn drags(c: &mut Criterion) {
+    drags_with(c, "exact", &ExactLdu::default());
+    drags_with(c, "float", &FloatQr::default());
+}
+
+criterion_group!(benches, drags);
+criterion_main!(benches);
