@@ -187,5 +187,52 @@ fn edits(c: &mut Criterion) {
     edits_with(c, "float", &FloatQr::default());
 }
 
-criterion_group!(benches, build, rank, edits);
+/// A snapped Update (`Edit::update_snapped` on the grid `2^−24`) on the same edits, after the
+/// first one: what an editor committing snapped points draws per frame.
+fn snapped(c: &mut Criterion) {
+    let mesh = perturbed_grid(22);
+    let spline = Spline::new(mesh, 5, 1).expect("valid mesh");
+    let net = ControlNet::new(&spline);
+    let mut system = ConstraintSystem::new();
+    let mut values = Values::default();
+    let params = spline
+        .declare(&mut system, &mut values, "phi", spline.identity_positions())
+        .expect("fresh system");
+    let editor = SplineEditor {
+        spline: &spline,
+        net: &net,
+        params: &params,
+    };
+    let anchor = spline
+        .points()
+        .iter()
+        .position(|p| p.name == "e264-265:2")
+        .expect("middle edge point");
+    let mut group = c.benchmark_group("spline-edit");
+    group.sample_size(20);
+    for radius in [3u32, 8] {
+        let sel = editor
+            .select(&system, &values, &[anchor], Neighborhood::Radius(radius))
+            .expect("select");
+        let by = vec![
+            api::Rational::new(7.into(), 3.into()),
+            api::Rational::new((-5).into(), 4.into()),
+        ];
+        let plan = editor
+            .plan(&sel, &values, &Operation::Translate { by }, 1)
+            .expect("plan");
+        let edit = Edit::initialize(&ExactLdu::default(), &system, &values, &plan.spec)
+            .expect("initialize");
+        let step = &plan.steps[0];
+        edit.update_snapped(&step.anchors, &step.hints, 24)
+            .expect("solvable");
+        group.bench_function(
+            BenchmarkId::new("snapped-update", format!("exact-delta{radius}")),
+            |b| b.iter(|| black_box(edit.update_snapped(&step.anchors, &step.hints, 24).is_ok())),
+        );
+    }
+    group.finish();
+}
+
+criterion_group!(benches, build, rank, edits, snapped);
 criterion_main!(benches);

@@ -11,6 +11,10 @@ use num_traits::{One, Zero};
 use rayon::prelude::*;
 use std::collections::HashMap;
 
+/// The coordinates of a vector-layout update are solved on separate threads when `R_ED` has
+/// at least this many columns (below, waking a thread costs more than a column's solve).
+const PARALLEL_COLUMNS_ABOVE: usize = 128;
+
 /// What the user asks for: anchors `A`, derived parameters `D` with weights, and whether strong
 /// solvability must be checked at initialisation.
 #[derive(Debug, Clone, PartialEq, Eq, Default)]
@@ -387,15 +391,18 @@ impl<F: Factorization> Edit<F> {
         self.check_values("hints", hints, &self.derived_names, &self.derived_dims)?;
         match self.layout {
             Layout::Vector { dim } => {
-                let columns: Vec<Result<Vec<T>, SolveError<F::Scalar>>> = (0..dim)
-                    .into_par_iter()
-                    .map(|j| {
-                        let alpha: Vec<Rational> =
-                            anchor_values.iter().map(|v| v[j].clone()).collect();
-                        let h: Vec<Rational> = hints.iter().map(|v| v[j].clone()).collect();
-                        solve(j, &alpha, &h)
-                    })
-                    .collect();
+                let column = |j: usize| {
+                    let alpha: Vec<Rational> = anchor_values.iter().map(|v| v[j].clone()).collect();
+                    let h: Vec<Rational> = hints.iter().map(|v| v[j].clone()).collect();
+                    solve(j, &alpha, &h)
+                };
+                // Threads pay off only when a column is real work.
+                let columns: Vec<Result<Vec<T>, SolveError<F::Scalar>>> =
+                    if self.reduced.r_ed.cols() >= PARALLEL_COLUMNS_ABOVE {
+                        (0..dim).into_par_iter().map(column).collect()
+                    } else {
+                        (0..dim).map(column).collect()
+                    };
                 let mut out: Vec<Vec<T>> = vec![Vec::with_capacity(dim); self.derived.len()];
                 for (j, column) in columns.into_iter().enumerate() {
                     let x = column.map_err(|e| self.solve_error(e, j))?;

@@ -225,7 +225,17 @@ pub fn gcd_biguint(a: &BigUint, b: &BigUint) -> BigUint {
     if b.is_zero() {
         return a.clone();
     }
-    if a.bits().max(b.bits()) > LARGE_GCD_BITS {
+    let bits = a.bits().max(b.bits());
+    if bits <= 128 {
+        // Values that fit two words (the common case of small edits): binary GCD in registers.
+        let word = |x: &BigUint| {
+            x.iter_u64_digits()
+                .enumerate()
+                .fold(0u128, |acc, (k, d)| acc | (u128::from(d) << (64 * k)))
+        };
+        return BigUint::from(gcd_u128(word(a), word(b)));
+    }
+    if bits > LARGE_GCD_BITS {
         use dashu_int::ops::Gcd;
         let x = dashu_int::UBig::from_le_bytes(&a.to_bytes_le());
         let y = dashu_int::UBig::from_le_bytes(&b.to_bytes_le());
