@@ -146,11 +146,14 @@ pub struct PointDrag {
     pub targets: Vec<Vec<Rational>>,
 }
 
+/// Point positions, equations as `(parameter, coefficient)` lists (parameter `2p` is `x` of
+/// point `p`, `2p + 1` its `y`) and the dragged point.
+type PointLayout = (Vec<(i64, i64)>, Vec<Vec<(usize, i64)>>, usize);
+
 /// The system `kind` with about `n` points, as in `tools/peer_bench.py`.
 pub fn point_drag(kind: PointSystem, n: usize) -> PointDrag {
     use api::{Coord, RowBody};
-    let (points, equations, dragged): (Vec<(i64, i64)>, Vec<Vec<(usize, i64)>>, usize) = match kind
-    {
+    let (points, equations, dragged): PointLayout = match kind {
         PointSystem::Chain => {
             let points = (0..n as i64).map(|i| (i, 0)).collect();
             // Point p has parameters 2p (x) and 2p + 1 (y).
