@@ -1,6 +1,6 @@
 //! Writes the scalar C1 constraint matrix of a degree-5 spline on a perturbed `n × n` grid
 //! (`2 n²` triangles) as text, and times this project's exact rank of the same matrix, for
-//! `tools/flint_compare.py` (which times FLINT's `fmpz_mat_rank` on it).
+//! `tools/linbox_compare.py` (which times LinBox and FLINT on it).
 //!
 //! `cargo run --release -p benchmarks --bin export_system -- N FILE`
 //!
