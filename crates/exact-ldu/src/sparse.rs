@@ -427,67 +427,91 @@ fn solve_over(matrix: &IntMatrix, t: usize, support: &[usize]) -> Option<Vec<(us
 /// became at step `last` is `Σ γ_i · A[i] / content_i` over the rows it was built from, so
 /// `A[t] = −Σ_{i ≠ t} (γ_i content_t / (γ_t content_i)) A[i]`.
 fn accumulate(steps: &[Step], contents: &[Int], t: usize, last: u32) -> Vec<(usize, Rational)> {
-    use std::collections::HashMap;
-    // Coefficient of each (row, step that produced that version of it).
-    let mut coefficient: HashMap<(u32, u32), Rational> = HashMap::new();
-    let mut at_start: HashMap<u32, Rational> = HashMap::new();
+    // The coefficient of the version of a row each step produced (a step makes one version of
+    // one row), and of each row as given.
+    let mut at_step: Vec<Option<Rational>> = vec![None; steps.len()];
+    let mut at_start: Vec<Option<Rational>> = vec![None; contents.len()];
     let mut pending: BinaryHeap<u32> = BinaryHeap::new();
-    let one = Rational::from_integer(1.into());
     let mut credit = |row: u32,
                       step: u32,
                       value: Rational,
-                      coefficient: &mut HashMap<(u32, u32), Rational>,
+                      at_step: &mut Vec<Option<Rational>>,
                       pending: &mut BinaryHeap<u32>| {
-        if step == INITIAL {
-            *at_start.entry(row).or_insert_with(Rational::zero) += value;
+        let slot = if step == INITIAL {
+            &mut at_start[row as usize]
         } else {
-            let slot = coefficient.entry((row, step)).or_insert_with(|| {
+            let slot = &mut at_step[step as usize];
+            if slot.is_none() {
                 pending.push(step);
-                Rational::zero()
-            });
-            *slot += value;
+            }
+            slot
+        };
+        match slot {
+            Some(c) => *c += value,
+            None => *slot = Some(value),
         }
     };
-    credit(t as u32, last, one, &mut coefficient, &mut pending);
+    // `x · k` for a small integer `k` without building a rational from it when `k = ±1`.
+    let times = |x: &Rational, k: &Int| match k.to_i64() {
+        Some(1) => x.clone(),
+        Some(-1) => -x.clone(),
+        _ => x * Rational::from_integer(k.to_bigint()),
+    };
+    credit(
+        t as u32,
+        last,
+        Rational::from_integer(1.into()),
+        &mut at_step,
+        &mut pending,
+    );
     while let Some(k) = pending.pop() {
         let step = &steps[k as usize];
-        let Some(c) = coefficient.remove(&(step.target, k)) else {
+        let Some(c) = at_step[k as usize].take() else {
             continue;
         };
         if c.is_zero() {
             continue;
         }
-        let over_g = &c / Rational::from_integer(step.g.to_bigint());
+        let over_g = if step.g.is_one() {
+            c
+        } else {
+            c / Rational::from_integer(step.g.to_bigint())
+        };
         credit(
             step.target,
             step.previous,
-            &over_g * Rational::from_integer(step.a.to_bigint()),
-            &mut coefficient,
+            times(&over_g, &step.a),
+            &mut at_step,
             &mut pending,
         );
         credit(
             step.pivot,
             step.pivot_step,
-            -(over_g * Rational::from_integer(step.b.to_bigint())),
-            &mut coefficient,
+            -times(&over_g, &step.b),
+            &mut at_step,
             &mut pending,
         );
     }
     // γ_i / content_i per original row.
-    let scaled = |row: u32, gamma: &Rational| {
-        gamma / Rational::from_integer(contents[row as usize].to_bigint())
+    let scaled = |row: usize, gamma: &Rational| {
+        if contents[row].is_one() {
+            gamma.clone()
+        } else {
+            gamma / Rational::from_integer(contents[row].to_bigint())
+        }
     };
-    let own = at_start
-        .get(&(t as u32))
-        .map(|g| scaled(t as u32, g))
+    let own = at_start[t]
+        .as_ref()
+        .map(|g| scaled(t, g))
         .unwrap_or_else(Rational::zero);
-    let mut w: Vec<(usize, Rational)> = at_start
+    at_start
         .iter()
-        .filter(|(row, gamma)| **row != t as u32 && !gamma.is_zero())
-        .map(|(row, gamma)| (*row as usize, -(scaled(*row, gamma) / &own)))
-        .collect();
-    w.sort_by_key(|(i, _)| *i);
-    w
+        .enumerate()
+        .filter_map(|(row, gamma)| {
+            let gamma = gamma.as_ref()?;
+            (row != t && !gamma.is_zero()).then(|| (row, -(scaled(row, gamma) / &own)))
+        })
+        .collect()
 }
 
 /// Whether `A[t] = Σ w_k A[k]` exactly.
