@@ -8,7 +8,7 @@ use num_traits::Zero;
 ///
 /// Constraint rows are short (a C1 condition has four nonzeros), so rows are sparse; backends
 /// copy the matrix into whatever layout they factor in.
-#[derive(Debug, Clone, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, PartialEq, Eq, Hash, Default)]
 pub struct IntMatrix {
     rows: Vec<Vec<(usize, Integer)>>,
     cols: usize,

@@ -561,21 +561,27 @@ fn merge_terms<K: Ord + Copy>(mut terms: Vec<(K, Integer)>) -> Vec<(K, Integer)>
 }
 
 /// Current exact values of all parameters of a system: the state being edited.
+///
+/// Copies share their data until one of them changes (copy on write): a session keeps the
+/// initial values, the current ones and one state per undo step, which for a whole mesh are a
+/// million parameters each.
 #[derive(Debug, Clone, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(transparent)]
 pub struct Values {
-    data: Vec<Vec<Rational>>,
+    data: std::sync::Arc<Vec<Vec<Rational>>>,
 }
 
 impl Values {
     /// All parameters of `system` at zero.
     pub fn zeros(system: &ConstraintSystem) -> Self {
         Values {
-            data: system
-                .params()
-                .iter()
-                .map(|p| vec![Rational::zero(); p.dim])
-                .collect(),
+            data: std::sync::Arc::new(
+                system
+                    .params()
+                    .iter()
+                    .map(|p| vec![Rational::zero(); p.dim])
+                    .collect(),
+            ),
         }
     }
 
@@ -618,10 +624,11 @@ impl Values {
                 expected: param.dim,
             });
         }
-        if self.data.len() < system.params().len() {
-            self.data.resize_with(system.params().len(), Vec::new);
+        let data = std::sync::Arc::make_mut(&mut self.data);
+        if data.len() < system.params().len() {
+            data.resize_with(system.params().len(), Vec::new);
         }
-        self.data[id.index()] = value;
+        data[id.index()] = value;
         Ok(())
     }
 
@@ -657,20 +664,21 @@ impl Values {
                 expected: param.dim,
             });
         }
-        self.data.push(value);
+        std::sync::Arc::make_mut(&mut self.data).push(value);
         Ok(())
     }
 
     /// Keeps the first `params` values (undoes [`Values::push`]es).
     pub(crate) fn truncate(&mut self, params: usize) {
-        self.data.truncate(params);
+        std::sync::Arc::make_mut(&mut self.data).truncate(params);
     }
 
     /// Replaces several parameters at once; used to commit an edit atomically after it has been
     /// fully computed.
     pub fn replace_all(&mut self, updates: impl IntoIterator<Item = (ParamId, Vec<Rational>)>) {
+        let data = std::sync::Arc::make_mut(&mut self.data);
         for (id, value) in updates {
-            self.data[id.index()] = value;
+            data[id.index()] = value;
         }
     }
 }

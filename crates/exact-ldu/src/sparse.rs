@@ -536,11 +536,9 @@ pub fn eliminate_blockwise(
     rhs: &[Vec<api::Integer>],
     combinations: Combinations,
 ) -> SparseElimination {
-    type Key = (
-        Vec<Vec<(usize, api::Integer)>>,
-        Vec<Vec<api::Integer>>,
-        usize,
-    );
+    // Identical components (the coordinates of a split vector system) are eliminated once; the
+    // component itself is the key, so no copy is made for it.
+    type Key = (IntMatrix, Vec<Vec<api::Integer>>);
     let mut cache: std::collections::HashMap<Key, SparseElimination> =
         std::collections::HashMap::new();
     let mut pivots = Vec::new();
@@ -553,14 +551,14 @@ pub fn eliminate_blockwise(
             .iter()
             .map(|col| rows.iter().map(|&i| col[i].clone()).collect())
             .collect();
-        let key: Key = (
-            local.row_iter().map(|r| r.to_vec()).collect(),
-            local_rhs.clone(),
-            local.cols(),
-        );
-        let result = cache
-            .entry(key)
-            .or_insert_with(|| eliminate(&local, &local_rhs, combinations));
+        let result = match cache.entry((local, local_rhs)) {
+            std::collections::hash_map::Entry::Occupied(e) => e.into_mut(),
+            std::collections::hash_map::Entry::Vacant(v) => {
+                let (local, local_rhs) = v.key();
+                let result = eliminate(local, local_rhs, combinations);
+                v.insert(result)
+            }
+        };
         pivots.extend(result.pivots.iter().map(|(r, c)| (rows[*r], cols[*c])));
         redundant.extend(result.redundant.iter().map(|red| {
             SparseRedundancy {
