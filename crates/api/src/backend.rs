@@ -23,11 +23,24 @@ use crate::matrix::IntMatrix;
 use std::fmt;
 
 /// A number a backend answers in.
-pub trait Value: Clone + fmt::Debug + PartialEq + Send + Sync + 'static {
+pub trait Value:
+    Clone
+    + fmt::Debug
+    + PartialEq
+    + Send
+    + Sync
+    + 'static
+    + std::ops::Add<Output = Self>
+    + std::ops::Mul<Output = Self>
+    + std::ops::Neg<Output = Self>
+{
     /// The value as `f64` (rounded for exact values).
     fn to_f64(&self) -> f64;
     /// The value as an exact rational, when the backend is exact.
     fn to_exact(&self) -> Option<Rational>;
+    /// An exact rational as a value of this type (rounded for float backends): for combining a
+    /// backend's answers with exact data (the offsets of substituted unknowns, say).
+    fn from_rational(r: &Rational) -> Self;
 }
 
 impl Value for Rational {
@@ -37,6 +50,9 @@ impl Value for Rational {
     fn to_exact(&self) -> Option<Rational> {
         Some(self.clone())
     }
+    fn from_rational(r: &Rational) -> Self {
+        r.clone()
+    }
 }
 
 impl Value for f64 {
@@ -45,6 +61,9 @@ impl Value for f64 {
     }
     fn to_exact(&self) -> Option<Rational> {
         None
+    }
+    fn from_rational(r: &Rational) -> Self {
+        rational_to_f64(r)
     }
 }
 

@@ -3,6 +3,8 @@
 use crate::error::{Conflict, ConflictingRow, EditError};
 use crate::reduce::{reduce, ReducedSystem};
 use crate::relevant::{extract_relevant, Relevant};
+use crate::substitute::Substitution;
+use api::Value;
 use api::{
     ConstraintSystem, Factorization, Fraction, Inconsistency, LinearBackend, ParamId,
     PreparedLeastSquares, Rational, RowId, SolveError, StrongFailure, Values,
@@ -10,6 +12,9 @@ use api::{
 use num_traits::{One, Zero};
 use rayon::prelude::*;
 use std::collections::HashMap;
+
+/// A row of `R_ED` and its combination of independent rows (indices into `R_ED`).
+type Combination<S> = (usize, Vec<(usize, S)>);
 
 /// The coordinates of a vector-layout update are solved on separate threads when `R_ED` has
 /// at least this many columns (below, waking a thread costs more than a column's solve).
@@ -145,6 +150,11 @@ pub struct Edit<F: Factorization> {
     relevant: Relevant,
     layout: Layout,
     reduced: ReducedSystem,
+    /// Trivial rows solved by substitution (`None` when there are none): the factoring, the
+    /// checks and the least squares then work on its inner system.
+    substitution: Option<Substitution>,
+    /// One weight per unknown of `R_ED`.
+    weights: Vec<Rational>,
     factorization: F,
     prepared: F::LeastSquares,
     strongly_solvable: Option<bool>,
@@ -164,10 +174,24 @@ impl<F: Factorization> Edit<F> {
     where
         B: LinearBackend<Factorization = F>,
     {
+        Self::initialize_with(backend, system, values, spec, true)
+    }
+
+    /// [`Edit::initialize`], solving trivial rows by substitution or not (the answers are the
+    /// same; the tests compare them).
+    pub(crate) fn initialize_with<B>(
+        backend: &B,
+        system: &ConstraintSystem,
+        values: &Values,
+        spec: &EditSpec,
+        substitute: bool,
+    ) -> Result<Self, EditError<F::Scalar>>
+    where
+        B: LinearBackend<Factorization = F>,
+    {
         let weights = validate_spec(system, values, spec)?;
         let relevant = extract_relevant(system, &spec.anchors, &spec.derived);
         let reduced = reduce(system, values, spec, &relevant);
-        let factorization = backend.factor(&reduced.r_ed)?;
 
         let dims = |ids: &[ParamId]| -> Vec<usize> {
             ids.iter().map(|p| system.params()[p.index()].dim).collect()
@@ -185,14 +209,29 @@ impl<F: Factorization> Edit<F> {
             };
             edit_weights.extend(std::iter::repeat_n(w.clone(), copies));
         }
+        let substitution = substitute
+            .then(|| Substitution::new(&reduced, &edit_weights))
+            .flatten();
+        let factored = substitution.as_ref().map_or(&reduced, Substitution::inner);
+        let factorization = backend.factor(&factored.r_ed)?;
         let mut strongly_solvable = None;
         let anchor_names = names(&spec.anchors);
         let anchor_dims = dims(&spec.anchors);
         if spec.strong {
-            strong_check(&factorization, &reduced, &anchor_names, &anchor_dims)?;
+            strong_check(
+                &factorization,
+                &reduced,
+                substitution.as_ref(),
+                &anchor_names,
+                &anchor_dims,
+            )?;
             strongly_solvable = Some(true);
         }
-        let prepared = factorization.prepare_least_squares(&reduced.family, &edit_weights)?;
+        let factored_weights = match &substitution {
+            Some(s) => s.group_weights().to_vec(),
+            None => edit_weights.clone(),
+        };
+        let prepared = factorization.prepare_least_squares(&factored.family, &factored_weights)?;
         Ok(Edit {
             backend: backend.name(),
             anchors: spec.anchors.clone(),
@@ -204,6 +243,8 @@ impl<F: Factorization> Edit<F> {
             relevant,
             layout: reduced.layout,
             reduced,
+            substitution,
+            weights: edit_weights,
             factorization,
             prepared,
             strongly_solvable,
@@ -225,7 +266,11 @@ impl<F: Factorization> Edit<F> {
         validate_spec::<F::Scalar>(system, values, spec)?;
         let relevant = extract_relevant(system, &spec.anchors, &spec.derived);
         let reduced = reduce(system, values, spec, &relevant);
-        let factorization = backend.factor(&reduced.r_ed)?;
+        // Weights only shape the least squares; the substitution needs one per unknown.
+        let unit = vec![Rational::one(); reduced.r_ed.cols()];
+        let substitution = Substitution::new(&reduced, &unit);
+        let factored = substitution.as_ref().map_or(&reduced, Substitution::inner);
+        let factorization = backend.factor(&factored.r_ed)?;
         let names: Vec<String> = spec
             .anchors
             .iter()
@@ -236,7 +281,13 @@ impl<F: Factorization> Edit<F> {
             .iter()
             .map(|p| system.params()[p.index()].dim)
             .collect();
-        strong_check(&factorization, &reduced, &names, &dims)
+        strong_check(
+            &factorization,
+            &reduced,
+            substitution.as_ref(),
+            &names,
+            &dims,
+        )
     }
 
     /// The layout of the reduced system.
@@ -271,37 +322,75 @@ impl<F: Factorization> Edit<F> {
 
     /// Relevant and redundant constraints, rank, layout and strong-solvability verdict.
     pub fn report(&self) -> InitReport<F::Scalar> {
-        let redundant = self
-            .factorization
-            .redundancies()
-            .into_iter()
-            .map(|red| {
-                (
-                    self.reduced.rows[red.row],
-                    red.combination
-                        .into_iter()
-                        .map(|(i, c)| (self.reduced.rows[i], c))
-                        .collect(),
-                )
-            })
-            .collect();
+        let rows = &self.reduced.rows;
+        let (mut independent, redundant): (Vec<usize>, Vec<Combination<F::Scalar>>) = match &self
+            .substitution
+        {
+            None => (
+                self.factorization.independent_rows(),
+                self.factorization
+                    .redundancies()
+                    .into_iter()
+                    .map(|red| (red.row, red.combination))
+                    .collect(),
+            ),
+            Some(sub) => {
+                let mut independent: Vec<usize> = self
+                    .factorization
+                    .independent_rows()
+                    .into_iter()
+                    .map(|k| sub.original_row(k))
+                    .collect();
+                independent.extend(sub.tree_rows());
+                let redundant = self
+                    .factorization
+                    .redundancies()
+                    .into_iter()
+                    .map(|red| {
+                        let t = sub.original_row(red.row);
+                        let mut combination: Vec<(usize, F::Scalar)> = red
+                            .combination
+                            .into_iter()
+                            .map(|(k, c)| (sub.original_row(k), c))
+                            .collect();
+                        // A_t − Σ c A_k, cancelled by the substituted rows.
+                        let mut residual = vec![(t, F::Scalar::from_rational(&Rational::one()))];
+                        residual.extend(combination.iter().map(|(i, c)| (*i, -c.clone())));
+                        combination.extend(sub.complete(&self.reduced.r_ed, &residual));
+                        combination.sort_by_key(|(i, _)| *i);
+                        (t, combination)
+                    })
+                    .collect();
+                (independent, redundant)
+            }
+        };
+        independent.sort_unstable();
         InitReport {
             backend: self.backend,
             relevant: self.relevant.constraints.clone(),
             fixed_relevant: self.relevant.fixed.clone(),
             layout: self.layout,
-            equations: self.factorization.rows(),
-            unknowns: self.factorization.cols(),
-            rank: self.factorization.rank(),
-            independent: self
-                .factorization
-                .independent_rows()
+            equations: self.reduced.r_ed.rows(),
+            unknowns: self.reduced.r_ed.cols(),
+            rank: independent.len(),
+            independent: independent.into_iter().map(|i| rows[i]).collect(),
+            redundant: redundant
                 .into_iter()
-                .map(|i| self.reduced.rows[i])
+                .map(|(t, combination)| {
+                    (
+                        rows[t],
+                        combination.into_iter().map(|(i, c)| (rows[i], c)).collect(),
+                    )
+                })
                 .collect(),
-            redundant,
             strongly_solvable: self.strongly_solvable,
         }
+    }
+
+    /// An inconsistency found on the factored system, over the rows of `R_ED`: inner rows
+    /// mapped back and completed by the substituted rows (the same discrepancy).
+    fn original_inconsistency(&self, inc: Inconsistency<F::Scalar>) -> Inconsistency<F::Scalar> {
+        map_inconsistency(&self.reduced, self.substitution.as_ref(), inc)
     }
 
     fn check_values(
@@ -341,8 +430,18 @@ impl<F: Factorization> Edit<F> {
         hints: &[Vec<Rational>],
     ) -> Result<UpdateResult<F::Scalar>, EditError<F::Scalar>> {
         let prepared = &self.prepared;
+        let (substitution, weights) = (self.substitution.as_ref(), &self.weights);
         let derived_values = self.solve_with(anchor_values, hints, |column, alpha, h| {
-            prepared.solve(column, alpha, h)
+            through_substitution(
+                substitution,
+                weights,
+                column,
+                h,
+                |h| prepared.solve(column, alpha, h),
+                F::Scalar::from_rational,
+                |a, b| a + b,
+                |a| -a,
+            )
         })?;
         Ok(UpdateResult {
             anchors: self
@@ -365,8 +464,24 @@ impl<F: Factorization> Edit<F> {
         hints: &[Vec<Rational>],
     ) -> Result<Vec<Vec<f64>>, EditError<F::Scalar>> {
         let prepared = &self.prepared;
+        let (substitution, weights) = (self.substitution.as_ref(), &self.weights);
         self.solve_with(anchor_values, hints, |column, alpha, h| {
-            prepared.solve_approx(column, alpha, h)
+            if substitution.is_none() {
+                return prepared.solve_approx(column, alpha, h);
+            }
+            // The offsets are added in the backend's values and the sum rounded once, so the
+            // preview stays the update rounded (the inner system is small by construction).
+            through_substitution(
+                substitution,
+                weights,
+                column,
+                h,
+                |h| prepared.solve(column, alpha, h),
+                F::Scalar::from_rational,
+                |a, b| a + b,
+                |a| -a,
+            )
+            .map(|x| x.iter().map(Value::to_f64).collect())
         })
     }
 
@@ -435,7 +550,7 @@ impl<F: Factorization> Edit<F> {
                 &self.reduced.labels,
                 self.layout,
                 column,
-                inc,
+                self.original_inconsistency(inc),
             ))),
         }
     }
@@ -454,7 +569,22 @@ impl<F: Factorization<Scalar = Rational>> Edit<F> {
         hints: &[Vec<Rational>],
     ) -> Result<Vec<Vec<Fraction>>, EditError<Rational>> {
         let prepared = &self.prepared;
+        let (substitution, weights) = (self.substitution.as_ref(), &self.weights);
         self.solve_with(anchor_values, hints, |column, alpha, h| {
+            if substitution.is_some() {
+                // Offsets are added in lowest terms: the frame is the reduced update.
+                return through_substitution(
+                    substitution,
+                    weights,
+                    column,
+                    h,
+                    |h| prepared.solve(column, alpha, h),
+                    Rational::clone,
+                    |a, b| a + b,
+                    |a| -a,
+                )
+                .map(|x| x.into_iter().map(Fraction::from).collect());
+            }
             match prepared.solve_unreduced(column, alpha, h)? {
                 Some(x) => Ok(x),
                 None => Ok(prepared
@@ -478,18 +608,32 @@ impl<F: Factorization<Scalar = Rational>> Edit<F> {
         grid_bits: u32,
     ) -> Result<(UpdateResult<Rational>, SnapSummary), EditError<Rational>> {
         let prepared = &self.prepared;
+        let (substitution, weights) = (self.substitution.as_ref(), &self.weights);
         let summary = std::sync::Mutex::new(SnapSummary {
             grid_bits,
             distance_bound: 0.0,
             optimum_columns: 0,
         });
         let derived = self.solve_with(anchor_values, hints, |column, alpha, h| {
-            let snapped = prepared.solve_snapped(column, alpha, h, grid_bits)?;
-            if let Ok(mut s) = summary.lock() {
-                s.distance_bound = s.distance_bound.max(snapped.distance_bound);
-                s.optimum_columns += usize::from(snapped.optimum);
-            }
-            Ok(snapped.values)
+            // Each unknown differs from its group's value by ±1 times it plus an exact offset:
+            // the groups' distance bound is the unknowns'.
+            through_substitution(
+                substitution,
+                weights,
+                column,
+                h,
+                |h| {
+                    let snapped = prepared.solve_snapped(column, alpha, h, grid_bits)?;
+                    if let Ok(mut s) = summary.lock() {
+                        s.distance_bound = s.distance_bound.max(snapped.distance_bound);
+                        s.optimum_columns += usize::from(snapped.optimum);
+                    }
+                    Ok(snapped.values)
+                },
+                Rational::clone,
+                |a, b| a + b,
+                |a| -a,
+            )
         })?;
         let summary = summary
             .into_inner()
@@ -530,24 +674,83 @@ impl<F: Factorization<Scalar = Rational>> Edit<F> {
     }
 }
 
+/// Solves one right-hand-side column through `substitution`, if any: the hints of the groups
+/// from those of the unknowns (`weights` per unknown), `solve` on the factored system, the
+/// unknowns from the groups' values.
+#[allow(clippy::too_many_arguments)]
+fn through_substitution<T: Clone, E>(
+    substitution: Option<&Substitution>,
+    weights: &[Rational],
+    column: usize,
+    hints: &[Rational],
+    solve: impl Fn(&[Rational]) -> Result<Vec<T>, E>,
+    from_rational: impl Fn(&Rational) -> T,
+    plus: impl Fn(T, T) -> T,
+    negate: impl Fn(T) -> T,
+) -> Result<Vec<T>, E> {
+    match substitution {
+        None => solve(hints),
+        Some(sub) => {
+            let inner_hints = sub.group_hints(weights, hints, column);
+            let y = solve(&inner_hints)?;
+            Ok(sub.expand(&y, column, from_rational, plus, negate))
+        }
+    }
+}
+
+/// An inconsistency of the factored system (the inner one of `substitution`, or `reduced`
+/// itself) over the rows of `reduced`: the certificate's inner rows mapped back and completed by
+/// the substituted rows, which cancel what the inner rows leave on substituted unknowns. The
+/// discrepancy `yᵀ b` is unchanged (module documentation of [`crate::substitute`]).
+fn map_inconsistency<S: api::Value>(
+    reduced: &ReducedSystem,
+    substitution: Option<&Substitution>,
+    inc: Inconsistency<S>,
+) -> Inconsistency<S> {
+    let Some(sub) = substitution else {
+        return inc;
+    };
+    let mut combination: Vec<(usize, S)> = inc
+        .rows
+        .iter()
+        .zip(inc.certificate)
+        .map(|(&k, y)| (sub.original_row(k), y))
+        .collect();
+    let completion = sub.complete(&reduced.r_ed, &combination);
+    combination.extend(completion.into_iter().map(|(i, f)| (i, -f)));
+    combination.sort_by_key(|(i, _)| *i);
+    Inconsistency {
+        rows: combination.iter().map(|(i, _)| *i).collect(),
+        certificate: combination.into_iter().map(|(_, y)| y).collect(),
+        discrepancy: inc.discrepancy,
+    }
+}
+
 /// The exact strong-solvability check of a reduced system (algorithm 3): `Ok` when every
 /// anchor value can be absorbed by the derived parameters.
 fn strong_check<F: Factorization>(
     factorization: &F,
     reduced: &ReducedSystem,
+    substitution: Option<&Substitution>,
     anchor_names: &[String],
     anchor_dims: &[usize],
 ) -> Result<(), EditError<F::Scalar>> {
-    match factorization.check_strongly_consistent(&reduced.family)? {
+    let factored = substitution.map_or(reduced, Substitution::inner);
+    match factorization.check_strongly_consistent(&factored.family)? {
         Ok(()) => Ok(()),
         Err(StrongFailure::Constant {
             column,
             inconsistency,
-        }) => Err(state_inconsistent(reduced, column, inconsistency)),
+        }) => Err(state_inconsistent(
+            reduced,
+            column,
+            map_inconsistency(reduced, substitution, inconsistency),
+        )),
         Err(StrongFailure::Direction {
             parameter,
             inconsistency,
         }) => {
+            let inconsistency = map_inconsistency(reduced, substitution, inconsistency);
             let (anchor, component) = match reduced.layout {
                 Layout::Vector { .. } => (anchor_names[parameter].clone(), None),
                 Layout::Scalar => {

@@ -28,6 +28,7 @@ mod error;
 mod moves;
 mod reduce;
 mod relevant;
+mod substitute;
 
 pub use drag::Drag;
 pub use edit::{Edit, EditSpec, InitReport, Layout, RowRef, SnapSummary, UpdateResult};
