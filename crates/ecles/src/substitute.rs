@@ -72,7 +72,10 @@ pub(crate) struct Substitution {
 /// The memo of [`Substitution::group_hints`]; copies start empty and all memos compare equal
 /// (a memo never changes an answer).
 #[derive(Debug, Default)]
-struct HintMemo(Vec<std::sync::Mutex<Option<(Vec<Rational>, Vec<Rational>)>>>);
+struct HintMemo(Vec<std::sync::Mutex<Option<HintsAndGroups>>>);
+
+/// Hints of the unknowns and the groups' hints from them.
+type HintsAndGroups = (Vec<Rational>, Vec<Rational>);
 
 impl Clone for HintMemo {
     fn clone(&self) -> Self {
