@@ -10,7 +10,7 @@
 //!   are rational; each row is scaled to coprime integers.
 
 use crate::mesh::{Mesh, Point, Topology};
-use api::{coprime_integers, Integer, Rational};
+use api::{Integer, Rational};
 use num_integer::Integer as _;
 use num_traits::{One, Zero};
 use std::collections::HashMap;
@@ -365,37 +365,38 @@ impl Spline {
             let v = self.mesh.triangles()[tv];
             let (u0, u1, u2) = (u[ku], u[(ku + 1) % 3], u[(ku + 2) % 3]);
             let v0 = v[kv];
+            // β = (area(v0, u1, u2), area(u0, v0, u2), area(u0, u1, v0)) / whole; the
+            // condition times |whole|^ρ has integer coefficients: |whole|^ρ for the point of v's
+            // triangle and −sign(whole)^ρ · multinomial · Π areas^exponent for u's.
             let whole = area(u0, u1, u2);
-            let beta = [
-                exact_ldu::reduced_ratio(area(v0, u1, u2), whole.clone()),
-                exact_ldu::reduced_ratio(area(u0, v0, u2), whole.clone()),
-                exact_ldu::reduced_ratio(area(u0, u1, v0), whole),
-            ];
+            let areas = [area(v0, u1, u2), area(u0, v0, u2), area(u0, u1, v0)];
             let point =
                 |vs: [usize; 3], idx: [usize; 3]| -> usize { by_key[&position_key(vs, idx)] };
             for rho in 1..=self.smoothness {
-                // Bernstein coefficients B^ρ_{ν,μ,κ}(β) for all ν + μ + κ = ρ.
-                let bernstein: Vec<([usize; 3], Rational)> = multi_indices(rho)
+                let scale = num_traits::pow(num_traits::Signed::abs(&whole), rho);
+                let flip = num_traits::Signed::is_negative(&whole) && rho % 2 == 1;
+                // The coefficients of B^ρ_{ν,μ,κ}(β) for all ν + μ + κ = ρ, scaled.
+                let bernstein: Vec<([usize; 3], Integer)> = multi_indices(rho)
                     .into_iter()
                     .map(|[nu, mu, ka]| {
                         let multinomial =
                             factorial(rho) / (factorial(nu) * factorial(mu) * factorial(ka));
-                        let value = Rational::from_integer(multinomial)
-                            * num_traits::pow(beta[0].clone(), nu)
-                            * num_traits::pow(beta[1].clone(), mu)
-                            * num_traits::pow(beta[2].clone(), ka);
-                        ([nu, mu, ka], value)
+                        let value = multinomial
+                            * num_traits::pow(areas[0].clone(), nu)
+                            * num_traits::pow(areas[1].clone(), mu)
+                            * num_traits::pow(areas[2].clone(), ka);
+                        ([nu, mu, ka], if flip { -value } else { value })
                     })
                     .collect();
                 for j in 0..=d - rho {
                     let k = d - rho - j;
-                    let mut terms: Vec<(usize, Rational)> =
-                        vec![(point([v0, u1, u2], [rho, j, k]), Rational::one())];
+                    let mut terms: Vec<(usize, Integer)> =
+                        vec![(point([v0, u1, u2], [rho, j, k]), scale.clone())];
                     for ([nu, mu, ka], b) in &bernstein {
                         if b.is_zero() {
                             continue;
                         }
-                        terms.push((point([u0, u1, u2], [*nu, j + mu, k + ka]), -b));
+                        terms.push((point([u0, u1, u2], [*nu, j + mu, k + ka]), -b.clone()));
                     }
                     let terms = integer_row(terms);
                     if terms.is_empty() {
@@ -538,10 +539,11 @@ impl Spline {
     }
 }
 
-/// Scales rational coefficients to coprime integers ([`api::coprime_integers`]), merging
-/// repeated control points and dropping zeros; sorted by control point.
-fn integer_row(terms: Vec<(usize, Rational)>) -> Vec<(usize, Integer)> {
-    let mut merged: Vec<(usize, Rational)> = Vec::with_capacity(terms.len());
+/// The primitive row of integer coefficients (merging repeated control points, dropping zeros,
+/// divided by their greatest common divisor: the same row [`api::coprime_integers`] gives for
+/// any positive multiple), sorted by control point.
+fn integer_row(terms: Vec<(usize, Integer)>) -> Vec<(usize, Integer)> {
+    let mut merged: Vec<(usize, Integer)> = Vec::with_capacity(terms.len());
     for (p, c) in terms {
         match merged.iter_mut().find(|(q, _)| *q == p) {
             Some((_, acc)) => *acc += c,
@@ -549,10 +551,16 @@ fn integer_row(terms: Vec<(usize, Rational)>) -> Vec<(usize, Integer)> {
         }
     }
     merged.retain(|(_, c)| !c.is_zero());
-    let ints = coprime_integers(merged.iter().map(|(_, c)| c));
-    let mut out: Vec<(usize, Integer)> = merged.into_iter().map(|(p, _)| p).zip(ints).collect();
-    out.sort_by_key(|(p, _)| *p);
-    out
+    let gcd = merged
+        .iter()
+        .fold(Integer::zero(), |g, (_, c)| exact_ldu::gcd_bigint(&g, c));
+    if !gcd.is_zero() && !gcd.is_one() {
+        for (_, c) in &mut merged {
+            *c = &*c / &gcd;
+        }
+    }
+    merged.sort_by_key(|(p, _)| *p);
+    merged
 }
 
 #[cfg(test)]
