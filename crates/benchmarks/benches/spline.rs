@@ -95,30 +95,62 @@ fn rank(c: &mut Criterion) {
     group.finish();
 }
 
+/// The degree-5 C1 spline on the 968-triangle perturbed grid, declared as one source, and the
+/// edge point in the middle of the mesh that the edit benches drag.
+struct GridFixture {
+    spline: Spline,
+    net: ControlNet,
+    system: ConstraintSystem,
+    values: Values,
+    params: spline2d::params::SplineParams,
+    anchor: usize,
+}
+
+impl GridFixture {
+    fn new() -> Self {
+        let spline = Spline::new(perturbed_grid(22), 5, 1).expect("valid mesh");
+        let net = ControlNet::new(&spline);
+        let mut system = ConstraintSystem::new();
+        let mut values = Values::default();
+        let params = spline
+            .declare(&mut system, &mut values, "phi", spline.identity_positions())
+            .expect("fresh system");
+        let anchor = spline
+            .points()
+            .iter()
+            .position(|p| p.name == "e264-265:2")
+            .expect("middle edge point");
+        GridFixture {
+            spline,
+            net,
+            system,
+            values,
+            params,
+            anchor,
+        }
+    }
+
+    fn editor(&self) -> SplineEditor<'_> {
+        SplineEditor {
+            spline: &self.spline,
+            net: &self.net,
+            params: &self.params,
+        }
+    }
+}
+
 fn edits_with<B: LinearBackend>(c: &mut Criterion, name: &str, backend: &B)
 where
     <B::Factorization as Factorization>::Scalar: std::fmt::Debug,
     Edit<B::Factorization>: Clone,
 {
-    let mesh = perturbed_grid(22);
-    let spline = Spline::new(mesh, 5, 1).expect("valid mesh");
-    let net = ControlNet::new(&spline);
-    let mut system = ConstraintSystem::new();
-    let mut values = Values::default();
-    let params = spline
-        .declare(&mut system, &mut values, "phi", spline.identity_positions())
-        .expect("fresh system");
-    let editor = SplineEditor {
-        spline: &spline,
-        net: &net,
-        params: &params,
-    };
-    // An edge point in the middle of the mesh.
-    let anchor = spline
-        .points()
-        .iter()
-        .position(|p| p.name == "e264-265:2")
-        .expect("middle edge point");
+    let fixture = GridFixture::new();
+    let (editor, system, values, anchor) = (
+        fixture.editor(),
+        &fixture.system,
+        &fixture.values,
+        fixture.anchor,
+    );
     let mut group = c.benchmark_group("spline-edit");
     group.sample_size(20);
     for radius in [3u32, 8] {
@@ -126,28 +158,28 @@ where
         group.bench_function(BenchmarkId::new("select+initialize", &label), |b| {
             b.iter(|| {
                 let sel = editor
-                    .select(&system, &values, &[anchor], Neighborhood::Radius(radius))
+                    .select(system, values, &[anchor], Neighborhood::Radius(radius))
                     .expect("select");
                 let plan = editor
                     .plan(
                         &sel,
-                        &values,
+                        values,
                         &Operation::Translate {
                             by: vec![api::Rational::from_integer(3.into()); 2],
                         },
                         1,
                     )
                     .expect("plan");
-                black_box(Edit::initialize(backend, &system, &values, &plan.spec).is_ok())
+                black_box(Edit::initialize(backend, system, values, &plan.spec).is_ok())
             })
         });
         let sel = editor
-            .select(&system, &values, &[anchor], Neighborhood::Radius(radius))
+            .select(system, values, &[anchor], Neighborhood::Radius(radius))
             .expect("select");
         let plan = editor
             .plan(
                 &sel,
-                &values,
+                values,
                 &Operation::Translate {
                     by: vec![
                         api::Rational::new(7.into(), 3.into()),
@@ -157,7 +189,7 @@ where
                 1,
             )
             .expect("plan");
-        let edit = Edit::initialize(backend, &system, &values, &plan.spec).expect("initialize");
+        let edit = Edit::initialize(backend, system, values, &plan.spec).expect("initialize");
         let step = &plan.steps[0];
         edit.update(&step.anchors, &step.hints)
             .expect("strongly solvable");
@@ -190,39 +222,28 @@ fn edits(c: &mut Criterion) {
 /// A snapped Update (`Edit::update_snapped` on the grid `2^−24`) on the same edits, after the
 /// first one: what an editor committing snapped points draws per frame.
 fn snapped(c: &mut Criterion) {
-    let mesh = perturbed_grid(22);
-    let spline = Spline::new(mesh, 5, 1).expect("valid mesh");
-    let net = ControlNet::new(&spline);
-    let mut system = ConstraintSystem::new();
-    let mut values = Values::default();
-    let params = spline
-        .declare(&mut system, &mut values, "phi", spline.identity_positions())
-        .expect("fresh system");
-    let editor = SplineEditor {
-        spline: &spline,
-        net: &net,
-        params: &params,
-    };
-    let anchor = spline
-        .points()
-        .iter()
-        .position(|p| p.name == "e264-265:2")
-        .expect("middle edge point");
+    let fixture = GridFixture::new();
+    let (editor, system, values, anchor) = (
+        fixture.editor(),
+        &fixture.system,
+        &fixture.values,
+        fixture.anchor,
+    );
     let mut group = c.benchmark_group("spline-edit");
     group.sample_size(20);
     for radius in [3u32, 8] {
         let sel = editor
-            .select(&system, &values, &[anchor], Neighborhood::Radius(radius))
+            .select(system, values, &[anchor], Neighborhood::Radius(radius))
             .expect("select");
         let by = vec![
             api::Rational::new(7.into(), 3.into()),
             api::Rational::new((-5).into(), 4.into()),
         ];
         let plan = editor
-            .plan(&sel, &values, &Operation::Translate { by }, 1)
+            .plan(&sel, values, &Operation::Translate { by }, 1)
             .expect("plan");
-        let edit = Edit::initialize(&ExactLdu::default(), &system, &values, &plan.spec)
-            .expect("initialize");
+        let edit =
+            Edit::initialize(&ExactLdu::default(), system, values, &plan.spec).expect("initialize");
         let step = &plan.steps[0];
         edit.update_snapped(&step.anchors, &step.hints, 24)
             .expect("solvable");
