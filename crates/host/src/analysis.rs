@@ -16,6 +16,9 @@ use std::collections::BTreeSet;
 /// cross-check never gives up.
 pub const DENSE_LIMIT: usize = 250_000;
 
+/// Up to this many nonzeros the float cross-check runs beside the exact elimination.
+pub const CONCURRENT_CROSS_CHECK_NONZEROS: usize = 1_000_000;
+
 /// Combinations of more terms than this are written compactly: runs of consecutive rows with
 /// one coefficient become one term (`row`, `through`, `rows`).
 pub const COMPACT_ABOVE: usize = 256;
@@ -177,7 +180,16 @@ pub fn analyze(
         .iter()
         .map(|col| col.iter().map(|v| v.numer().clone()).collect())
         .collect();
-    let elimination = eliminate_blockwise(&shape.matrix, &rhs, Combinations::Exact);
+    // The float view does not depend on the exact one until they are compared: both run at
+    // once, unless the matrix is so large that holding both working sets would double the peak
+    // memory of whole-mesh runs.
+    let exact = || eliminate_blockwise(&shape.matrix, &rhs, Combinations::Exact);
+    let float = || tolerance.map(|tol| float_view(shape, tol));
+    let (elimination, float_view) = if shape.matrix.nnz() <= CONCURRENT_CROSS_CHECK_NONZEROS {
+        rayon::join(exact, float)
+    } else {
+        (exact(), float())
+    };
     analysis.rank = elimination.rank * shape.copies;
     analysis.structure = Some(crate::structural::report(graph, &elimination));
     // A row is redundant only if its whole equation, right-hand side included, is the
@@ -207,8 +219,22 @@ pub fn analyze(
         rows.sort_unstable();
         analysis.conflict = Some(rows.iter().map(|&i| shape.labels[i].clone()).collect());
     }
-    if let Some(tol) = tolerance {
-        analysis.cross_check = cross_check(shape, elimination.rank, tol);
+    if let Some(mut report) = float_view {
+        if report.skipped.is_none() && report.float_rank != Some(elimination.rank * shape.copies) {
+            report.disagreements.insert(
+                0,
+                format!(
+                    "rank: exact {}, float {}",
+                    elimination.rank * shape.copies,
+                    report.float_rank.unwrap_or(0)
+                ),
+            );
+        }
+        report.agree = report
+            .skipped
+            .is_none()
+            .then(|| report.disagreements.is_empty());
+        analysis.cross_check = report;
     }
     analysis
 }
@@ -268,9 +294,9 @@ fn float_component_rank(
 }
 
 /// The float backend's view of the whole matrix, per connected component (the dense QR for
-/// small ones, the sparse QR for large ones), compared with the exact rank; when the ranks
-/// agree, the rows the float backend kept are checked to be independent exactly.
-fn cross_check(shape: &SystemMatrix, exact_rank: usize, tolerance: f64) -> CrossCheckReport {
+/// small ones, the sparse QR for large ones), and whether the rows it kept are independent
+/// exactly (naming those that are not); the caller compares its rank with the exact one.
+fn float_view(shape: &SystemMatrix, tolerance: f64) -> CrossCheckReport {
     let mut report = CrossCheckReport {
         enabled: true,
         tolerance: Some(tolerance),
@@ -304,14 +330,6 @@ fn cross_check(shape: &SystemMatrix, exact_rank: usize, tolerance: f64) -> Cross
         smallest_kept,
         largest_dropped,
     });
-    if rank != exact_rank {
-        report.disagreements.push(format!(
-            "rank: exact {}, float {}",
-            exact_rank * shape.copies,
-            rank * shape.copies
-        ));
-    }
-    // The rows the float backend kept must be independent exactly; name those that are not.
     independent.sort_unstable();
     let sub = select_rows(&shape.matrix, &independent);
     let exact = eliminate_blockwise(&sub, &[], Combinations::Skip);
@@ -330,7 +348,6 @@ fn cross_check(shape: &SystemMatrix, exact_rank: usize, tolerance: f64) -> Cross
             if exact.redundant.len() > named.len() { "; …" } else { "" }
         ));
     }
-    report.agree = Some(report.disagreements.is_empty());
     report
 }
 
