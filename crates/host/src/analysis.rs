@@ -233,7 +233,7 @@ pub fn analyze(
         report.agree = report
             .skipped
             .is_none()
-            .then(|| report.disagreements.is_empty());
+            .then_some(report.disagreements.is_empty());
         analysis.cross_check = report;
     }
     analysis
