@@ -54,10 +54,12 @@
 mod convert;
 mod factorization;
 mod lsq;
+mod sparse_lsq;
 mod sparse_rank;
 
 pub use factorization::FloatFactorization;
 pub use lsq::FloatLeastSquares;
+pub use sparse_lsq::{SparseLeastSquares, Unsatisfied};
 pub use sparse_rank::{sparse_row_rank, SparseRowRank};
 
 use api::{BackendError, IntMatrix, LinearBackend};

@@ -40,7 +40,7 @@ pub struct SparseRowRank {
 }
 
 /// A sparse row of `R` or a vector being rotated in: `(position, value)`, positions increasing.
-type SparseVector = Vec<(u32, f64)>;
+pub(crate) type SparseVector = Vec<(u32, f64)>;
 
 /// The rank of `matrix` by the sparse Givens QR of `A` with relative `tolerance`.
 pub fn sparse_row_rank(matrix: &IntMatrix, tolerance: f64) -> Result<SparseRowRank, BackendError> {
@@ -94,7 +94,7 @@ pub fn sparse_row_rank(matrix: &IntMatrix, tolerance: f64) -> Result<SparseRowRa
 
 /// An order of the columns of `A` that keeps `R` sparse: approximate minimum degree (the `amd`
 /// crate) on the pattern of `Aᵀ A`; the natural order if it cannot be computed.
-fn column_order(rows: &[Vec<(usize, f64)>], cols: usize) -> Vec<usize> {
+pub(crate) fn column_order(rows: &[Vec<(usize, f64)>], cols: usize) -> Vec<usize> {
     let natural = || (0..cols).collect::<Vec<_>>();
     let mut pattern: Vec<Vec<isize>> = (0..cols).map(|c| vec![c as isize]).collect();
     for row in rows {
@@ -126,7 +126,7 @@ fn column_order(rows: &[Vec<(usize, f64)>], cols: usize) -> Vec<usize> {
 /// is rounding left by the rotations (Heath's rule: it is set to zero, `largest_dropped`
 /// records it) and the rotations go on. `None` when nothing of `x` is left: it depends on the
 /// rows before it.
-fn rotate_in(
+pub(crate) fn rotate_in(
     r: &mut [SparseVector],
     mut x: SparseVector,
     tolerance: f64,

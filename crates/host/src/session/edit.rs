@@ -395,14 +395,24 @@ impl Session {
                 return;
             }
         };
-        let float = execute(
-            &backend,
-            &self.system,
-            &self.values,
-            spec,
-            steps,
-            |edit, step| edit.update(&step.anchors, &step.hints),
-        );
+        let large = ecles::reduce_edit::<f64>(&self.system, &self.values, spec)
+            .map(|(_, reduced)| {
+                reduced.r_ed().rows().saturating_mul(reduced.r_ed().cols())
+                    > super::float_twin::DENSE_EDIT_LIMIT
+            })
+            .unwrap_or(false);
+        let float = if large {
+            super::float_twin::execute_sparse(&self.system, &self.values, spec, steps, tolerance)
+        } else {
+            execute(
+                &backend,
+                &self.system,
+                &self.values,
+                spec,
+                steps,
+                |edit, step| edit.update(&step.anchors, &step.hints),
+            )
+        };
         if let (Some(e), Some(f)) = (&exact.init, &float.init) {
             if e.rank != f.rank {
                 report
@@ -509,24 +519,24 @@ impl ActiveEdit {
 }
 
 /// What initialising an edit found.
-struct InitFacts {
-    relevant: usize,
-    fixed: Vec<ParamId>,
-    rank: usize,
-    redundant: usize,
-    independent: Vec<api::RowId>,
+pub(super) struct InitFacts {
+    pub(super) relevant: usize,
+    pub(super) fixed: Vec<ParamId>,
+    pub(super) rank: usize,
+    pub(super) redundant: usize,
+    pub(super) independent: Vec<api::RowId>,
 }
 
 /// One backend's run of an edit.
-struct Execution<S: api::Value> {
-    init: Option<InitFacts>,
-    outcome: Result<Vec<UpdateResult<S>>, EditError<S>>,
+pub(super) struct Execution<S: api::Value> {
+    pub(super) init: Option<InitFacts>,
+    pub(super) outcome: Result<Vec<UpdateResult<S>>, EditError<S>>,
 }
 
 /// Initialises `spec` on `backend` and runs every step through `update` (the optimum, or a
 /// snapped point for the exact backend).
 #[allow(clippy::type_complexity)]
-fn execute<B: LinearBackend>(
+pub(super) fn execute<B: LinearBackend>(
     backend: &B,
     system: &ConstraintSystem,
     values: &Values,

@@ -17,6 +17,7 @@ use std::path::{Path, PathBuf};
 
 mod check;
 mod edit;
+mod float_twin;
 mod render;
 
 pub use check::OutputsPlan;
