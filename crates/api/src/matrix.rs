@@ -76,7 +76,10 @@ impl IntMatrix {
     /// Builds a matrix from sparse rows `(column, value)`; entries of a row are summed per
     /// column and zeros dropped.
     pub fn from_sparse(cols: usize, rows: Vec<Vec<(usize, Integer)>>) -> Result<Self, MatrixError> {
-        let mut out = IntMatrix::zeros(0, cols);
+        let mut out = IntMatrix {
+            rows: Vec::with_capacity(rows.len()),
+            cols,
+        };
         for (i, mut row) in rows.into_iter().enumerate() {
             if let Some((col, _)) = row.iter().find(|(c, _)| *c >= cols) {
                 return Err(MatrixError::ColumnOutOfRange {
@@ -85,16 +88,17 @@ impl IntMatrix {
                     cols,
                 });
             }
+            // Sorted and merged in place: the rows given are the rows kept, not copied.
             row.sort_by_key(|(c, _)| *c);
-            let mut merged: Vec<(usize, Integer)> = Vec::with_capacity(row.len());
-            for (c, v) in row {
-                match merged.last_mut() {
-                    Some((lc, lv)) if *lc == c => *lv += v,
-                    _ => merged.push((c, v)),
+            row.dedup_by(|later, kept| {
+                let same = later.0 == kept.0;
+                if same {
+                    kept.1 += std::mem::take(&mut later.1);
                 }
-            }
-            merged.retain(|(_, v)| !v.is_zero());
-            out.rows.push(merged);
+                same
+            });
+            row.retain(|(_, v)| !v.is_zero());
+            out.rows.push(row);
         }
         Ok(out)
     }

@@ -141,6 +141,8 @@ impl Contribution {
         values: &mut Values,
     ) -> Result<(), crate::system::SystemError> {
         let (params, rows) = (system.params().len(), system.rows().len());
+        system.reserve_exact(self.parameters.len(), self.rows.len());
+        values.reserve_exact(self.parameters.len());
         let added = (|| {
             for p in self.parameters {
                 let id = system.add_parameter(p.name, p.value.len())?;

@@ -66,14 +66,17 @@ pub fn components(matrix: &IntMatrix) -> Vec<(Vec<usize>, Vec<usize>)> {
             }
         }
     }
-    let mut index: HashMap<usize, usize> = HashMap::new();
+    // The component number of each root, by the root's index (roots are the smallest member,
+    // so components come out ordered by their smallest row).
+    let mut index: Vec<usize> = vec![usize::MAX; m + n];
     let mut out: Vec<(Vec<usize>, Vec<usize>)> = Vec::new();
     for x in 0..m + n {
         let root = find(&mut parent, x);
-        let k = *index.entry(root).or_insert_with(|| {
+        if index[root] == usize::MAX {
+            index[root] = out.len();
             out.push((Vec::new(), Vec::new()));
-            out.len() - 1
-        });
+        }
+        let k = index[root];
         if x < m {
             out[k].0.push(x);
         } else {
@@ -87,7 +90,15 @@ pub fn components(matrix: &IntMatrix) -> Vec<(Vec<usize>, Vec<usize>)> {
 /// built in one pass over the matrix: every column belongs to one component, so a column's
 /// local index is the same in every row.
 pub fn component_matrices(matrix: &IntMatrix) -> Vec<(Vec<usize>, Vec<usize>, IntMatrix)> {
-    let parts = components(matrix);
+    submatrices(matrix, components(matrix))
+}
+
+/// The submatrix of each of `parts` (the [`components`] of `matrix`), with its rows and
+/// columns.
+pub(crate) fn submatrices(
+    matrix: &IntMatrix,
+    parts: Vec<(Vec<usize>, Vec<usize>)>,
+) -> Vec<(Vec<usize>, Vec<usize>, IntMatrix)> {
     let mut local_col = vec![0usize; matrix.cols()];
     for (_, cols) in &parts {
         for (k, &c) in cols.iter().enumerate() {

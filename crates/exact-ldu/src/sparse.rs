@@ -530,11 +530,40 @@ fn verified(matrix: &IntMatrix, t: usize, w: &[(usize, Rational)]) -> bool {
 
 /// [`eliminate`] per connected component of the matrix's bipartite graph; components that are
 /// the same matrix with the same right-hand sides (up to renumbering) are eliminated once.
-/// Identical answers up to the order of pivots.
+/// Identical answers up to the order of pivots, which are listed component by component.
 pub fn eliminate_blockwise(
     matrix: &IntMatrix,
     rhs: &[Vec<api::Integer>],
     combinations: Combinations,
+) -> SparseElimination {
+    let parts = crate::blocks::components(matrix);
+    // A component holding more than half of the rows (a whole mesh) has no identical twin, so
+    // sharing cannot save its work: the whole matrix is then eliminated at once, without copying
+    // any component. Pivots never cross components, the pivot order inside a component does not
+    // depend on the others and renumbering is monotone, so each component gets the pivots of
+    // its own elimination (property tested against [`eliminate_by_components`]).
+    if !parts.iter().any(|(rows, _)| 2 * rows.len() > matrix.rows()) {
+        return eliminate_by_components(matrix, rhs, combinations, parts);
+    }
+    let mut component_of_row = vec![0usize; matrix.rows()];
+    for (k, (rows, _)) in parts.iter().enumerate() {
+        for &i in rows {
+            component_of_row[i] = k;
+        }
+    }
+    let mut whole = eliminate(matrix, rhs, combinations);
+    whole.pivots.sort_by_key(|(row, _)| component_of_row[*row]);
+    whole.redundant.sort_by_key(|r| r.row);
+    whole
+}
+
+/// [`eliminate`] on a copy of each of `parts` (the [`crate::blocks::components`] of `matrix`),
+/// eliminating identical components once.
+fn eliminate_by_components(
+    matrix: &IntMatrix,
+    rhs: &[Vec<api::Integer>],
+    combinations: Combinations,
+    parts: Vec<(Vec<usize>, Vec<usize>)>,
 ) -> SparseElimination {
     // Identical components (the coordinates of a split vector system) are eliminated once; the
     // component itself is the key, so no copy is made for it.
@@ -543,7 +572,7 @@ pub fn eliminate_blockwise(
         std::collections::HashMap::new();
     let mut pivots = Vec::new();
     let mut redundant = Vec::new();
-    for (rows, cols, local) in crate::blocks::component_matrices(matrix) {
+    for (rows, cols, local) in crate::blocks::submatrices(matrix, parts) {
         if rows.is_empty() {
             continue;
         }
@@ -642,6 +671,15 @@ mod tests {
             }
             let e = eliminate(&matrix, &[good.clone(), bad.clone()], Combinations::Exact);
             let b = eliminate_blockwise(&matrix, &[good.clone(), bad.clone()], Combinations::Exact);
+            // Eliminating the whole matrix at once (when one component has most rows) gives
+            // exactly what eliminating a copy of each component does, pivot order included.
+            let by_components = eliminate_by_components(
+                &matrix,
+                &[good.clone(), bad.clone()],
+                Combinations::Exact,
+                crate::blocks::components(&matrix),
+            );
+            prop_assert_eq!(&b, &by_components);
             prop_assert_eq!(b.rank, e.rank);
             prop_assert_eq!(b.consistent(), e.consistent());
             prop_assert_eq!(b.redundant.len(), e.redundant.len());

@@ -50,8 +50,8 @@ pub struct Analysis {
 pub struct SystemMatrix {
     /// The matrix analysed.
     pub matrix: IntMatrix,
-    /// Right-hand sides, one column per coordinate.
-    pub rhs: Vec<Vec<Rational>>,
+    /// Right-hand sides (integers, as every row's), one column per coordinate.
+    pub rhs: Vec<Vec<Integer>>,
     /// Label of each row.
     pub labels: Vec<String>,
     /// Name of each column: a parameter, or `name[k]` for coordinate `k` of a vector parameter.
@@ -94,8 +94,8 @@ pub fn shape(system: &ConstraintSystem) -> SystemMatrix {
                         .rows()
                         .iter()
                         .map(|r| match &r.body {
-                            RowBody::Vector { rhs, .. } => Rational::from_integer(rhs[k].clone()),
-                            RowBody::Scalar { rhs, .. } => Rational::from_integer(rhs.clone()),
+                            RowBody::Vector { rhs, .. } => rhs[k].clone(),
+                            RowBody::Scalar { rhs, .. } => rhs.clone(),
                         })
                         .collect()
                 })
@@ -129,7 +129,7 @@ pub fn shape(system: &ConstraintSystem) -> SystemMatrix {
                 .collect();
             SystemMatrix {
                 matrix,
-                rhs: vec![rhs.into_iter().map(Rational::from_integer).collect()],
+                rhs: vec![rhs],
                 labels,
                 columns,
                 copies: 1,
@@ -175,15 +175,10 @@ pub fn analyze(
     let shape = &graph.shape;
     // Exact: sparse fraction-free elimination per connected component (identical components,
     // such as the x and y coordinates, once). Scales to large meshes.
-    let rhs: Vec<Vec<Integer>> = shape
-        .rhs
-        .iter()
-        .map(|col| col.iter().map(|v| v.numer().clone()).collect())
-        .collect();
     // The float view does not depend on the exact one until they are compared: both run at
     // once, unless the matrix is so large that holding both working sets would double the peak
     // memory of whole-mesh runs.
-    let exact = || eliminate_blockwise(&shape.matrix, &rhs, Combinations::Exact);
+    let exact = || eliminate_blockwise(&shape.matrix, &shape.rhs, Combinations::Exact);
     let float = || tolerance.map(|tol| float_view(shape, tol));
     let (elimination, float_view) = if shape.matrix.nnz() <= CONCURRENT_CROSS_CHECK_NONZEROS {
         rayon::join(exact, float)

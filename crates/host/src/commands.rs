@@ -162,8 +162,7 @@ pub fn analyze(
     max_input_bytes: u64,
     console: &mut Console<'_>,
 ) -> Result<u8, RunError> {
-    let session = Session::build(run, max_input_bytes)?;
-    let report = session.analyze();
+    let report = Session::build(run, max_input_bytes)?.analyze_alone();
     if json {
         let text = serde_json::to_string_pretty(&report)
             .map_err(|e| RunError::environment(format!("cannot encode the report: {e}")))?;

@@ -178,6 +178,9 @@ pub fn multinomials(d: usize) -> Vec<Integer> {
 /// padded with `(usize::MAX, 0)` (a fixed-size key: no allocation per lookup).
 type PositionKey = [(usize, usize); 3];
 
+/// Control point index by position key.
+type PointIndex = HashMap<PositionKey, usize, foldhash::fast::RandomState>;
+
 const NO_VERTEX: (usize, usize) = (usize::MAX, 0);
 
 fn position_key(vertices: [usize; 3], idx: [usize; 3]) -> PositionKey {
@@ -272,7 +275,8 @@ impl Spline {
         }
         let d = degree;
         let indices = multi_indices(d);
-        let mut by_key: HashMap<PositionKey, usize> = HashMap::new();
+        // foldhash rather than SipHash: two million lookups for a 100 000-triangle mesh.
+        let mut by_key: PointIndex = HashMap::with_hasher(Default::default());
         let mut points: Vec<ControlPoint> = Vec::new();
         let mut triangle_points = Vec::with_capacity(mesh.triangles().len());
         // Vertex coordinates over one common denominator, so that a nominal position costs
@@ -343,11 +347,7 @@ impl Spline {
         Ok(spline)
     }
 
-    fn build_conditions(
-        &self,
-        by_key: &HashMap<PositionKey, usize>,
-        scaled: &[[Integer; 2]],
-    ) -> Vec<Condition> {
+    fn build_conditions(&self, by_key: &PointIndex, scaled: &[[Integer; 2]]) -> Vec<Condition> {
         let d = self.degree;
         let mut out = Vec::new();
         // Twice the signed area in the common-denominator integer coordinates: the ratios of

@@ -228,6 +228,20 @@ impl Session {
         }
     }
 
+    /// [`Session::analyze`] for a session that does nothing after it (`ecles analyze`): the
+    /// sources' own data (a mesh's spline, control points and conditions: a quarter of the
+    /// memory of a whole-mesh run) are released first, keeping their reports.
+    pub fn analyze_alone(mut self) -> Report {
+        let reports: Vec<SourceReport> = std::mem::take(&mut self.sources)
+            .into_iter()
+            .map(|loaded| loaded.report)
+            .collect();
+        Report {
+            sources: reports,
+            ..self.analyze()
+        }
+    }
+
     /// Why the parameter (or coordinate `name[k]`) is fixed, limited or free, in lines of
     /// text. An unknown parameter, or a coordinate beyond the parameter's dimension, is bad
     /// input.
