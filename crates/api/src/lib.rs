@@ -19,6 +19,7 @@ pub mod config;
 pub mod exact;
 pub mod input;
 pub mod matrix;
+mod name_index;
 pub mod source;
 pub mod system;
 

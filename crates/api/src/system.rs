@@ -14,9 +14,9 @@
 
 use crate::exact::{Integer, Rational};
 use crate::matrix::IntMatrix;
+use crate::name_index::NameIndex;
 use num_traits::Zero;
 use serde::{Deserialize, Serialize};
-use std::collections::HashMap;
 use std::fmt;
 
 /// Index of a parameter in a [`ConstraintSystem`].
@@ -246,17 +246,26 @@ pub enum SystemError {
 /// Parameters and constraint rows from all sources: one parameter space, global ids.
 ///
 /// Serialises as its parameters and rows; deserialising re-validates every row.
-#[derive(Debug, Clone, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
 #[serde(try_from = "SystemData", into = "SystemData")]
 pub struct ConstraintSystem {
     params: Vec<Parameter>,
-    /// Parameter ids by name, hashed with foldhash: a whole mesh declares millions of names,
-    /// and SipHash was a tenth of building the system.
-    by_name: HashMap<String, ParamId, foldhash::fast::RandomState>,
+    /// Parameter ids by name (the names themselves are in `params`).
+    by_name: NameIndex,
     rows: Vec<ConstraintRow>,
     /// For each parameter, the rows that involve it (increasing).
     incidence: Vec<Vec<RowId>>,
 }
+
+/// Two systems are equal when their parameters and rows are (the name index and the incidence
+/// lists are derived from them).
+impl PartialEq for ConstraintSystem {
+    fn eq(&self, other: &Self) -> bool {
+        self.params == other.params && self.rows == other.rows
+    }
+}
+
+impl Eq for ConstraintSystem {}
 
 impl ConstraintSystem {
     /// An empty system.
@@ -274,12 +283,12 @@ impl ConstraintSystem {
         if dim == 0 {
             return Err(SystemError::ZeroDimension { name });
         }
-        if self.by_name.contains_key(&name) {
+        if self.by_name.get(&self.params, &name).is_some() {
             return Err(SystemError::DuplicateParameter { name });
         }
         let id = ParamId(self.params.len() as u32);
-        self.by_name.insert(name.clone(), id);
         self.params.push(Parameter { name, dim });
+        self.by_name.insert(&self.params, id);
         self.incidence.push(Vec::new());
         Ok(id)
     }
@@ -332,7 +341,7 @@ impl ConstraintSystem {
     /// adds a million rows does not leave the doubling slack of a growing vector behind.
     pub(crate) fn reserve_exact(&mut self, params: usize, rows: usize) {
         self.params.reserve_exact(params);
-        self.by_name.reserve(params);
+        self.by_name.reserve(&self.params, params);
         self.incidence.reserve_exact(params);
         self.rows.reserve_exact(rows);
     }
@@ -348,9 +357,10 @@ impl ConstraintSystem {
                 }
             }
         }
-        for p in self.params.drain(params..) {
-            self.by_name.remove(&p.name);
+        for id in params..self.params.len() {
+            self.by_name.remove(&self.params, ParamId(id as u32));
         }
+        self.params.truncate(params);
         self.incidence.truncate(params);
     }
 
@@ -384,7 +394,7 @@ impl ConstraintSystem {
 
     /// Looks a parameter up by name.
     pub fn param_id(&self, name: &str) -> Option<ParamId> {
-        self.by_name.get(name).copied()
+        self.by_name.get(&self.params, name)
     }
 
     /// All rows, indexed by [`RowId`].
