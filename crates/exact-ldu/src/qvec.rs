@@ -31,22 +31,32 @@ impl<R: Ring> QVec<R> {
 
     /// Brings rationals to their least common denominator.
     pub fn from_rationals(values: &[BigRational]) -> Self {
+        // Entries usually come in runs over one denominator (positions on one grid): the lcm
+        // and the scale factor are computed once per run, not once per entry.
         let mut den_big = BigInt::from(1);
+        let mut last: Option<&BigInt> = None;
         for v in values {
-            if !One::is_one(v.denom()) {
-                den_big = num_integer::Integer::lcm(&den_big, v.denom());
+            let d = v.denom();
+            if !One::is_one(d) && last != Some(d) {
+                den_big = num_integer::Integer::lcm(&den_big, d);
+                last = Some(d);
             }
         }
-        let num = values
-            .iter()
-            .map(|v| {
-                if One::is_one(v.denom()) {
-                    R::from_bigint(&(v.numer() * &den_big))
-                } else {
-                    R::from_bigint(&(v.numer() * (&den_big / v.denom())))
-                }
-            })
-            .collect();
+        let mut num = Vec::with_capacity(values.len());
+        let mut scale: Option<(&BigInt, BigInt)> = None;
+        for v in values {
+            let d = v.denom();
+            if One::is_one(d) {
+                num.push(R::from_bigint(&(v.numer() * &den_big)));
+                continue;
+            }
+            if scale.as_ref().is_none_or(|(of, _)| *of != d) {
+                scale = Some((d, &den_big / d));
+            }
+            if let Some((_, factor)) = &scale {
+                num.push(R::from_bigint(&(v.numer() * factor)));
+            }
+        }
         QVec {
             num,
             den: R::from_bigint(&den_big),
@@ -163,5 +173,25 @@ mod tests {
             QVec::from_integers(vec![Int::from_i64(4), Int::from_i64(-6)]).primitive_integers(),
             vec![Int::from_i64(2), Int::from_i64(-3)]
         );
+    }
+
+    proptest::proptest! {
+        /// Runs of one denominator, alternating ones and integers all come back exactly, over
+        /// the least common denominator.
+        #[test]
+        fn round_trips_any_denominators(
+            entries in proptest::collection::vec((-50i64..=50, 1i64..=12, 1usize..=3), 0..12)
+        ) {
+            let values: Vec<BigRational> = entries
+                .iter()
+                .flat_map(|&(n, d, run)| std::iter::repeat_n(q(n, d), run))
+                .collect();
+            let v = QVec::<Int>::from_rationals(&values);
+            let lcm = values
+                .iter()
+                .fold(BigInt::from(1), |acc, x| num_integer::Integer::lcm(&acc, x.denom()));
+            proptest::prop_assert_eq!(v.den.to_bigint(), lcm);
+            proptest::prop_assert_eq!(v.to_rationals(), values);
+        }
     }
 }
