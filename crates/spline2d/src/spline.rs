@@ -13,7 +13,6 @@ use crate::mesh::{Mesh, Point, Topology};
 use api::{Integer, Rational};
 use num_integer::Integer as _;
 use num_traits::{One, Zero};
-use std::collections::HashMap;
 
 /// Where a control point lies, as classified in thesis figure 14.5 (by its multi-index
 /// `(i, j, k)` in any triangle containing it).
@@ -174,26 +173,6 @@ pub fn multinomials(d: usize) -> Vec<Integer> {
         .collect()
 }
 
-/// Canonical key of a nominal position: `(vertex, weight)` pairs with positive weight, sorted,
-/// padded with `(usize::MAX, 0)` (a fixed-size key: no allocation per lookup).
-type PositionKey = [(usize, usize); 3];
-
-/// Control point index by position key.
-type PointIndex = HashMap<PositionKey, usize, foldhash::fast::RandomState>;
-
-const NO_VERTEX: (usize, usize) = (usize::MAX, 0);
-
-fn position_key(vertices: [usize; 3], idx: [usize; 3]) -> PositionKey {
-    let mut key = [NO_VERTEX; 3];
-    for (slot, (v, w)) in vertices.iter().zip(idx).enumerate() {
-        if w > 0 {
-            key[slot] = (*v, w);
-        }
-    }
-    key.sort_unstable();
-    key
-}
-
 /// The highest degree a spline may have. The thesis works with `d = 5`; `C²` needs `d ≥ 9`;
 /// beyond 40 every triangle carries more than 800 control points, which no edit needs.
 pub const MAX_DEGREE: usize = 40;
@@ -275,9 +254,15 @@ impl Spline {
         }
         let d = degree;
         let indices = multi_indices(d);
-        // foldhash rather than SipHash: two million lookups for a 100 000-triangle mesh.
-        let mut by_key: PointIndex = HashMap::with_hasher(Default::default());
-        let mut points: Vec<ControlPoint> = Vec::new();
+        // Shared points found by direct addressing (a hash map of positions was a tenth of a
+        // whole-mesh analysis, in cache misses): a vertex's point by the vertex, an edge's
+        // `d − 1` points by the edge and the weight on its smaller vertex; points inside a
+        // triangle belong to it alone (the mesh has no duplicate triangles).
+        let per_edge = d - 1;
+        let mut vertex_point = vec![usize::MAX; mesh.vertices().len()];
+        let mut edge_point = vec![usize::MAX; topology.edges.len() * per_edge];
+        let mut points: Vec<ControlPoint> =
+            Vec::with_capacity(usize::try_from(point_count).unwrap_or_default());
         let mut triangle_points = Vec::with_capacity(mesh.triangles().len());
         // Vertex coordinates over one common denominator, so that a nominal position costs
         // integer sums and a single reduction.
@@ -304,32 +289,50 @@ impl Spline {
         for (t, tri) in mesh.triangles().iter().enumerate() {
             let mut own = Vec::with_capacity(indices.len());
             for idx in &indices {
-                let key = position_key(*tri, *idx);
-                let id = *by_key.entry(key).or_insert_with(|| {
-                    let name = match key {
-                        [(a, _), NO_VERTEX, NO_VERTEX] => format!("v{a}"),
-                        [(a, i), (b, _), NO_VERTEX] => format!("e{a}-{b}:{i}"),
-                        _ => format!("t{t}:{},{},{}", idx[0], idx[1], idx[2]),
-                    };
-                    let mut sums = [Integer::zero(), Integer::zero()];
-                    for (v, w) in tri.iter().zip(idx) {
-                        if *w > 0 {
-                            sums[0] += &scaled[*v][0] * Integer::from(*w);
-                            sums[1] += &scaled[*v][1] * Integer::from(*w);
-                        }
+                let positive = idx.iter().filter(|w| **w > 0).count();
+                let (slot, name) = match positive {
+                    1 => {
+                        let k = (0..3).find(|&k| idx[k] == d).unwrap_or(0);
+                        (Some(&mut vertex_point[tri[k]]), format!("v{}", tri[k]))
                     }
-                    let [x, y] = sums;
-                    let nominal = [
-                        exact_ldu::reduced_ratio(x, denominator.clone()),
-                        exact_ldu::reduced_ratio(y, denominator.clone()),
-                    ];
-                    points.push(ControlPoint {
-                        name,
-                        nominal,
-                        kind: PointType::of(*idx, d),
-                    });
-                    points.len() - 1
-                });
+                    2 => {
+                        let opposite = (0..3).find(|&k| idx[k] == 0).unwrap_or(0);
+                        let e = topology.triangle_edges[t][opposite];
+                        let edge = &topology.edges[e];
+                        let on_a = (0..3).find(|&k| tri[k] == edge.a).map_or(0, |k| idx[k]);
+                        (
+                            Some(&mut edge_point[e * per_edge + on_a - 1]),
+                            format!("e{}-{}:{on_a}", edge.a, edge.b),
+                        )
+                    }
+                    _ => (None, format!("t{t}:{},{},{}", idx[0], idx[1], idx[2])),
+                };
+                let id = match slot {
+                    Some(known) if *known != usize::MAX => *known,
+                    slot => {
+                        let mut sums = [Integer::zero(), Integer::zero()];
+                        for (v, w) in tri.iter().zip(idx) {
+                            if *w > 0 {
+                                sums[0] += &scaled[*v][0] * Integer::from(*w);
+                                sums[1] += &scaled[*v][1] * Integer::from(*w);
+                            }
+                        }
+                        let [x, y] = sums;
+                        let nominal = [
+                            exact_ldu::reduced_ratio(x, denominator.clone()),
+                            exact_ldu::reduced_ratio(y, denominator.clone()),
+                        ];
+                        points.push(ControlPoint {
+                            name,
+                            nominal,
+                            kind: PointType::of(*idx, d),
+                        });
+                        if let Some(slot) = slot {
+                            *slot = points.len() - 1;
+                        }
+                        points.len() - 1
+                    }
+                };
                 own.push(id);
             }
             triangle_points.push(own);
@@ -343,11 +346,11 @@ impl Spline {
             triangle_points,
             conditions: Vec::new(),
         };
-        spline.conditions = spline.build_conditions(&by_key, &scaled);
+        spline.conditions = spline.build_conditions(&scaled);
         Ok(spline)
     }
 
-    fn build_conditions(&self, by_key: &PointIndex, scaled: &[[Integer; 2]]) -> Vec<Condition> {
+    fn build_conditions(&self, scaled: &[[Integer; 2]]) -> Vec<Condition> {
         let d = self.degree;
         let mut out = Vec::new();
         // Twice the signed area in the common-denominator integer coordinates: the ratios of
@@ -370,8 +373,17 @@ impl Spline {
             // triangle and −sign(whole)^ρ · multinomial · Π areas^exponent for u's.
             let whole = area(u0, u1, u2);
             let areas = [area(v0, u1, u2), area(u0, v0, u2), area(u0, u1, v0)];
-            let point =
-                |vs: [usize; 3], idx: [usize; 3]| -> usize { by_key[&position_key(vs, idx)] };
+            // The point of triangle `t` (vertices `vs` in any order) with weights `idx` on them.
+            let point = |t: usize, vs: [usize; 3], idx: [usize; 3]| -> usize {
+                let tri = self.mesh.triangles()[t];
+                let mut own = [0usize; 3];
+                for (v, w) in vs.iter().zip(idx) {
+                    if let Some(k) = (0..3).find(|&k| tri[k] == *v) {
+                        own[k] = w;
+                    }
+                }
+                self.triangle_points[t][self.local_index(own)]
+            };
             for rho in 1..=self.smoothness {
                 let scale = num_traits::pow(num_traits::Signed::abs(&whole), rho);
                 let flip = num_traits::Signed::is_negative(&whole) && rho % 2 == 1;
@@ -391,12 +403,12 @@ impl Spline {
                 for j in 0..=d - rho {
                     let k = d - rho - j;
                     let mut terms: Vec<(usize, Integer)> =
-                        vec![(point([v0, u1, u2], [rho, j, k]), scale.clone())];
+                        vec![(point(tv, [v0, u1, u2], [rho, j, k]), scale.clone())];
                     for ([nu, mu, ka], b) in &bernstein {
                         if b.is_zero() {
                             continue;
                         }
-                        terms.push((point([u0, u1, u2], [*nu, j + mu, k + ka]), -b.clone()));
+                        terms.push((point(tu, [u0, u1, u2], [*nu, j + mu, k + ka]), -b.clone()));
                     }
                     let terms = integer_row(terms);
                     if terms.is_empty() {
