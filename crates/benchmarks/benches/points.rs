@@ -1,7 +1,8 @@
 //! Generic edits on linear point systems (`benchmarks::point_drag`, the systems of
 //! `tools/peer_bench.py`, which times SolveSpace and kiwisolver on them): one point dragged by
 //! (3, −2), every other parameter derived with unit weights. Per system and size: the whole
-//! edit (Initialize + one Update) and a drag frame (a further Update), exact and float.
+//! edit (Initialize + one Update) and a drag frame (a further Update), exact and float, and the
+//! exact frame unreduced (`Edit::frame`).
 //!
 //! `cargo bench -p benchmarks --bench points`
 
@@ -60,7 +61,50 @@ where
     group.finish();
 }
 
+/// The exact drag frame as an editor draws it (`Edit::frame`): the values of
+/// [`Edit::update`] exactly, as fractions over the solution's common denominator, not reduced.
+fn exact_frames(c: &mut Criterion, sizes: &[usize]) {
+    let mut group = c.benchmark_group("point-drag");
+    group.sample_size(10);
+    for (kind, label) in [
+        (PointSystem::Chain, "chain"),
+        (PointSystem::Grid, "grid"),
+        (PointSystem::Parallelograms, "parallelograms"),
+    ] {
+        for &n in sizes {
+            let n = if kind == PointSystem::Parallelograms {
+                n + 1
+            } else {
+                n
+            };
+            let drag = point_drag(kind, n);
+            let spec = EditSpec::new(drag.anchors.clone(), drag.derived.clone());
+            let hints: Vec<Vec<api::Rational>> = drag
+                .derived
+                .iter()
+                .map(|p| drag.values.get(*p).to_vec())
+                .collect();
+            let edit = Edit::initialize(&ExactLdu::default(), &drag.system, &drag.values, &spec)
+                .expect("initialize");
+            let frame = edit.frame(&drag.targets, &hints).expect("solvable");
+            let update = edit.update(&drag.targets, &hints).expect("solvable");
+            // The frame is the update, unreduced.
+            for (f, (_, u)) in frame.iter().zip(&update.derived) {
+                for (a, b) in f.iter().zip(u) {
+                    assert_eq!(a.reduced(), *b);
+                }
+            }
+            group.bench_function(
+                BenchmarkId::new("unreduced-frame", format!("exact-{label}{n}")),
+                |b| b.iter(|| black_box(edit.frame(&drag.targets, &hints).is_ok())),
+            );
+        }
+    }
+    group.finish();
+}
+
 fn drags(c: &mut Criterion) {
+    exact_frames(c, &[10, 100, 1000]);
     drags_with(c, "exact", &ExactLdu::default(), &[10, 100, 1000]);
     // The dense float QR of a 1 000-point system takes seconds: the float twin is compared on
     // the smaller ones.

@@ -518,7 +518,10 @@ impl<F: Factorization> Edit<F> {
                     } else {
                         (0..dim).map(column).collect()
                     };
-                let mut out: Vec<Vec<T>> = vec![Vec::with_capacity(dim); self.derived.len()];
+                // (Not `vec![Vec::with_capacity(dim); n]`: clones of a vector drop its capacity.)
+                let mut out: Vec<Vec<T>> = (0..self.derived.len())
+                    .map(|_| Vec::with_capacity(dim))
+                    .collect();
                 for (j, column) in columns.into_iter().enumerate() {
                     let x = column.map_err(|e| self.solve_error(e, j))?;
                     for (slot, value) in out.iter_mut().zip(x) {

@@ -251,6 +251,12 @@ pub fn gcd_bigint(a: &BigInt, b: &BigInt) -> BigInt {
 
 /// `numer / denom` as a reduced rational (`denom ≠ 0`), with the fast GCD.
 pub fn reduced_ratio(numer: BigInt, denom: BigInt) -> api::Rational {
+    use num_traits::ToPrimitive;
+    if let (Some(n), Some(d)) = (numer.to_i128(), denom.to_i128()) {
+        if let Some(reduced) = reduced_small_ratio(n, d) {
+            return reduced;
+        }
+    }
     let g = gcd_bigint(&numer, &denom);
     let (mut n, mut d) = if g.is_zero() || g == BigInt::from(1) {
         (numer, denom)
@@ -267,10 +273,44 @@ pub fn reduced_ratio(numer: BigInt, denom: BigInt) -> api::Rational {
     api::Rational::new_raw(n, d)
 }
 
+/// [`reduced_ratio`] of values within 127 bits, in machine words: no big-integer arithmetic,
+/// only the two results allocated (the values of small edits and drag frames). `None` when a
+/// value is `i128::MIN` (its magnitude has no `i128`) or the denominator is zero.
+fn reduced_small_ratio(n: i128, d: i128) -> Option<api::Rational> {
+    if d == 0 || n == i128::MIN || d == i128::MIN {
+        return None;
+    }
+    if n == 0 {
+        return Some(api::Rational::new_raw(BigInt::zero(), BigInt::from(1)));
+    }
+    // 0 < g ≤ |d| < 2^127.
+    let g = gcd_u128(n.unsigned_abs(), d.unsigned_abs()) as i128;
+    let (n, d) = if g == 1 { (n, d) } else { (n / g, d / g) };
+    let (n, d) = if d < 0 { (-n, -d) } else { (n, d) };
+    Some(api::Rational::new_raw(BigInt::from(n), BigInt::from(d)))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use proptest::prelude::*;
+
+    proptest! {
+        /// In machine words and in big integers, the same reduced rational (equal numerator
+        /// and denominator, not only equal values); `num_rational`'s reduction is the reference.
+        #[test]
+        fn small_ratios_reduce_as_big_ones(
+            n in any::<i128>(),
+            d in any::<i128>().prop_filter("nonzero", |d| *d != 0),
+            shift in 0u32..100,
+        ) {
+            let (n, d) = (n >> shift, d);
+            let expected = api::Rational::new(BigInt::from(n), BigInt::from(d));
+            let got = reduced_ratio(BigInt::from(n), BigInt::from(d));
+            prop_assert_eq!(got.numer(), expected.numer());
+            prop_assert_eq!(got.denom(), expected.denom());
+        }
+    }
 
     fn big(limbs: &[u64]) -> BigUint {
         from_limbs(limbs)

@@ -17,8 +17,8 @@ use crate::qvec::QVec;
 use crate::ring::{lcm, Ring};
 use api::Rational;
 use num_bigint::BigInt;
-use num_traits::Zero;
-use std::sync::{Mutex, OnceLock};
+use num_traits::{ToPrimitive, Zero};
+use std::sync::{Arc, Mutex, OnceLock};
 
 /// A rational vector as integer numerators over one positive denominator.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -50,19 +50,20 @@ impl Numerators {
     }
 }
 
-/// The last hint vector of one column and its base.
-type BaseMemo<R> = Mutex<Option<(QVec<R>, Numerators)>>;
+/// The last hint vector of one column, as given, and its base (shared: a drag frame reads it
+/// without copying its numerators).
+type BaseMemo = Mutex<Option<(Vec<Rational>, Arc<Numerators>)>>;
 
 /// The memos of [`ExactLeastSquares`]: the responses to the anchors and the last base per
 /// column. Copies start with the same contents; two memos always compare equal (they hold
 /// values derived from the rest of the prepared data, not part of it).
 #[derive(Debug, Default)]
-pub(super) struct AffineMemo<R: Ring> {
+pub(super) struct AffineMemo {
     responses: OnceLock<Vec<Numerators>>,
-    bases: Vec<BaseMemo<R>>,
+    bases: Vec<BaseMemo>,
 }
 
-impl<R: Ring> AffineMemo<R> {
+impl AffineMemo {
     /// Empty memos for `columns` right-hand-side columns.
     pub(super) fn new(columns: usize) -> Self {
         AffineMemo {
@@ -72,7 +73,7 @@ impl<R: Ring> AffineMemo<R> {
     }
 }
 
-impl<R: Ring> Clone for AffineMemo<R> {
+impl Clone for AffineMemo {
     fn clone(&self) -> Self {
         AffineMemo {
             responses: self.responses.clone(),
@@ -85,13 +86,13 @@ impl<R: Ring> Clone for AffineMemo<R> {
     }
 }
 
-impl<R: Ring> PartialEq for AffineMemo<R> {
+impl PartialEq for AffineMemo {
     fn eq(&self, _: &Self) -> bool {
         true
     }
 }
 
-impl<R: Ring> Eq for AffineMemo<R> {}
+impl Eq for AffineMemo {}
 
 impl<R: Ring> ExactLeastSquares<R> {
     /// `V Âᵀ G⁻¹ ρ` for `ρ = rho / rho_den`, lifted exactly.
@@ -150,22 +151,28 @@ impl<R: Ring> ExactLeastSquares<R> {
     /// (the usual case: the current values, which satisfy every constraint with the anchors at
     /// their current values `β`, suggested as hints), the base needs no solve of its own:
     /// `base_j(h) = h + Σ_k β_k resp_k`.
-    pub(super) fn base(&self, normal: &LiftingSolver, column: usize, h: &QVec<R>) -> Numerators {
+    pub(super) fn base(
+        &self,
+        normal: &LiftingSolver,
+        column: usize,
+        given: &[Rational],
+    ) -> Arc<Numerators> {
         let slot = &self.memo.bases[column];
         if let Ok(guard) = slot.lock() {
             if let Some((hints, base)) = guard.as_ref() {
-                if hints == h {
-                    return base.clone();
+                if hints.as_slice() == given {
+                    return Arc::clone(base);
                 }
             }
         }
+        let h = &QVec::<R>::from_rationals(given);
         let (rho, common) = self.hint_residual(column, h);
         let hints = Numerators {
             num: h.num.iter().map(Ring::to_bigint).collect(),
             den: h.den.to_bigint(),
         };
         let base = match self.anchor_combination(&rho, &common) {
-            Some(beta) => combine(hints, self.responses(normal), &beta.negated()),
+            Some(beta) => combine(&hints, self.responses(normal), &beta.negated()),
             None => {
                 let p = if self.responses_ready() {
                     self.projected(normal, &rho, &common)
@@ -189,8 +196,9 @@ impl<R: Ring> ExactLeastSquares<R> {
             }
         }
         .without_content();
+        let base = Arc::new(base);
         if let Ok(mut guard) = slot.lock() {
-            *guard = Some((h.clone(), base.clone()));
+            *guard = Some((given.to_vec(), Arc::clone(&base)));
         }
         base
     }
@@ -282,7 +290,7 @@ fn solve_consistent(mut equations: Vec<Vec<Rational>>, unknowns: usize) -> Optio
 
 /// `base − Σ_k α_k resp_k` over one denominator, `α = alpha / alpha_den`.
 pub(super) fn combine<R: Ring>(
-    base: Numerators,
+    base: &Numerators,
     responses: &[Numerators],
     alpha: &QVec<R>,
 ) -> Numerators {
@@ -294,7 +302,7 @@ pub(super) fn combine<R: Ring>(
         .map(|(a, r)| (a.to_bigint(), r))
         .collect();
     if moving.is_empty() {
-        return base;
+        return base.clone();
     }
     // One denominator for the base and the responses: their lcm `L`; then
     // x = (b (L / b_den) α_den − Σ a_k (L / r_den,k) r_k) / (L α_den).
@@ -305,11 +313,30 @@ pub(super) fn combine<R: Ring>(
     let scales: Vec<BigInt> = moving.iter().map(|(a, r)| a * (&common / &r.den)).collect();
     let alpha_den = alpha.den.to_bigint();
     let base_scale = &alpha_den * (&common / &base.den);
+    // Small edits and drag frames: factors within an `i64` make each entry a sum of `i128`
+    // products, computed without big-integer temporaries while it fits (checked).
+    let small_factors: Option<(i64, Vec<i64>)> = ToPrimitive::to_i64(&base_scale).zip(
+        scales
+            .iter()
+            .map(ToPrimitive::to_i64)
+            .collect::<Option<Vec<i64>>>(),
+    );
     let num = base
         .num
         .iter()
         .enumerate()
         .map(|(s, b)| {
+            if let Some(value) = small_factors.as_ref().and_then(|(bs, fs)| {
+                let mut sum = i128::from(ToPrimitive::to_i64(b)?) * i128::from(*bs);
+                for ((_, r), f) in moving.iter().zip(fs) {
+                    sum = sum.checked_sub(
+                        i128::from(ToPrimitive::to_i64(&r.num[s])?) * i128::from(*f),
+                    )?;
+                }
+                Some(sum)
+            }) {
+                return BigInt::from(value);
+            }
             let shift: BigInt = moving
                 .iter()
                 .zip(&scales)

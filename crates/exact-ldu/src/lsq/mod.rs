@@ -58,7 +58,7 @@ pub struct ExactLeastSquares<R: Ring = Int> {
     normal: Option<LiftingSolver>,
     checks: Vec<ConsistencyCheck<R>>,
     /// The responses to the anchors and the last base per column ([`affine`]).
-    memo: affine::AffineMemo<R>,
+    memo: affine::AffineMemo,
     /// What snapped solves need, prepared at the first one ([`crate::snap`]).
     snapper: SnapMemo,
 }
@@ -377,12 +377,11 @@ impl<R: Ring> ExactLeastSquares<R> {
         check_len("hints", hints.len(), self.n)?;
         let alpha = QVec::<R>::from_rationals(alpha);
         self.check_prepared(column, &alpha)?;
-        let h = QVec::<R>::from_rationals(hints);
         let Some(normal) = &self.normal else {
             return Ok(None);
         };
-        let base = self.base(normal, column, &h);
-        let x = affine::combine(base, self.responses(normal), &alpha);
+        let base = self.base(normal, column, hints);
+        let x = affine::combine(&base, self.responses(normal), &alpha);
         Ok(Some((x.num, x.den)))
     }
 
