@@ -158,6 +158,8 @@ pub struct Edit<F: Factorization> {
     factorization: F,
     prepared: F::LeastSquares,
     strongly_solvable: Option<bool>,
+    /// The last update's hints by coordinate column (vector layout).
+    hint_columns: crate::hint_columns::HintColumns,
 }
 
 impl<F: Factorization> Edit<F> {
@@ -248,6 +250,7 @@ impl<F: Factorization> Edit<F> {
             factorization,
             prepared,
             strongly_solvable,
+            hint_columns: Default::default(),
         })
     }
 
@@ -506,10 +509,10 @@ impl<F: Factorization> Edit<F> {
         self.check_values("hints", hints, &self.derived_names, &self.derived_dims)?;
         match self.layout {
             Layout::Vector { dim } => {
+                let hint_columns = self.hint_columns.by_column(hints, dim);
                 let column = |j: usize| {
                     let alpha: Vec<Rational> = anchor_values.iter().map(|v| v[j].clone()).collect();
-                    let h: Vec<Rational> = hints.iter().map(|v| v[j].clone()).collect();
-                    solve(j, &alpha, &h)
+                    solve(j, &alpha, &hint_columns[j])
                 };
                 // Threads pay off only when a column is real work.
                 let columns: Vec<Result<Vec<T>, SolveError<F::Scalar>>> =

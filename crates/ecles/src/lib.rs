@@ -25,6 +25,7 @@
 mod drag;
 mod edit;
 mod error;
+mod hint_columns;
 mod moves;
 mod reduce;
 mod relevant;
