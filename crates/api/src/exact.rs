@@ -297,6 +297,17 @@ impl<'de> Deserialize<'de> for Exact {
     }
 }
 
+/// True when `a` and `b` hold the same numerators and denominators, entry by entry: a cheap
+/// key comparison for memos (no cross-multiplication as in `Rational`'s `==`). Equal results
+/// mean equal values; values built unreduced may compare different although equal, which costs
+/// a memo a recomputation, never a wrong answer.
+pub fn identical_rationals(a: &[Rational], b: &[Rational]) -> bool {
+    a.len() == b.len()
+        && a.iter()
+            .zip(b)
+            .all(|(x, y)| x.numer() == y.numer() && x.denom() == y.denom())
+}
+
 /// Rational values scaled by one positive factor to coprime integers: multiplied by the least
 /// common multiple of their denominators, then divided by the greatest common divisor of the
 /// products. Signs, zeros and the ratios between the values are kept, so the data of a row
@@ -332,6 +343,19 @@ mod tests {
 
     fn q(n: i64, d: i64) -> Rational {
         Rational::new(n.into(), d.into())
+    }
+
+    #[test]
+    fn identical_rationals_compare_numerators_and_denominators() {
+        assert!(identical_rationals(
+            &[q(1, 2), q(-3, 4)],
+            &[q(2, 4), q(-3, 4)]
+        ));
+        assert!(!identical_rationals(&[q(1, 2)], &[q(1, 3)]));
+        assert!(!identical_rationals(&[q(1, 2)], &[q(1, 2), q(0, 1)]));
+        // Unreduced, equal in value: different keys (a memo recomputes), never the reverse.
+        let unreduced = Rational::new_raw(2.into(), 4.into());
+        assert!(!identical_rationals(&[unreduced], &[q(1, 2)]));
     }
 
     #[test]

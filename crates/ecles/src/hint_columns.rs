@@ -22,7 +22,12 @@ impl HintColumns {
     pub(crate) fn by_column(&self, hints: &[Vec<Rational>], dim: usize) -> Arc<Vec<Vec<Rational>>> {
         if let Ok(guard) = self.0.lock() {
             if let Some((given, columns)) = guard.as_ref() {
-                if given.as_slice() == hints {
+                if given.len() == hints.len()
+                    && given
+                        .iter()
+                        .zip(hints)
+                        .all(|(a, b)| api::identical_rationals(a, b))
+                {
                     return Arc::clone(columns);
                 }
             }

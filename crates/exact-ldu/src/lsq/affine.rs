@@ -160,7 +160,7 @@ impl<R: Ring> ExactLeastSquares<R> {
         let slot = &self.memo.bases[column];
         if let Ok(guard) = slot.lock() {
             if let Some((hints, base)) = guard.as_ref() {
-                if hints.as_slice() == given {
+                if api::identical_rationals(hints, given) {
                     return Arc::clone(base);
                 }
             }
