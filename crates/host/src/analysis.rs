@@ -147,29 +147,46 @@ pub fn label(system: &ConstraintSystem, row: RowId, component: Option<usize>) ->
     }
 }
 
-/// Analyses `system` (whose graph is `graph`) with the exact backend and, when `tolerance` is
-/// given, the float one.
+/// What the analysis needs from the system itself rather than from its graph: the scalar
+/// counts and the rows the values violate. Once these are taken, the graph alone carries the
+/// analysis (the system and the values may be released).
+pub struct SystemFacts {
+    /// Scalar parameters.
+    pub parameters: usize,
+    /// Scalar rows.
+    pub constraints: usize,
+    /// Labels of rows violated by the values.
+    pub violated: Vec<String>,
+}
+
+impl SystemFacts {
+    /// The facts of `system` at `values`.
+    pub fn of(system: &ConstraintSystem, values: &Values) -> SystemFacts {
+        let mut seen = BTreeSet::new();
+        SystemFacts {
+            parameters: system.coordinate_count(),
+            constraints: system.rows().iter().map(|r| r.body.scalar_rows()).sum(),
+            violated: system
+                .violations(values)
+                .into_iter()
+                .filter(|(row, _, _)| seen.insert(*row))
+                .map(|(row, _, _)| system.rows()[row.index()].label.clone())
+                .collect(),
+        }
+    }
+}
+
+/// Analyses a system from its `facts` and its graph `graph` with the exact backend and, when
+/// `tolerance` is given, the float one.
 pub fn analyze(
-    system: &ConstraintSystem,
+    facts: SystemFacts,
     graph: &crate::structural::SystemGraph,
-    values: &Values,
     tolerance: Option<f64>,
 ) -> Analysis {
-    let scalar_params = system.coordinate_count();
-    let scalar_rows: usize = system.rows().iter().map(|r| r.body.scalar_rows()).sum();
-    let violated: Vec<String> = {
-        let mut seen = BTreeSet::new();
-        system
-            .violations(values)
-            .into_iter()
-            .filter(|(row, _, _)| seen.insert(*row))
-            .map(|(row, _, _)| system.rows()[row.index()].label.clone())
-            .collect()
-    };
     let mut analysis = Analysis {
-        parameters: scalar_params,
-        constraints: scalar_rows,
-        violated,
+        parameters: facts.parameters,
+        constraints: facts.constraints,
+        violated: facts.violated,
         ..Analysis::default()
     };
     let shape = &graph.shape;

@@ -35,6 +35,33 @@ pub fn unique_label(source: &str, index: usize, label: &str) -> String {
     format!("{source} row {}: {text}", index + 1)
 }
 
+/// The report of an analysis without edits.
+fn whole_system_report(
+    run_path: &Path,
+    a: analysis::Analysis,
+    sources: Vec<SourceReport>,
+) -> Report {
+    Report {
+        run: run_path.display().to_string(),
+        parameters: a.parameters,
+        constraints: a.constraints,
+        rank: a.rank,
+        dof: a.parameters - a.rank,
+        consistent: a.consistent,
+        satisfied: a.violated.is_empty(),
+        redundant: a.redundant,
+        conflict: a.conflict,
+        violated: a.violated,
+        sources,
+        cross_check: a.cross_check,
+        structure: a.structure,
+        edits: Vec::new(),
+        outputs: Vec::new(),
+        output_notes: Vec::new(),
+        summary: Summary::default(),
+    }
+}
+
 /// A built source.
 struct Loaded {
     name: String,
@@ -206,40 +233,41 @@ impl Session {
 
     /// The whole-system report without edits.
     pub fn analyze(&self) -> Report {
-        let a = analysis::analyze(&self.system, self.graph(), &self.initial, self.tolerance);
-        Report {
-            run: self.run_path.display().to_string(),
-            parameters: a.parameters,
-            constraints: a.constraints,
-            rank: a.rank,
-            dof: a.parameters - a.rank,
-            consistent: a.consistent,
-            satisfied: a.violated.is_empty(),
-            redundant: a.redundant,
-            conflict: a.conflict,
-            violated: a.violated,
-            sources: self.sources.iter().map(|s| s.report.clone()).collect(),
-            cross_check: a.cross_check,
-            structure: a.structure,
-            edits: Vec::new(),
-            outputs: Vec::new(),
-            output_notes: Vec::new(),
-            summary: Summary::default(),
-        }
+        let facts = analysis::SystemFacts::of(&self.system, &self.initial);
+        whole_system_report(
+            &self.run_path,
+            analysis::analyze(facts, self.graph(), self.tolerance),
+            self.sources.iter().map(|s| s.report.clone()).collect(),
+        )
     }
 
     /// [`Session::analyze`] for a session that does nothing after it (`ecles analyze`): the
-    /// sources' own data (a mesh's spline, control points and conditions: a quarter of the
-    /// memory of a whole-mesh run) are released first, keeping their reports.
-    pub fn analyze_alone(mut self) -> Report {
-        let reports: Vec<SourceReport> = std::mem::take(&mut self.sources)
-            .into_iter()
-            .map(|loaded| loaded.report)
-            .collect();
-        Report {
-            sources: reports,
-            ..self.analyze()
-        }
+    /// sources' own data (a mesh's spline, control points and conditions), then the system and
+    /// the values once their graph and facts are taken, are released before the elimination,
+    /// which needs neither: on a whole mesh they are most of the memory.
+    pub fn analyze_alone(self) -> Report {
+        let Session {
+            run_path,
+            sources,
+            system,
+            initial,
+            values,
+            graph,
+            tolerance,
+            ..
+        } = self;
+        let reports: Vec<SourceReport> = sources.into_iter().map(|loaded| loaded.report).collect();
+        let facts = analysis::SystemFacts::of(&system, &initial);
+        drop((initial, values));
+        let graph = graph
+            .into_inner()
+            .unwrap_or_else(|| crate::structural::SystemGraph::new(&system));
+        drop(system);
+        whole_system_report(
+            &run_path,
+            analysis::analyze(facts, &graph, tolerance),
+            reports,
+        )
     }
 
     /// Why the parameter (or coordinate `name[k]`) is fixed, limited or free, in lines of
