@@ -17,12 +17,19 @@ use exact_ldu::ExactLdu;
 use float_qr::FloatQr;
 use std::hint::black_box;
 
-fn drags_with<B: LinearBackend>(c: &mut Criterion, name: &str, backend: &B, sizes: &[usize])
-where
-    <B::Factorization as api::Factorization>::Scalar: std::fmt::Debug,
-{
-    let mut group = c.benchmark_group("point-drag");
-    group.sample_size(10);
+/// One benchmark case: the system's label, its size, the drag, its edit spec and hints.
+type Case = (
+    &'static str,
+    usize,
+    benchmarks::PointDrag,
+    EditSpec,
+    Vec<Vec<api::Rational>>,
+);
+
+/// Every system at every size (parallelograms with one point more: `2m + 1` corners), with the
+/// edit spec and hints of its drag.
+fn cases(sizes: &[usize]) -> Vec<Case> {
+    let mut out = Vec::new();
     for (kind, label) in [
         (PointSystem::Chain, "chain"),
         (PointSystem::Grid, "grid"),
@@ -36,27 +43,39 @@ where
             };
             let drag = point_drag(kind, n);
             let spec = EditSpec::new(drag.anchors.clone(), drag.derived.clone());
-            let hints: Vec<Vec<api::Rational>> = drag
+            let hints = drag
                 .derived
                 .iter()
                 .map(|p| drag.values.get(*p).to_vec())
                 .collect();
-            let id = format!("{name}-{label}{n}");
-            group.bench_function(BenchmarkId::new("edit", &id), |b| {
-                b.iter(|| {
-                    exact_ldu::forget_last_factoring();
-                    let edit = Edit::initialize(backend, &drag.system, &drag.values, &spec)
-                        .expect("initialize");
-                    black_box(edit.update(&drag.targets, &hints).is_ok())
-                })
-            });
-            let edit =
-                Edit::initialize(backend, &drag.system, &drag.values, &spec).expect("initialize");
-            edit.update(&drag.targets, &hints).expect("solvable");
-            group.bench_function(BenchmarkId::new("frame", &id), |b| {
-                b.iter(|| black_box(edit.update(&drag.targets, &hints).is_ok()))
-            });
+            out.push((label, n, drag, spec, hints));
         }
+    }
+    out
+}
+
+fn drags_with<B: LinearBackend>(c: &mut Criterion, name: &str, backend: &B, sizes: &[usize])
+where
+    <B::Factorization as api::Factorization>::Scalar: std::fmt::Debug,
+{
+    let mut group = c.benchmark_group("point-drag");
+    group.sample_size(10);
+    for (label, n, drag, spec, hints) in cases(sizes) {
+        let id = format!("{name}-{label}{n}");
+        group.bench_function(BenchmarkId::new("edit", &id), |b| {
+            b.iter(|| {
+                exact_ldu::forget_last_factoring();
+                let edit = Edit::initialize(backend, &drag.system, &drag.values, &spec)
+                    .expect("initialize");
+                black_box(edit.update(&drag.targets, &hints).is_ok())
+            })
+        });
+        let edit =
+            Edit::initialize(backend, &drag.system, &drag.values, &spec).expect("initialize");
+        edit.update(&drag.targets, &hints).expect("solvable");
+        group.bench_function(BenchmarkId::new("frame", &id), |b| {
+            b.iter(|| black_box(edit.update(&drag.targets, &hints).is_ok()))
+        });
     }
     group.finish();
 }
@@ -66,39 +85,21 @@ where
 fn exact_frames(c: &mut Criterion, sizes: &[usize]) {
     let mut group = c.benchmark_group("point-drag");
     group.sample_size(10);
-    for (kind, label) in [
-        (PointSystem::Chain, "chain"),
-        (PointSystem::Grid, "grid"),
-        (PointSystem::Parallelograms, "parallelograms"),
-    ] {
-        for &n in sizes {
-            let n = if kind == PointSystem::Parallelograms {
-                n + 1
-            } else {
-                n
-            };
-            let drag = point_drag(kind, n);
-            let spec = EditSpec::new(drag.anchors.clone(), drag.derived.clone());
-            let hints: Vec<Vec<api::Rational>> = drag
-                .derived
-                .iter()
-                .map(|p| drag.values.get(*p).to_vec())
-                .collect();
-            let edit = Edit::initialize(&ExactLdu::default(), &drag.system, &drag.values, &spec)
-                .expect("initialize");
-            let frame = edit.frame(&drag.targets, &hints).expect("solvable");
-            let update = edit.update(&drag.targets, &hints).expect("solvable");
-            // The frame is the update, unreduced.
-            for (f, (_, u)) in frame.iter().zip(&update.derived) {
-                for (a, b) in f.iter().zip(u) {
-                    assert_eq!(a.reduced(), *b);
-                }
+    for (label, n, drag, spec, hints) in cases(sizes) {
+        let edit = Edit::initialize(&ExactLdu::default(), &drag.system, &drag.values, &spec)
+            .expect("initialize");
+        let frame = edit.frame(&drag.targets, &hints).expect("solvable");
+        let update = edit.update(&drag.targets, &hints).expect("solvable");
+        // The frame is the update, unreduced.
+        for (f, (_, u)) in frame.iter().zip(&update.derived) {
+            for (a, b) in f.iter().zip(u) {
+                assert_eq!(a.reduced(), *b);
             }
-            group.bench_function(
-                BenchmarkId::new("unreduced-frame", format!("exact-{label}{n}")),
-                |b| b.iter(|| black_box(edit.frame(&drag.targets, &hints).is_ok())),
-            );
         }
+        group.bench_function(
+            BenchmarkId::new("unreduced-frame", format!("exact-{label}{n}")),
+            |b| b.iter(|| black_box(edit.frame(&drag.targets, &hints).is_ok())),
+        );
     }
     group.finish();
 }

@@ -432,19 +432,10 @@ impl<F: Factorization> Edit<F> {
         anchor_values: &[Vec<Rational>],
         hints: &[Vec<Rational>],
     ) -> Result<UpdateResult<F::Scalar>, EditError<F::Scalar>> {
-        let prepared = &self.prepared;
-        let (substitution, weights) = (self.substitution.as_ref(), &self.weights);
+        let (prepared, substitution, weights) =
+            (&self.prepared, self.substitution.as_ref(), &self.weights);
         let derived_values = self.solve_with(anchor_values, hints, |column, alpha, h| {
-            through_substitution(
-                substitution,
-                weights,
-                column,
-                h,
-                |h| prepared.solve(column, alpha, h),
-                F::Scalar::from_rational,
-                |a, b| a + b,
-                |a| -a,
-            )
+            Self::solve_column(prepared, substitution, weights, column, alpha, h)
         })?;
         Ok(UpdateResult {
             anchors: self
@@ -466,26 +457,41 @@ impl<F: Factorization> Edit<F> {
         anchor_values: &[Vec<Rational>],
         hints: &[Vec<Rational>],
     ) -> Result<Vec<Vec<f64>>, EditError<F::Scalar>> {
-        let prepared = &self.prepared;
-        let (substitution, weights) = (self.substitution.as_ref(), &self.weights);
+        let (prepared, substitution, weights) =
+            (&self.prepared, self.substitution.as_ref(), &self.weights);
         self.solve_with(anchor_values, hints, |column, alpha, h| {
             if substitution.is_none() {
                 return prepared.solve_approx(column, alpha, h);
             }
             // The offsets are added in the backend's values and the sum rounded once, so the
             // preview stays the update rounded (the inner system is small by construction).
-            through_substitution(
-                substitution,
-                weights,
-                column,
-                h,
-                |h| prepared.solve(column, alpha, h),
-                F::Scalar::from_rational,
-                |a, b| a + b,
-                |a| -a,
-            )
-            .map(|x| x.iter().map(Value::to_f64).collect())
+            Self::solve_column(prepared, substitution, weights, column, alpha, h)
+                .map(|x| x.iter().map(Value::to_f64).collect())
         })
+    }
+
+    /// One coordinate column of the update in the backend's values: the prepared least squares
+    /// on the inner system, mapped back through the substitution when there is one. (Takes the
+    /// edit's parts, not the edit: columns run on threads, and a factorization need not be
+    /// `Sync`.)
+    fn solve_column(
+        prepared: &F::LeastSquares,
+        substitution: Option<&Substitution>,
+        weights: &[Rational],
+        column: usize,
+        alpha: &[Rational],
+        hints: &[Rational],
+    ) -> Result<Vec<F::Scalar>, SolveError<F::Scalar>> {
+        through_substitution(
+            substitution,
+            weights,
+            column,
+            hints,
+            |h| prepared.solve(column, alpha, h),
+            F::Scalar::from_rational,
+            |a, b| a + b,
+            |a| -a,
+        )
     }
 
     /// Validates the inputs, then solves per column (vector layout, the columns in parallel:
