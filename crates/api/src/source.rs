@@ -141,17 +141,14 @@ impl Contribution {
         values: &mut Values,
     ) -> Result<(), crate::system::SystemError> {
         let (params, rows) = (system.params().len(), system.rows().len());
-        system.reserve_exact(self.parameters.len(), self.rows.len());
+        system.reserve_exact(self.parameters.len());
         values.reserve_exact(self.parameters.len());
         let added = (|| {
             for p in self.parameters {
                 let id = system.add_parameter(p.name, p.value.len())?;
                 values.push(system, id, p.value)?;
             }
-            for row in self.rows {
-                system.add_row(row)?;
-            }
-            Ok(())
+            system.add_rows(self.rows)
         })();
         if added.is_err() {
             system.truncate(params, rows);

@@ -296,10 +296,41 @@ impl ConstraintSystem {
     /// Adds a row after checking every id and dimension. Repeated terms are summed and zero
     /// coefficients dropped.
     pub fn add_row(&mut self, mut row: ConstraintRow) -> Result<RowId, SystemError> {
+        self.check_row(&mut row)?;
+        let id = RowId(self.rows.len() as u32);
+        record_incidence(&mut self.incidence, &row.body, id);
+        self.rows.push(row);
+        Ok(id)
+    }
+
+    /// [`ConstraintSystem::add_row`] for many rows, all or nothing: every row is checked before
+    /// any is added. Rows added to a system without rows are adopted as they are (the vector
+    /// of a million rows is not copied).
+    pub(crate) fn add_rows(&mut self, mut rows: Vec<ConstraintRow>) -> Result<(), SystemError> {
+        for row in &mut rows {
+            self.check_row(row)?;
+        }
+        let first = self.rows.len();
+        if first == 0 {
+            self.rows = rows;
+        } else {
+            self.rows.reserve_exact(rows.len());
+            self.rows.extend(rows);
+        }
+        for (k, row) in self.rows.iter().enumerate().skip(first) {
+            record_incidence(&mut self.incidence, &row.body, RowId(k as u32));
+        }
+        Ok(())
+    }
+
+    /// Checks a row's ids and dimensions against the parameters, and merges its terms.
+    fn check_row(&self, row: &mut ConstraintRow) -> Result<(), SystemError> {
         match &mut row.body {
             RowBody::Vector { terms, rhs } => {
                 if rhs.is_empty() {
-                    return Err(SystemError::EmptyVectorRow { label: row.label });
+                    return Err(SystemError::EmptyVectorRow {
+                        label: row.label.clone(),
+                    });
                 }
                 for (p, _) in terms.iter() {
                     let param = self.checked_param(&row.label, *p)?;
@@ -312,7 +343,7 @@ impl ConstraintSystem {
                         });
                     }
                 }
-                *terms = merge_terms(std::mem::take(terms));
+                merge_terms(terms);
             }
             RowBody::Scalar { terms, .. } => {
                 for (c, _) in terms.iter() {
@@ -326,24 +357,16 @@ impl ConstraintSystem {
                         });
                     }
                 }
-                *terms = merge_terms(std::mem::take(terms));
+                merge_terms(terms);
             }
         }
-        let id = RowId(self.rows.len() as u32);
-        for p in row.body.params() {
-            self.incidence[p.index()].push(id);
-        }
-        self.rows.push(row);
-        Ok(id)
+        Ok(())
     }
 
-    /// Makes room for `params` more parameters and `rows` more rows, exactly: a source that
-    /// adds a million rows does not leave the doubling slack of a growing vector behind.
-    pub(crate) fn reserve_exact(&mut self, params: usize, rows: usize) {
+    pub(crate) fn reserve_exact(&mut self, params: usize) {
         self.params.reserve_exact(params);
         self.by_name.reserve(&self.params, params);
         self.incidence.reserve_exact(params);
-        self.rows.reserve_exact(rows);
     }
 
     /// Drops every parameter from `params` on and every row from `rows` on (the rows dropped
@@ -372,6 +395,12 @@ impl ConstraintSystem {
                 param: id,
                 count: self.params.len(),
             })
+    }
+
+    /// The parameters and the rows, taken out of the system (for a caller that has no further
+    /// use for it and wants them without a copy).
+    pub fn into_parts(self) -> (Vec<Parameter>, Vec<ConstraintRow>) {
+        (self.params, self.rows)
     }
 
     /// All parameters, indexed by [`ParamId`].
@@ -568,17 +597,40 @@ impl TryFrom<SystemData> for ConstraintSystem {
     }
 }
 
-fn merge_terms<K: Ord + Copy>(mut terms: Vec<(K, Integer)>) -> Vec<(K, Integer)> {
+/// Records row `id` in the incidence lists of the parameters its (merged) body involves: terms
+/// are sorted by parameter (by coordinate for scalar rows), so each parameter is recorded once.
+fn record_incidence(incidence: &mut [Vec<RowId>], body: &RowBody, id: RowId) {
+    let mut last = None;
+    let mut record = |p: ParamId| {
+        if last != Some(p) {
+            incidence[p.index()].push(id);
+            last = Some(p);
+        }
+    };
+    match body {
+        RowBody::Vector { terms, .. } => terms.iter().for_each(|(p, _)| record(*p)),
+        RowBody::Scalar { terms, .. } => terms.iter().for_each(|(c, _)| record(c.param)),
+    }
+}
+
+/// Sorts terms by key, sums repeated keys and drops zero coefficients, in place (terms already
+/// in that form, as sources give them, are only looked at).
+fn merge_terms<K: Ord + Copy>(terms: &mut Vec<(K, Integer)>) {
+    let merged = terms.windows(2).all(|pair| pair[0].0 < pair[1].0)
+        && terms.iter().all(|(_, v)| !v.is_zero());
+    if merged {
+        return;
+    }
     terms.sort_by_key(|(k, _)| *k);
-    let mut merged: Vec<(K, Integer)> = Vec::with_capacity(terms.len());
-    for (k, v) in terms {
-        match merged.last_mut() {
+    let mut out: Vec<(K, Integer)> = Vec::with_capacity(terms.len());
+    for (k, v) in terms.drain(..) {
+        match out.last_mut() {
             Some((lk, lv)) if *lk == k => *lv += v,
-            _ => merged.push((k, v)),
+            _ => out.push((k, v)),
         }
     }
-    merged.retain(|(_, v)| !v.is_zero());
-    merged
+    out.retain(|(_, v)| !v.is_zero());
+    *terms = out;
 }
 
 /// Current exact values of all parameters of a system: the state being edited.
@@ -814,6 +866,104 @@ mod tests {
             let got = exact_residual(terms.iter().map(|(x, _)| x).zip(&coefficients), &rhs.into());
             assert_eq!(got, (!expected.is_zero()).then_some(expected));
         }
+    }
+
+    /// Rows added at once (adopted by an empty system, appended to a non-empty one) give the
+    /// system of rows added one by one: merged terms, incidence lists; a bad row adds nothing.
+    #[test]
+    fn rows_added_at_once_equal_rows_added_one_by_one() {
+        let params = |s: &mut ConstraintSystem| -> Vec<ParamId> {
+            (0..4)
+                .map(|k| s.add_parameter(format!("p{k}"), 1 + k % 2).unwrap())
+                .collect()
+        };
+        let scalar = |p: ParamId, c: i64| {
+            (
+                Coord {
+                    param: p,
+                    component: 0,
+                },
+                Integer::from(c),
+            )
+        };
+        let rows = |p: &[ParamId]| {
+            vec![
+                ConstraintRow {
+                    label: "vector, unsorted, repeated".into(),
+                    origin: Origin::default(),
+                    body: RowBody::Vector {
+                        terms: vec![(p[3], 2.into()), (p[1], 1.into()), (p[3], (-2).into())],
+                        rhs: vec![0.into(), 1.into()],
+                    },
+                },
+                ConstraintRow {
+                    label: "scalar, merged".into(),
+                    origin: Origin::default(),
+                    body: RowBody::Scalar {
+                        terms: vec![scalar(p[0], 1), scalar(p[1], -1), scalar(p[2], 3)],
+                        rhs: 4.into(),
+                    },
+                },
+                ConstraintRow {
+                    label: "scalar, repeated parameter".into(),
+                    origin: Origin::default(),
+                    body: RowBody::Scalar {
+                        terms: vec![
+                            scalar(p[2], 1),
+                            (
+                                Coord {
+                                    param: p[1],
+                                    component: 1,
+                                },
+                                Integer::from(5),
+                            ),
+                            scalar(p[1], 1),
+                        ],
+                        rhs: 0.into(),
+                    },
+                },
+            ]
+        };
+        let mut one_by_one = ConstraintSystem::new();
+        let p = params(&mut one_by_one);
+        for _ in 0..2 {
+            for row in rows(&p) {
+                one_by_one.add_row(row).unwrap();
+            }
+        }
+        let mut at_once = ConstraintSystem::new();
+        params(&mut at_once);
+        at_once.add_rows(rows(&p)).unwrap();
+        at_once.add_rows(rows(&p)).unwrap();
+        assert_eq!(at_once, one_by_one);
+        assert_eq!(at_once.incidence, one_by_one.incidence);
+        assert_eq!(
+            at_once.incidence[p[1].index()],
+            vec![RowId(0), RowId(1), RowId(2), RowId(3), RowId(4), RowId(5)]
+        );
+        assert!(matches!(
+            &at_once.rows()[0].body,
+            RowBody::Vector { terms, .. } if terms == &vec![(p[1], Integer::from(1))]
+        ));
+
+        let mut bad = rows(&p);
+        bad.push(ConstraintRow {
+            label: "unknown parameter".into(),
+            origin: Origin::default(),
+            body: RowBody::Scalar {
+                terms: vec![scalar(ParamId(9), 1)],
+                rhs: 0.into(),
+            },
+        });
+        let mut empty = ConstraintSystem::new();
+        params(&mut empty);
+        let before = empty.clone();
+        assert!(matches!(
+            empty.add_rows(bad),
+            Err(SystemError::UnknownParameter { .. })
+        ));
+        assert_eq!(empty, before);
+        assert!(empty.incidence.iter().all(Vec::is_empty));
     }
 
     #[test]

@@ -71,9 +71,9 @@ fn psi(c: &mut Criterion) {
         .map(|_| vec![q(20, 1) + noise(300)])
         .collect();
     let phi: Vec<Vec<Rational>> = spline
-        .points()
+        .nominals()
         .iter()
-        .map(|p| vec![&p.nominal[0] + noise(50), &p.nominal[1] + noise(50)])
+        .map(|p| vec![&p[0] + noise(50), &p[1] + noise(50)])
         .collect();
     let with_phi = Psi::new(
         &spline,

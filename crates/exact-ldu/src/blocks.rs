@@ -93,6 +93,30 @@ pub fn component_matrices(matrix: &IntMatrix) -> Vec<(Vec<usize>, Vec<usize>, In
     submatrices(matrix, components(matrix))
 }
 
+/// The submatrix of `matrix` with rows `rows` and columns `cols` (increasing; every column
+/// those rows use, as for a connected component): column `cols[k]` becomes column `k`.
+///
+/// # Panics
+/// Panics if a row uses a column outside `cols`.
+pub fn submatrix(matrix: &IntMatrix, rows: &[usize], cols: &[usize]) -> IntMatrix {
+    let local_rows = rows
+        .iter()
+        .map(|&i| {
+            matrix
+                .row(i)
+                .iter()
+                .map(|(c, v)| {
+                    let k = cols
+                        .binary_search(c)
+                        .expect("the rows use only the given columns");
+                    (k, v.clone())
+                })
+                .collect()
+        })
+        .collect();
+    IntMatrix::from_sparse(cols.len(), local_rows).expect("local columns are in range")
+}
+
 /// The submatrix of each of `parts` (the [`components`] of `matrix`), with its rows and
 /// columns.
 pub(crate) fn submatrices(

@@ -37,7 +37,9 @@ mod ring;
 mod snap;
 pub mod sparse;
 
-pub use blocks::{component_matrices, components, BlockFactorization, BlockLeastSquares};
+pub use blocks::{
+    component_matrices, components, submatrix, BlockFactorization, BlockLeastSquares,
+};
 pub use factorization::ExactFactorization;
 pub use gcd::{gcd_bigint, reduced_ratio};
 pub use ldu::{Ldu, Pivoting, Simplification, StageSnapshot};

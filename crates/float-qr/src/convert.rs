@@ -2,7 +2,7 @@
 //! not fit.
 
 use api::exact::rational_to_f64;
-use api::{BackendError, IntMatrix, Rational};
+use api::{BackendError, IntMatrix, Integer, Rational};
 use num_traits::ToPrimitive;
 
 /// A sparse row in `f64`: `(column, value)` by increasing column.
@@ -15,24 +15,53 @@ pub(crate) fn matrix_rows(matrix: &IntMatrix, what: &str) -> Result<Vec<FloatRow
         .enumerate()
         .map(|(i, row)| {
             row.iter()
-                .map(|(j, v)| {
-                    let value = v
-                        .to_f64()
-                        .filter(|f| f.is_finite())
-                        .or_else(|| {
-                            Some(rational_to_f64(&Rational::from_integer(v.clone())))
-                                .filter(|f| f.is_finite())
-                        })
-                        .ok_or_else(|| {
-                            BackendError::Numerical(format!(
-                                "entry ({i}, {j}) of the {what} does not fit in f64"
-                            ))
-                        })?;
-                    Ok((*j, value))
+                .map(|(j, v)| Ok((*j, entry_to_f64(v, i, *j, what)?)))
+                .collect()
+        })
+        .collect()
+}
+
+/// The rows `rows` of `matrix` in `f64`, over local columns: `cols` (increasing) must hold
+/// every column those rows use, and column `cols[k]` becomes column `k` — the rows of the
+/// submatrix, without an integer copy of it. Errors name entries of `matrix`.
+pub(crate) fn part_rows(
+    matrix: &IntMatrix,
+    rows: &[usize],
+    cols: &[usize],
+    what: &str,
+) -> Result<Vec<FloatRow>, BackendError> {
+    let mut local = vec![usize::MAX; matrix.cols()];
+    for (k, &c) in cols.iter().enumerate() {
+        local[c] = k;
+    }
+    rows.iter()
+        .map(|&i| {
+            matrix
+                .row(i)
+                .iter()
+                .map(|(j, v)| match local[*j] {
+                    usize::MAX => Err(BackendError::Numerical(format!(
+                        "entry ({i}, {j}) of the {what} is outside the given columns"
+                    ))),
+                    k => Ok((k, entry_to_f64(v, i, *j, what)?)),
                 })
                 .collect()
         })
         .collect()
+}
+
+/// Entry `(i, j)` of an integer matrix in `f64`, refused if it does not fit.
+fn entry_to_f64(v: &Integer, i: usize, j: usize, what: &str) -> Result<f64, BackendError> {
+    v.to_f64()
+        .filter(|f| f.is_finite())
+        .or_else(|| {
+            Some(rational_to_f64(&Rational::from_integer(v.clone()))).filter(|f| f.is_finite())
+        })
+        .ok_or_else(|| {
+            BackendError::Numerical(format!(
+                "entry ({i}, {j}) of the {what} does not fit in f64"
+            ))
+        })
 }
 
 /// A vector of rationals in `f64`; `what` names the vector in the error.

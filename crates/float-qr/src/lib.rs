@@ -60,7 +60,7 @@ mod sparse_rank;
 pub use factorization::FloatFactorization;
 pub use lsq::FloatLeastSquares;
 pub use sparse_lsq::{SparseLeastSquares, Unsatisfied};
-pub use sparse_rank::{sparse_row_rank, SparseRowRank};
+pub use sparse_rank::{sparse_part_row_rank, sparse_row_rank, SparseRowRank};
 
 use api::{BackendError, IntMatrix, LinearBackend};
 

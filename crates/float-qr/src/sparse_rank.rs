@@ -25,7 +25,7 @@
 //! sorted sparse rows. Every operation is a plain `f64` operation in a fixed order, so the
 //! answer is the same on every machine.
 
-use crate::convert::matrix_rows;
+use crate::convert::{matrix_rows, part_rows};
 use api::{BackendError, IntMatrix, RankMargin};
 
 /// The float row rank of a sparse matrix (see the module documentation).
@@ -46,7 +46,32 @@ pub(crate) type SparseVector = Vec<(u32, f64)>;
 pub fn sparse_row_rank(matrix: &IntMatrix, tolerance: f64) -> Result<SparseRowRank, BackendError> {
     let n = matrix.cols();
     u32::try_from(n).map_err(|_| BackendError::Numerical("too many columns".into()))?;
-    let rows = matrix_rows(matrix, "matrix")?;
+    float_row_rank(matrix_rows(matrix, "matrix")?, n, tolerance)
+}
+
+/// [`sparse_row_rank`] of the submatrix of `matrix` with rows `rows` and columns `cols`
+/// (increasing; every column those rows use, such as a connected component's), read straight
+/// from `matrix` without an integer copy. Row `k` of the result is `rows[k]`.
+pub fn sparse_part_row_rank(
+    matrix: &IntMatrix,
+    rows: &[usize],
+    cols: &[usize],
+    tolerance: f64,
+) -> Result<SparseRowRank, BackendError> {
+    u32::try_from(cols.len()).map_err(|_| BackendError::Numerical("too many columns".into()))?;
+    float_row_rank(
+        part_rows(matrix, rows, cols, "matrix")?,
+        cols.len(),
+        tolerance,
+    )
+}
+
+/// The rank of the `f64` rows `rows` over `n` columns (see the module documentation).
+fn float_row_rank(
+    rows: Vec<Vec<(usize, f64)>>,
+    n: usize,
+    tolerance: f64,
+) -> Result<SparseRowRank, BackendError> {
     let order = column_order(&rows, n);
     let mut position = vec![0u32; n];
     for (k, &c) in order.iter().enumerate() {
@@ -67,6 +92,7 @@ pub fn sparse_row_rank(matrix: &IntMatrix, tolerance: f64) -> Result<SparseRowRa
             (i, x)
         })
         .collect();
+    drop(rows);
     scaled.sort_by_key(|(i, x)| (x.first().map_or(u32::MAX, |(k, _)| *k), *i));
     let mut r: Vec<SparseVector> = vec![Vec::new(); n];
     let mut scratch = (Vec::new(), Vec::new());
@@ -94,30 +120,53 @@ pub fn sparse_row_rank(matrix: &IntMatrix, tolerance: f64) -> Result<SparseRowRa
 
 /// An order of the columns of `A` that keeps `R` sparse: approximate minimum degree (the `amd`
 /// crate) on the pattern of `Aᵀ A`; the natural order if it cannot be computed.
+///
+/// The pattern is gathered column by column through the transpose of `A` with a marker per
+/// column, so it is held once, without the repeats of a row per shared column (at a whole mesh
+/// those repeats were the analysis's peak of memory).
 pub(crate) fn column_order(rows: &[Vec<(usize, f64)>], cols: usize) -> Vec<usize> {
     let natural = || (0..cols).collect::<Vec<_>>();
-    let mut pattern: Vec<Vec<isize>> = (0..cols).map(|c| vec![c as isize]).collect();
-    for row in rows {
-        for (c, _) in row {
-            pattern[*c].extend(row.iter().map(|(d, _)| *d as isize));
-        }
-    }
-    let mut starts: Vec<isize> = Vec::with_capacity(cols + 1);
-    let mut indices: Vec<isize> = Vec::new();
-    starts.push(0);
-    for p in &mut pattern {
-        p.sort_unstable();
-        p.dedup();
-        indices.extend_from_slice(p);
-        starts.push(indices.len() as isize);
-    }
-    let Ok(size) = isize::try_from(cols) else {
+    let (Some((starts, indices)), Ok(size)) = (normal_pattern(rows, cols), isize::try_from(cols))
+    else {
         return natural();
     };
     match amd::order::<isize>(size, &starts, &indices, &amd::Control::default()) {
         Ok((order, _, _)) if order.len() == cols => order.into_iter().map(|k| k as usize).collect(),
         _ => natural(),
     }
+}
+
+/// The pattern of `Aᵀ A` (every column with itself, and with every column it shares a row
+/// with), as column starts and sorted row indices; `None` if an index does not fit an `isize`.
+fn normal_pattern(rows: &[Vec<(usize, f64)>], cols: usize) -> Option<(Vec<isize>, Vec<isize>)> {
+    let mut rows_of: Vec<Vec<u32>> = vec![Vec::new(); cols];
+    for (r, row) in rows.iter().enumerate() {
+        let r = u32::try_from(r).ok()?;
+        for (c, _) in row {
+            rows_of[*c].push(r);
+        }
+    }
+    let index = |k: usize| isize::try_from(k).ok();
+    let mut mark = vec![usize::MAX; cols];
+    let mut starts = Vec::with_capacity(cols + 1);
+    let mut indices = Vec::new();
+    starts.push(0);
+    for (c, its_rows) in rows_of.iter().enumerate() {
+        let from = indices.len();
+        mark[c] = c;
+        indices.push(index(c)?);
+        for r in its_rows {
+            for (d, _) in &rows[*r as usize] {
+                if mark[*d] != c {
+                    mark[*d] = c;
+                    indices.push(index(*d)?);
+                }
+            }
+        }
+        indices[from..].sort_unstable();
+        starts.push(index(indices.len())?);
+    }
+    Some((starts, indices))
 }
 
 /// Rotates the row `x` into `R` (George–Heath): while its first position `k` holds a row of
@@ -232,5 +281,28 @@ mod tests {
         let rank = sparse_row_rank(&matrix(n, &refs), 1e-10).expect("finite");
         assert_eq!(rank.rank, n - 1);
         assert_eq!(rank.independent.len(), n - 1);
+    }
+
+    /// The pattern of `Aᵀ A`: each column with itself and with the columns it shares a row
+    /// with, once, sorted (an empty column with itself alone); the order a permutation.
+    #[test]
+    fn the_normal_pattern_has_each_pair_once() {
+        let rows: Vec<Vec<(usize, f64)>> = vec![
+            vec![(3, 1.0), (0, 2.0)],
+            vec![(0, 1.0), (1, -1.0), (3, 4.0)],
+            vec![(1, 2.0), (1, 2.0)],
+        ];
+        let (starts, indices) = normal_pattern(&rows, 5).expect("small");
+        let columns: Vec<&[isize]> = starts
+            .windows(2)
+            .map(|w| &indices[w[0] as usize..w[1] as usize])
+            .collect();
+        assert_eq!(
+            columns,
+            vec![&[0, 1, 3][..], &[0, 1, 3], &[2], &[0, 1, 3], &[4]]
+        );
+        let mut order = column_order(&rows, 5);
+        order.sort_unstable();
+        assert_eq!(order, vec![0, 1, 2, 3, 4]);
     }
 }

@@ -64,17 +64,7 @@ pub struct SystemMatrix {
 /// of the parameters' common dimension (the coordinates then share one matrix), one column per
 /// coordinate otherwise.
 pub fn shape(system: &ConstraintSystem) -> SystemMatrix {
-    let dims: BTreeSet<usize> = system.params().iter().map(|p| p.dim).collect();
-    let vector_dim = match (dims.len(), dims.iter().next()) {
-        (1, Some(&d)) => system
-            .rows()
-            .iter()
-            .all(|r| matches!(&r.body, RowBody::Vector { rhs, .. } if rhs.len() == d))
-            .then_some(d),
-        (0, _) => Some(1),
-        _ => None,
-    };
-    match vector_dim {
+    match vector_dimension(system) {
         Some(d) => {
             let rows = system
                 .rows()
@@ -108,33 +98,88 @@ pub fn shape(system: &ConstraintSystem) -> SystemMatrix {
                 copies: d,
             }
         }
-        None => {
-            let (matrix, rhs, origin) = system.scalar_matrix();
-            let labels = origin
-                .iter()
-                .map(|(row, k)| label(system, *row, Some(*k)))
-                .collect();
-            let columns = system
-                .params()
-                .iter()
-                .flat_map(|p| {
-                    (0..p.dim).map(move |k| {
-                        if p.dim == 1 {
-                            p.name.clone()
-                        } else {
-                            format!("{}[{k}]", p.name)
-                        }
-                    })
-                })
-                .collect();
-            SystemMatrix {
-                matrix,
-                rhs: vec![rhs],
-                labels,
-                columns,
-                copies: 1,
+        None => scalar_shape(system),
+    }
+}
+
+/// [`shape`] taking the system: the coefficients, right-hand sides, labels and names move into
+/// the matrix instead of being copied (for `ecles analyze`, where the system is released after;
+/// at a whole mesh the copy was a fifth of the peak memory).
+pub fn shape_owned(system: ConstraintSystem) -> SystemMatrix {
+    let Some(d) = vector_dimension(&system) else {
+        return scalar_shape(&system);
+    };
+    let (params, rows) = system.into_parts();
+    let columns: Vec<String> = params.into_iter().map(|p| p.name).collect();
+    let mut rhs: Vec<Vec<Integer>> = (0..d).map(|_| Vec::with_capacity(rows.len())).collect();
+    let mut labels = Vec::with_capacity(rows.len());
+    let matrix_rows = rows
+        .into_iter()
+        .map(|row| {
+            labels.push(row.label);
+            match row.body {
+                RowBody::Vector { terms, rhs: q } => {
+                    for (column, value) in rhs.iter_mut().zip(q) {
+                        column.push(value);
+                    }
+                    terms.into_iter().map(|(p, c)| (p.index(), c)).collect()
+                }
+                RowBody::Scalar { .. } => unreachable!("every row is a vector row here"),
             }
-        }
+        })
+        .collect();
+    let matrix =
+        IntMatrix::from_sparse(columns.len(), matrix_rows).expect("parameter ids were validated");
+    SystemMatrix {
+        matrix,
+        rhs,
+        labels,
+        columns,
+        copies: d,
+    }
+}
+
+/// The common dimension when every row is a vector row of the parameters' one dimension (or the
+/// system has no parameters), so the coordinates share one matrix; `None` otherwise.
+fn vector_dimension(system: &ConstraintSystem) -> Option<usize> {
+    let dims: BTreeSet<usize> = system.params().iter().map(|p| p.dim).collect();
+    match (dims.len(), dims.iter().next()) {
+        (1, Some(&d)) => system
+            .rows()
+            .iter()
+            .all(|r| matches!(&r.body, RowBody::Vector { rhs, .. } if rhs.len() == d))
+            .then_some(d),
+        (0, _) => Some(1),
+        _ => None,
+    }
+}
+
+/// The matrix with one column per coordinate (see [`shape`]).
+fn scalar_shape(system: &ConstraintSystem) -> SystemMatrix {
+    let (matrix, rhs, origin) = system.scalar_matrix();
+    let labels = origin
+        .iter()
+        .map(|(row, k)| label(system, *row, Some(*k)))
+        .collect();
+    let columns = system
+        .params()
+        .iter()
+        .flat_map(|p| {
+            (0..p.dim).map(move |k| {
+                if p.dim == 1 {
+                    p.name.clone()
+                } else {
+                    format!("{}[{k}]", p.name)
+                }
+            })
+        })
+        .collect();
+    SystemMatrix {
+        matrix,
+        rhs: vec![rhs],
+        labels,
+        columns,
+        copies: 1,
     }
 }
 
@@ -183,13 +228,48 @@ pub fn analyze(
     graph: &crate::structural::SystemGraph,
     tolerance: Option<f64>,
 ) -> Analysis {
+    analyze_with(facts, &graph.shape, tolerance, |elimination| {
+        crate::structural::report(graph, elimination)
+    })
+}
+
+/// [`analyze`] taking the graph, for a caller that needs nothing after (`ecles analyze`):
+/// the bipartite graph, its matching and its Dulmage–Mendelsohn decomposition are released
+/// once the structure section is made, before the float cross-check of a large matrix (at a
+/// whole mesh they were a seventh of its peak memory).
+pub fn analyze_owned(
+    facts: SystemFacts,
+    graph: crate::structural::SystemGraph,
+    tolerance: Option<f64>,
+) -> Analysis {
+    let crate::structural::SystemGraph {
+        shape,
+        graph,
+        matching,
+        dm,
+    } = graph;
+    analyze_with(facts, &shape, tolerance, |elimination| {
+        let report =
+            crate::structural::report_of_parts(&shape, &graph, &matching, &dm, elimination);
+        drop((graph, matching, dm));
+        report
+    })
+}
+
+/// The analysis of `shape`, with `structure` making the structure section from the exact
+/// elimination (before the float view when the two run one after the other).
+fn analyze_with(
+    facts: SystemFacts,
+    shape: &SystemMatrix,
+    tolerance: Option<f64>,
+    structure: impl FnOnce(&exact_ldu::sparse::SparseElimination) -> crate::structural::StructureReport,
+) -> Analysis {
     let mut analysis = Analysis {
         parameters: facts.parameters,
         constraints: facts.constraints,
         violated: facts.violated,
         ..Analysis::default()
     };
-    let shape = &graph.shape;
     // Exact: sparse fraction-free elimination per connected component (identical components,
     // such as the x and y coordinates, once). Scales to large meshes.
     // The float view does not depend on the exact one until they are compared: both run at
@@ -197,13 +277,18 @@ pub fn analyze(
     // memory of whole-mesh runs.
     let exact = || eliminate_blockwise(&shape.matrix, &shape.rhs, Combinations::Exact);
     let float = || tolerance.map(|tol| float_view(shape, tol));
-    let (elimination, float_view) = if shape.matrix.nnz() <= CONCURRENT_CROSS_CHECK_NONZEROS {
-        rayon::join(exact, float)
-    } else {
-        (exact(), float())
-    };
+    let (elimination, structure, float_view) =
+        if shape.matrix.nnz() <= CONCURRENT_CROSS_CHECK_NONZEROS {
+            let (elimination, float_view) = rayon::join(exact, float);
+            let structure = structure(&elimination);
+            (elimination, structure, float_view)
+        } else {
+            let elimination = exact();
+            let structure = structure(&elimination);
+            (elimination, structure, float())
+        };
     analysis.rank = elimination.rank * shape.copies;
-    analysis.structure = Some(crate::structural::report(graph, &elimination));
+    analysis.structure = Some(structure);
     // A row is redundant only if its whole equation, right-hand side included, is the
     // combination; a row whose left side is a combination but whose right side differs
     // contradicts the others and belongs in `conflict`.
@@ -282,15 +367,21 @@ fn terms(w: &[(usize, Rational)], labels: &[String]) -> Vec<Term> {
     out
 }
 
-/// The float rank of one connected component, its independent rows (local indices) and margin.
+/// The float rank of the component of `matrix` with rows `rows` and columns `cols`: the dense
+/// QR for small components (on a copy), the sparse QR for large ones (read from `matrix`
+/// directly: a whole mesh is one component, and a copy of it was a tenth of the peak memory).
+/// Returns the rank, the independent rows (indices into `rows`), the margin and the method.
 fn float_component_rank(
-    local: &IntMatrix,
+    matrix: &IntMatrix,
+    rows: &[usize],
+    cols: &[usize],
     tolerance: f64,
 ) -> Result<(usize, Vec<usize>, api::RankMargin, &'static str), String> {
-    if local.rows().saturating_mul(local.cols()) <= DENSE_LIMIT {
+    if rows.len().saturating_mul(cols.len()) <= DENSE_LIMIT {
+        let local = exact_ldu::submatrix(matrix, rows, cols);
         let backend = FloatQr::new(tolerance).map_err(|e| e.to_string())?;
         let f = backend
-            .factor(local)
+            .factor(&local)
             .map_err(|e| format!("float factoring failed: {e}"))?;
         let margin = f.rank_margin().unwrap_or(api::RankMargin {
             smallest_kept: 1.0,
@@ -299,7 +390,7 @@ fn float_component_rank(
         });
         Ok((f.rank(), f.independent_rows(), margin, "dense QR"))
     } else {
-        let r = float_qr::sparse_row_rank(local, tolerance)
+        let r = float_qr::sparse_part_row_rank(matrix, rows, cols, tolerance)
             .map_err(|e| format!("float factoring failed: {e}"))?;
         Ok((r.rank, r.independent, r.margin, "sparse QR"))
     }
@@ -318,11 +409,11 @@ fn float_view(shape: &SystemMatrix, tolerance: f64) -> CrossCheckReport {
     let mut independent: Vec<usize> = Vec::new();
     let (mut smallest_kept, mut largest_dropped) = (1.0_f64, 0.0_f64);
     let mut methods = BTreeSet::new();
-    for (rows, _, local) in exact_ldu::component_matrices(&shape.matrix) {
+    for (rows, cols) in exact_ldu::components(&shape.matrix) {
         if rows.is_empty() {
             continue;
         }
-        match float_component_rank(&local, tolerance) {
+        match float_component_rank(&shape.matrix, &rows, &cols, tolerance) {
             Ok((r, kept, margin, method)) => {
                 rank += r;
                 independent.extend(kept.iter().map(|&k| rows[k]));

@@ -17,6 +17,13 @@ use host::console::Console;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+/// The allocator: exact arithmetic allocates a great many small blocks (every big integer's
+/// digits), which mimalloc serves faster than the system's allocator (a whole-mesh analysis
+/// takes a fifth less time). Feature `mimalloc`, on by default.
+#[cfg(feature = "mimalloc")]
+#[global_allocator]
+static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 /// Exact editing of parameters under linear constraints.
 #[derive(Debug, Parser)]
 #[command(name = "ecles", version, about)]

@@ -113,7 +113,12 @@ pub struct SystemGraph {
 impl SystemGraph {
     /// The graph and decomposition of `system`'s matrix.
     pub fn new(system: &api::ConstraintSystem) -> SystemGraph {
-        let shape = crate::analysis::shape(system);
+        SystemGraph::of_shape(crate::analysis::shape(system))
+    }
+
+    /// The graph and decomposition of an analysed matrix (see [`crate::analysis::shape`] and
+    /// [`crate::analysis::shape_owned`]).
+    pub fn of_shape(shape: SystemMatrix) -> SystemGraph {
         let graph = Bipartite::from_matrix(&shape.matrix);
         let matching = maximum_matching(&graph);
         let dm = dulmage_mendelsohn(&graph, &matching)
@@ -129,7 +134,24 @@ impl SystemGraph {
 
 /// The structure section of the system, with the exact elimination of the same matrix.
 pub fn report(system: &SystemGraph, exact: &SparseElimination) -> StructureReport {
-    let (shape, graph, matching, dm) = (&system.shape, &system.graph, &system.matching, &system.dm);
+    report_of_parts(
+        &system.shape,
+        &system.graph,
+        &system.matching,
+        &system.dm,
+        exact,
+    )
+}
+
+/// [`report`] from the parts of a [`SystemGraph`], for a caller that has taken it apart (to
+/// release the graph before the float cross-check while keeping the matrix).
+pub fn report_of_parts(
+    shape: &SystemMatrix,
+    graph: &Bipartite,
+    matching: &Matching,
+    dm: &DmDecomposition,
+    exact: &SparseElimination,
+) -> StructureReport {
     let comps = components(graph);
     let mut is_pivot = vec![false; shape.matrix.rows()];
     for (row, _) in &exact.pivots {

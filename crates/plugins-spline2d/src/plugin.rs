@@ -174,7 +174,8 @@ impl ConstraintSource for Spline2dSource {
         let mut summary = spline.summary_counts();
         summary.extend([
             ("control_points", spline.points().len()),
-            ("conditions", spline.conditions().len()),
+            // One row per condition (counted from the rows, which are the conditions made once).
+            ("conditions", contribution.rows.len()),
         ]);
         contribution.summary = SummaryItem::sorted(summary);
         contribution.warnings = warnings.iter().map(|w| w.to_string()).collect();

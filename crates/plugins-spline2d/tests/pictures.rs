@@ -21,7 +21,7 @@ fn data(name: &str) -> PathBuf {
 }
 
 fn nominal(spline: &Spline) -> Vec<Vec<Rational>> {
-    spline.points().iter().map(|p| p.nominal.to_vec()).collect()
+    spline.nominals().iter().map(|p| p.to_vec()).collect()
 }
 
 #[test]

@@ -388,15 +388,12 @@ pub(crate) mod tests {
         });
         // Exact displacements per control point: (φx − x, φy − y, σ0 − a, σ1 − b).
         let displacements: Vec<[Rational; 4]> = spline
-            .points()
+            .nominals()
             .iter()
             .enumerate()
-            .map(|(i, point)| {
+            .map(|(i, nominal)| {
                 let (dx, dy) = match surfaces.phi {
-                    Some(phi) => (
-                        &phi[i][0] - &point.nominal[0],
-                        &phi[i][1] - &point.nominal[1],
-                    ),
+                    Some(phi) => (&phi[i][0] - &nominal[0], &phi[i][1] - &nominal[1]),
                     None => (
                         Rational::from_integer(0.into()),
                         Rational::from_integer(0.into()),
@@ -601,22 +598,19 @@ pub(crate) mod tests {
         let spline = Spline::new(grid(2, 20, true), 5, 1).expect("spline");
         let layer = PrismLayer::new(q(-7, 2), q(12, 1)).expect("layer");
         let near = |i: usize| {
-            let [x, y] = &spline.points()[i].nominal;
+            let [x, y] = spline.nominal(i);
             x + y < q(20, 1)
         };
         let shift = |i: usize, salt: i64, d: i64| q(((i as i64) * salt % 17) - 8, d);
         let phi: Vec<Vec<Rational>> = spline
-            .points()
+            .nominals()
             .iter()
             .enumerate()
             .map(|(i, p)| {
                 if near(i) {
-                    vec![
-                        &p.nominal[0] + shift(i, 7, 9),
-                        &p.nominal[1] + shift(i, 5, 13),
-                    ]
+                    vec![&p[0] + shift(i, 7, 9), &p[1] + shift(i, 5, 13)]
                 } else {
-                    p.nominal.to_vec()
+                    p.to_vec()
                 }
             })
             .collect();

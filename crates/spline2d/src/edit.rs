@@ -648,13 +648,13 @@ mod tests {
         };
         run(&mut f, &sel, &op);
         let moved = f.values.get(f.params.ids[anchor]).to_vec();
-        let nominal = &f.spline.points()[anchor].nominal;
+        let nominal = f.spline.nominal(anchor);
         assert_eq!(moved[0], &nominal[0] + Rational::new(7.into(), 2.into()));
         // Points far away did not move.
         let far = point(&f, "v24");
         assert_eq!(
             f.values.get(f.params.ids[far]),
-            f.spline.points()[far].nominal.as_slice()
+            f.spline.nominal(far).as_slice()
         );
     }
 
@@ -732,7 +732,7 @@ mod tests {
         );
         // A pure translation of everything is an affine map: every point moved by (1, 1).
         for (p, id) in f.params.ids.iter().enumerate() {
-            let nominal = &f.spline.points()[p].nominal;
+            let nominal = f.spline.nominal(p);
             assert_eq!(f.values.get(*id)[0], &nominal[0] + Rational::one());
         }
     }
@@ -861,7 +861,7 @@ mod tests {
         let last = plan.steps.last().expect("steps");
         assert_eq!(
             last.anchors[0].as_slice(),
-            f.spline.points()[anchor].nominal.as_slice()
+            f.spline.nominal(anchor).as_slice()
         );
         // A scale by 1e300 moves the anchor exactly.
         let factor = api::parse_rational("1e300").expect("factor");
@@ -871,7 +871,7 @@ mod tests {
             precision: 1_000_000,
         };
         let plan = editor.plan(&sel, &f.values, &op, 1).expect("plan");
-        let nominal = &f.spline.points()[anchor].nominal;
+        let nominal = f.spline.nominal(anchor);
         assert_eq!(
             plan.steps[0].anchors[0][0],
             &center[0] + &factor * (&nominal[0] - &center[0])

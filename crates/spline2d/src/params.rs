@@ -6,7 +6,6 @@ use api::{
     ConstraintRow, ConstraintSystem, Contribution, Integer, NewParameter, Origin, ParamId,
     Rational, RowBody, SystemError, Values,
 };
-use std::collections::HashMap;
 
 /// Where a spline's control points and conditions live in a [`ConstraintSystem`].
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -15,16 +14,17 @@ pub struct SplineParams {
     pub prefix: String,
     /// Coordinates per control point: 2 for a deformation of the plane, 1 for a scalar spline.
     pub dim: usize,
-    /// The parameter of each control point.
+    /// The parameter of each control point: consecutive ids, from the first one on.
     pub ids: Vec<ParamId>,
-    /// Control point of each parameter id.
-    point_of: HashMap<ParamId, usize>,
 }
 
 impl SplineParams {
-    /// The control point of a parameter, if it belongs to this spline.
+    /// The control point of a parameter, if it belongs to this spline (the ids are consecutive,
+    /// so this is a subtraction, not a map a million entries long).
     pub fn point_of(&self, id: ParamId) -> Option<usize> {
-        self.point_of.get(&id).copied()
+        let first = self.ids.first()?.index();
+        let k = id.index().checked_sub(first)?;
+        (k < self.ids.len()).then_some(k)
     }
 
     /// The current positions of all control points.
@@ -68,27 +68,26 @@ impl Spline {
                 }
             })
             .collect();
-        let rows = self
-            .conditions()
-            .iter()
-            .map(|c| ConstraintRow {
+        // The conditions are made one at a time and moved into their rows: a whole mesh's
+        // conditions are never held twice.
+        let mut rows = Vec::with_capacity(self.condition_bound());
+        self.for_each_condition(|c| {
+            rows.push(ConstraintRow {
                 label: format!("{prefix}: {}", c.label),
                 origin: Origin {
                     source: prefix.to_string(),
-                    item: c.label.clone(),
+                    item: c.label,
                 },
                 body: RowBody::Vector {
-                    terms: c.terms.iter().map(|(p, v)| (ids[*p], v.clone())).collect(),
+                    terms: c.terms.into_iter().map(|(p, v)| (ids[p], v)).collect(),
                     rhs: vec![Integer::from(0); dim],
                 },
             })
-            .collect();
-        let point_of = ids.iter().enumerate().map(|(i, id)| (*id, i)).collect();
+        });
         let params = SplineParams {
             prefix: prefix.to_string(),
             dim,
             ids,
-            point_of,
         };
         (
             Contribution {
@@ -117,7 +116,9 @@ impl Spline {
 
     /// The identity deformation: every control point at its nominal position.
     pub fn identity_positions(&self) -> Vec<Vec<Rational>> {
-        self.points().iter().map(|p| p.nominal.to_vec()).collect()
+        let mut out = vec![Vec::new(); self.points().len()];
+        self.for_each_nominal(|point, position| out[point] = position.to_vec());
+        out
     }
 
     /// The counts a report gives of every source built on this spline, as `(key, count)`:

@@ -73,8 +73,6 @@ pub struct ControlPoint {
     /// Stable name: `v{a}` at vertex `a`, `e{a}-{b}:{i}` on edge `a < b` with weight `i` on
     /// `a`, `t{t}:{i},{j},{k}` inside triangle `t`.
     pub name: String,
-    /// Nominal position in the reference mesh (the control point of the identity deformation).
-    pub nominal: Point,
     /// Classification (figure 14.5).
     pub kind: PointType,
 }
@@ -136,7 +134,11 @@ pub enum SplineError {
 }
 
 /// The control points and conditions of a `C^r` spline of degree `d` on a mesh.
-#[derive(Debug, Clone, PartialEq, Eq)]
+///
+/// The conditions are made when first asked for ([`Spline::conditions`]); a source that only
+/// declares them streams them into its rows ([`Spline::for_each_condition`]), so a whole mesh's
+/// conditions are not held twice.
+#[derive(Debug, Clone)]
 pub struct Spline {
     mesh: Mesh,
     topology: Topology,
@@ -145,8 +147,24 @@ pub struct Spline {
     points: Vec<ControlPoint>,
     /// Per triangle, the control point of each multi-index (see [`Spline::local_index`]).
     triangle_points: Vec<Vec<usize>>,
-    conditions: Vec<Condition>,
+    /// Nominal positions, made when first asked for ([`Spline::nominals`]).
+    nominal: std::sync::OnceLock<Vec<Point>>,
+    conditions: std::sync::OnceLock<Vec<Condition>>,
 }
+
+/// Two splines are equal when their meshes, degrees, smoothness and control points are (the
+/// nominal positions and conditions follow from those, whether made yet or not).
+impl PartialEq for Spline {
+    fn eq(&self, other: &Self) -> bool {
+        self.mesh == other.mesh
+            && self.degree == other.degree
+            && self.smoothness == other.smoothness
+            && self.points == other.points
+            && self.triangle_points == other.triangle_points
+    }
+}
+
+impl Eq for Spline {}
 
 /// All multi-indices `(i, j, k)` with `i + j + k = d`, in lexicographic order of `(i, j, k)`
 /// descending: `(d,0,0), (d−1,1,0), (d−1,0,1), …, (0,0,d)`.
@@ -204,6 +222,31 @@ fn size_of(
         );
     let per_edge: u64 = (1..=n(smoothness)).map(|m| (d + 1).saturating_sub(m)).sum();
     (points, n(interior_edges).saturating_mul(per_edge))
+}
+
+/// The mesh's vertex coordinates over their least common denominator: `(common, scaled)` with
+/// vertex `v` at `scaled[v] / common`.
+fn scaled_vertices(mesh: &Mesh) -> (Integer, Vec<[Integer; 2]>) {
+    let common = mesh
+        .vertices()
+        .iter()
+        .flatten()
+        .fold(Integer::one(), |acc, c| {
+            if c.denom().is_one() {
+                acc
+            } else {
+                acc.lcm(c.denom())
+            }
+        });
+    let scaled = mesh
+        .vertices()
+        .iter()
+        .map(|p| {
+            let s = |c: &Rational| c.numer() * (&common / c.denom());
+            [s(&p[0]), s(&p[1])]
+        })
+        .collect();
+    (common, scaled)
 }
 
 impl Spline {
@@ -264,28 +307,6 @@ impl Spline {
         let mut points: Vec<ControlPoint> =
             Vec::with_capacity(usize::try_from(point_count).unwrap_or_default());
         let mut triangle_points = Vec::with_capacity(mesh.triangles().len());
-        // Vertex coordinates over one common denominator, so that a nominal position costs
-        // integer sums and a single reduction.
-        let common = mesh
-            .vertices()
-            .iter()
-            .flatten()
-            .fold(Integer::one(), |acc, c| {
-                if c.denom().is_one() {
-                    acc
-                } else {
-                    acc.lcm(c.denom())
-                }
-            });
-        let scaled: Vec<[Integer; 2]> = mesh
-            .vertices()
-            .iter()
-            .map(|p| {
-                let s = |c: &Rational| c.numer() * (&common / c.denom());
-                [s(&p[0]), s(&p[1])]
-            })
-            .collect();
-        let denominator = &common * Integer::from(d);
         for (t, tri) in mesh.triangles().iter().enumerate() {
             let mut own = Vec::with_capacity(indices.len());
             for idx in &indices {
@@ -310,21 +331,8 @@ impl Spline {
                 let id = match slot {
                     Some(known) if *known != usize::MAX => *known,
                     slot => {
-                        let mut sums = [Integer::zero(), Integer::zero()];
-                        for (v, w) in tri.iter().zip(idx) {
-                            if *w > 0 {
-                                sums[0] += &scaled[*v][0] * Integer::from(*w);
-                                sums[1] += &scaled[*v][1] * Integer::from(*w);
-                            }
-                        }
-                        let [x, y] = sums;
-                        let nominal = [
-                            exact_ldu::reduced_ratio(x, denominator.clone()),
-                            exact_ldu::reduced_ratio(y, denominator.clone()),
-                        ];
                         points.push(ControlPoint {
                             name,
-                            nominal,
                             kind: PointType::of(*idx, d),
                         });
                         if let Some(slot) = slot {
@@ -337,22 +345,77 @@ impl Spline {
             }
             triangle_points.push(own);
         }
-        let mut spline = Spline {
+        Ok(Spline {
             mesh,
             topology,
             degree,
             smoothness,
             points,
             triangle_points,
-            conditions: Vec::new(),
-        };
-        spline.conditions = spline.build_conditions(&scaled);
-        Ok(spline)
+            nominal: std::sync::OnceLock::new(),
+            conditions: std::sync::OnceLock::new(),
+        })
     }
 
-    fn build_conditions(&self, scaled: &[[Integer; 2]]) -> Vec<Condition> {
+    /// Calls `f(point, nominal position)` once for every control point, computing each position
+    /// on the way (nothing is kept): the point with weights `(i, j, k)` on a triangle's corners
+    /// `(a, b, c)` sits at `(i a + j b + k c) / d`.
+    pub fn for_each_nominal(&self, mut f: impl FnMut(usize, Point)) {
         let d = self.degree;
-        let mut out = Vec::new();
+        // Vertex coordinates over one common denominator, so that a position costs integer
+        // sums and a single reduction.
+        let (common, scaled) = scaled_vertices(&self.mesh);
+        let denominator = &common * Integer::from(d);
+        let indices = multi_indices(d);
+        let mut done = vec![false; self.points.len()];
+        for (tri, own) in self.mesh.triangles().iter().zip(&self.triangle_points) {
+            for (idx, &point) in indices.iter().zip(own) {
+                if std::mem::replace(&mut done[point], true) {
+                    continue;
+                }
+                let mut sums = [Integer::zero(), Integer::zero()];
+                for (v, w) in tri.iter().zip(idx) {
+                    if *w > 0 {
+                        sums[0] += &scaled[*v][0] * Integer::from(*w);
+                        sums[1] += &scaled[*v][1] * Integer::from(*w);
+                    }
+                }
+                let [x, y] = sums;
+                f(
+                    point,
+                    [
+                        exact_ldu::reduced_ratio(x, denominator.clone()),
+                        exact_ldu::reduced_ratio(y, denominator.clone()),
+                    ],
+                );
+            }
+        }
+    }
+
+    /// The nominal positions of all control points in the reference mesh (the control points
+    /// of the identity deformation), indexed like [`Spline::points`]; computed on the first
+    /// call, so a source that only declares the spline never holds them beside its values.
+    pub fn nominals(&self) -> &[Point] {
+        self.nominal.get_or_init(|| {
+            let mut out = vec![[Rational::zero(), Rational::zero()]; self.points.len()];
+            self.for_each_nominal(|point, position| out[point] = position);
+            out
+        })
+    }
+
+    /// The nominal position of control point `point` (see [`Spline::nominals`]).
+    ///
+    /// # Panics
+    /// Panics if `point` is not a control point index.
+    pub fn nominal(&self, point: usize) -> &Point {
+        &self.nominals()[point]
+    }
+
+    /// Calls `f` with every smoothness condition, edge by edge, in the order of
+    /// [`Spline::conditions`], making each one on the way (nothing is kept).
+    pub fn for_each_condition(&self, mut f: impl FnMut(Condition)) {
+        let d = self.degree;
+        let (_, scaled) = scaled_vertices(&self.mesh);
         // Twice the signed area in the common-denominator integer coordinates: the ratios of
         // these are the barycentric coordinates.
         let area = |a: usize, b: usize, c: usize| -> Integer {
@@ -414,7 +477,7 @@ impl Spline {
                     if terms.is_empty() {
                         continue;
                     }
-                    out.push(Condition {
+                    f(Condition {
                         edge: e,
                         order: rho,
                         index: j,
@@ -424,7 +487,20 @@ impl Spline {
                 }
             }
         }
-        out
+    }
+
+    /// An upper bound on the number of conditions (a condition whose coefficients all vanish is
+    /// left out), for reserving.
+    pub fn condition_bound(&self) -> usize {
+        let (_, bound) = size_of(
+            self.mesh.vertices().len(),
+            self.topology.edges.len(),
+            self.topology.interior_edges(),
+            self.mesh.triangles().len(),
+            self.degree,
+            self.smoothness,
+        );
+        usize::try_from(bound).unwrap_or(usize::MAX)
     }
 
     /// The reference mesh.
@@ -466,9 +542,13 @@ impl Spline {
         before + (d - i - idx[1])
     }
 
-    /// All smoothness conditions.
+    /// All smoothness conditions, made on the first call.
     pub fn conditions(&self) -> &[Condition] {
-        &self.conditions
+        self.conditions.get_or_init(|| {
+            let mut out = Vec::with_capacity(self.condition_bound());
+            self.for_each_condition(|c| out.push(c));
+            out
+        })
     }
 
     /// The expected number of control points `V + (d−1)E + (d−1)(d−2)/2·F` over the vertices
@@ -746,13 +826,41 @@ pub(crate) mod tests {
                 let value: Rational = c
                     .terms
                     .iter()
-                    .map(|(p, v)| {
-                        Rational::from_integer(v.clone()) * &s.points()[*p].nominal[coord]
-                    })
+                    .map(|(p, v)| Rational::from_integer(v.clone()) * &s.nominal(*p)[coord])
                     .sum();
                 assert!(value.is_zero(), "{}", c.label);
             }
         }
+    }
+
+    /// Nominal positions and conditions made on demand: every point's position once, at the
+    /// weighted mean of its triangle's corners (a vertex's point on the vertex), the stream of
+    /// conditions equal to the kept list, and equality blind to what was made already.
+    #[test]
+    fn nominal_positions_and_conditions_are_made_once_on_demand() {
+        let s = Spline::new(grid(3, true), 4, 2).expect("spline");
+        let fresh = s.clone();
+        let mut seen = vec![0usize; s.points().len()];
+        s.for_each_nominal(|point, position| {
+            seen[point] += 1;
+            assert_eq!(&position, s.nominal(point));
+        });
+        assert!(seen.iter().all(|&n| n == 1));
+        for (v, vertex) in s.mesh().vertices().iter().enumerate() {
+            let name = format!("v{v}");
+            let point = s.point_index(&name).expect("vertex point");
+            assert_eq!(s.nominal(point), vertex, "{name}");
+        }
+        let mut streamed = Vec::new();
+        s.for_each_condition(|c| streamed.push(c));
+        assert_eq!(streamed.as_slice(), s.conditions());
+        assert!(streamed.len() <= s.condition_bound());
+        assert!(streamed.iter().any(|c| c.order == 2));
+        assert_eq!(fresh, s);
+        assert_eq!(
+            s.identity_positions(),
+            s.nominals().iter().map(|p| p.to_vec()).collect::<Vec<_>>()
+        );
     }
 
     #[test]

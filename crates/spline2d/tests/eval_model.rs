@@ -35,7 +35,7 @@ fn grid(n: usize, cell: i64, perturb: bool) -> Mesh {
 }
 
 fn nominal(spline: &Spline) -> Vec<Vec<Rational>> {
-    spline.points().iter().map(|p| p.nominal.to_vec()).collect()
+    spline.nominals().iter().map(|p| p.to_vec()).collect()
 }
 
 fn to_f64(p: &Point) -> [f64; 2] {

@@ -244,7 +244,8 @@ impl Session {
     /// [`Session::analyze`] for a session that does nothing after it (`ecles analyze`): the
     /// sources' own data (a mesh's spline, control points and conditions), then the system and
     /// the values once their graph and facts are taken, are released before the elimination,
-    /// which needs neither: on a whole mesh they are most of the memory.
+    /// which needs neither: on a whole mesh they are most of the memory. The system's rows move
+    /// into the analysed matrix rather than being copied.
     pub fn analyze_alone(self) -> Report {
         let Session {
             run_path,
@@ -259,13 +260,17 @@ impl Session {
         let reports: Vec<SourceReport> = sources.into_iter().map(|loaded| loaded.report).collect();
         let facts = analysis::SystemFacts::of(&system, &initial);
         drop((initial, values));
-        let graph = graph
-            .into_inner()
-            .unwrap_or_else(|| crate::structural::SystemGraph::new(&system));
-        drop(system);
+        let graph = match graph.into_inner() {
+            Some(graph) => {
+                drop(system);
+                graph
+            }
+            // The system's coefficients, labels and names move into the analysed matrix.
+            None => crate::structural::SystemGraph::of_shape(analysis::shape_owned(system)),
+        };
         whole_system_report(
             &run_path,
-            analysis::analyze(facts, &graph, tolerance),
+            analysis::analyze_owned(facts, graph, tolerance),
             reports,
         )
     }

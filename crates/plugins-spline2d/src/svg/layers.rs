@@ -56,9 +56,9 @@ impl Picture<'_> {
             Some(p) => p,
             None => {
                 nominal = spline
-                    .points()
+                    .nominals()
                     .iter()
-                    .map(|p| p.nominal.to_vec())
+                    .map(|p| p.to_vec())
                     .collect::<Vec<_>>();
                 &nominal
             }

@@ -264,14 +264,11 @@ impl<'a> Picture<'a> {
                     .map(|p| [rational_to_f64(&p[0]), rational_to_f64(&p[1])])
                     .collect()
             }
-            None => points
+            None => self
+                .spline
+                .nominals()
                 .iter()
-                .map(|p| {
-                    [
-                        rational_to_f64(&p.nominal[0]),
-                        rational_to_f64(&p.nominal[1]),
-                    ]
-                })
+                .map(|p| [rational_to_f64(&p[0]), rational_to_f64(&p[1])])
                 .collect(),
         };
         if let Some(i) = converted.iter().position(|p| !finite(p)) {

@@ -198,8 +198,8 @@ fn surface_contribution(
     let dim = initial.first().map_or(1, Vec::len);
     let (mut contribution, params) =
         spline.contribution(&format!("{name}.{label}"), dim, existing, initial);
-    for (row, condition) in contribution.rows.iter_mut().zip(spline.conditions()) {
-        let item = format!("{label} {}", condition.label);
+    for row in &mut contribution.rows {
+        let item = format!("{label} {}", row.origin.item);
         row.label = format!("{name}: {item}");
         row.origin = Origin {
             source: name.to_string(),
@@ -274,7 +274,8 @@ impl ConstraintSource for TerrainSource {
         summary.extend([
             ("surfaces", surfaces),
             ("control_points_per_surface", n),
-            ("conditions_per_surface", spline.conditions().len()),
+            // Every surface has the same rows: one per condition.
+            ("conditions_per_surface", contribution.rows.len() / surfaces),
         ]);
         contribution.summary = SummaryItem::sorted(summary);
         contribution.warnings = warnings.iter().map(|w| w.to_string()).collect();

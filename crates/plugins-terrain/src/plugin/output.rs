@@ -242,7 +242,7 @@ fn markers(
             let v = values.get(id);
             return Some([rational_to_f64(v.first()?), rational_to_f64(v.get(1)?)]);
         }
-        let nominal = &built.spline.points()[point].nominal;
+        let nominal = built.spline.nominal(point);
         let z = rational_to_f64(built.layer.bottom());
         let image = psi
             .map([

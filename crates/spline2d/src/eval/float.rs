@@ -174,7 +174,7 @@ impl FloatSpline {
         let triangles = spline.mesh().triangles().len();
         // `w·δ` of a control point, rounded once.
         let displacement = |point: usize, w: &Integer| -> Vec<f64> {
-            let nominal = &spline.points()[point].nominal;
+            let nominal = spline.nominal(point);
             positions[point]
                 .iter()
                 .zip(references)
@@ -313,12 +313,12 @@ mod tests {
         let spline = Spline::new(grid(3, true), 5, 1).expect("spline");
         let mut rng = Rng(12345);
         let positions: Vec<Vec<Rational>> = spline
-            .points()
+            .nominals()
             .iter()
             .map(|p| {
                 vec![
-                    &p.nominal[0] + frac(rng.below(200) - 100, 37),
-                    &p.nominal[1] + frac(rng.below(200) - 100, 41),
+                    &p[0] + frac(rng.below(200) - 100, 37),
+                    &p[1] + frac(rng.below(200) - 100, 41),
                 ]
             })
             .collect();

@@ -130,7 +130,7 @@ mod test_support {
     }
 
     pub(super) fn nominal(spline: &Spline) -> Vec<Vec<Rational>> {
-        spline.points().iter().map(|p| p.nominal.to_vec()).collect()
+        spline.nominals().iter().map(|p| p.to_vec()).collect()
     }
 
     /// A small deterministic generator (xorshift) for sample points.

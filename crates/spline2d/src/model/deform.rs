@@ -93,7 +93,7 @@ mod tests {
     use api::Rational;
 
     fn identity(spline: &Spline) -> Vec<Vec<Rational>> {
-        spline.points().iter().map(|p| p.nominal.to_vec()).collect()
+        spline.nominals().iter().map(|p| p.to_vec()).collect()
     }
 
     #[test]
@@ -201,11 +201,10 @@ mod tests {
         // Move the control points near the corner (0, 0) by awkward amounts.
         let limit = Rational::from_integer(7000.into());
         let moved: Vec<Vec<Rational>> = spline
-            .points()
+            .nominals()
             .iter()
             .enumerate()
-            .map(|(i, point)| {
-                let [x, y] = &point.nominal;
+            .map(|(i, [x, y])| {
                 if x + y < limit {
                     let i = i as i64;
                     vec![

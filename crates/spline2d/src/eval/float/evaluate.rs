@@ -386,9 +386,9 @@ mod tests {
     fn high_degrees_and_many_coordinates_use_the_general_path() {
         let spline = Spline::new(strip(1), 33, 0).expect("spline");
         let positions: Vec<Vec<Rational>> = spline
-            .points()
+            .nominals()
             .iter()
-            .map(|p| vec![p.nominal[0].clone(), p.nominal[1].clone(), q(2), q(-1)])
+            .map(|p| vec![p[0].clone(), p[1].clone(), q(2), q(-1)])
             .collect();
         let float = FloatSpline::new(&spline, &positions).expect("float");
         let v = float.evaluate(0, [0.25, 0.25, 0.5]).expect("triangle");
