@@ -4,6 +4,12 @@
 //!
 //! Everything is generated from a seed, so every run measures the same inputs.
 
+/// Every benchmark measures with the allocator the `ecles` binary uses (see `host`'s feature
+/// `mimalloc`): exact arithmetic allocates a great many small blocks, so the allocator is part
+/// of what an exact edit costs.
+#[global_allocator]
+static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 use api::{ConstraintRow, ConstraintSystem, IntMatrix, Origin, ParamId, Rational, RowBody, Values};
 use num_bigint::BigInt;
 
