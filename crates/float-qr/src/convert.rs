@@ -21,33 +21,50 @@ pub(crate) fn matrix_rows(matrix: &IntMatrix, what: &str) -> Result<Vec<FloatRow
         .collect()
 }
 
-/// The rows `rows` of `matrix` in `f64`, over local columns: `cols` (increasing) must hold
-/// every column those rows use, and column `cols[k]` becomes column `k` — the rows of the
-/// submatrix, without an integer copy of it. Errors name entries of `matrix`.
-pub(crate) fn part_rows(
-    matrix: &IntMatrix,
-    rows: &[usize],
-    cols: &[usize],
-    what: &str,
-) -> Result<Vec<FloatRow>, BackendError> {
-    let mut local = vec![usize::MAX; matrix.cols()];
+/// The local index of each column of a matrix `width` wide for a part with columns `cols`
+/// (increasing): column `cols[k]` is `k`, the others `usize::MAX`.
+pub(crate) fn local_columns(width: usize, cols: &[usize]) -> Vec<usize> {
+    let mut local = vec![usize::MAX; width];
     for (k, &c) in cols.iter().enumerate() {
         local[c] = k;
     }
-    rows.iter()
-        .map(|&i| {
-            matrix
-                .row(i)
-                .iter()
-                .map(|(j, v)| match local[*j] {
-                    usize::MAX => Err(BackendError::Numerical(format!(
-                        "entry ({i}, {j}) of the {what} is outside the given columns"
-                    ))),
-                    k => Ok((k, entry_to_f64(v, i, *j, what)?)),
-                })
-                .collect()
+    local
+}
+
+/// Row `i` of `matrix` in `f64` over the local columns `local` (see [`local_columns`]): a row
+/// of a submatrix without an integer copy of it. Errors name entries of `matrix`, including one
+/// outside the part's columns.
+pub(crate) fn part_row(
+    matrix: &IntMatrix,
+    i: usize,
+    local: &[usize],
+    what: &str,
+) -> Result<FloatRow, BackendError> {
+    matrix
+        .row(i)
+        .iter()
+        .map(|(j, v)| {
+            Ok((
+                local_column(local, i, *j, what)?,
+                entry_to_f64(v, i, *j, what)?,
+            ))
         })
         .collect()
+}
+
+/// The local index of column `j` (of row `i`), refused if it is outside the part.
+pub(crate) fn local_column(
+    local: &[usize],
+    i: usize,
+    j: usize,
+    what: &str,
+) -> Result<usize, BackendError> {
+    match local[j] {
+        usize::MAX => Err(BackendError::Numerical(format!(
+            "entry ({i}, {j}) of the {what} is outside the given columns"
+        ))),
+        k => Ok(k),
+    }
 }
 
 /// Entry `(i, j)` of an integer matrix in `f64`, refused if it does not fit.

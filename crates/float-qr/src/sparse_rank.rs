@@ -25,7 +25,7 @@
 //! sorted sparse rows. Every operation is a plain `f64` operation in a fixed order, so the
 //! answer is the same on every machine.
 
-use crate::convert::{matrix_rows, part_rows};
+use crate::convert::{local_column, local_columns, matrix_rows, part_row};
 use api::{BackendError, IntMatrix, RankMargin};
 
 /// The float row rank of a sparse matrix (see the module documentation).
@@ -46,53 +46,84 @@ pub(crate) type SparseVector = Vec<(u32, f64)>;
 pub fn sparse_row_rank(matrix: &IntMatrix, tolerance: f64) -> Result<SparseRowRank, BackendError> {
     let n = matrix.cols();
     u32::try_from(n).map_err(|_| BackendError::Numerical("too many columns".into()))?;
-    float_row_rank(matrix_rows(matrix, "matrix")?, n, tolerance)
+    let rows = matrix_rows(matrix, "matrix")?;
+    let position = positions(&column_order(&rows, n));
+    let scaled = rows
+        .iter()
+        .enumerate()
+        .map(|(i, row)| (i, scaled_row(row, &position)))
+        .collect();
+    drop(rows);
+    Ok(rank_of_scaled(scaled, n, tolerance))
 }
 
 /// [`sparse_row_rank`] of the submatrix of `matrix` with rows `rows` and columns `cols`
 /// (increasing; every column those rows use, such as a connected component's), read straight
-/// from `matrix` without an integer copy. Row `k` of the result is `rows[k]`.
+/// from `matrix`: no integer copy of the submatrix, and its rows are made in `f64` only after
+/// the column order, from the pattern alone (at a whole mesh, AMD's workspace and the `f64` rows
+/// together were the cross-check's peak of memory). Row `k` of the result is `rows[k]`.
 pub fn sparse_part_row_rank(
     matrix: &IntMatrix,
     rows: &[usize],
     cols: &[usize],
     tolerance: f64,
 ) -> Result<SparseRowRank, BackendError> {
-    u32::try_from(cols.len()).map_err(|_| BackendError::Numerical("too many columns".into()))?;
-    float_row_rank(
-        part_rows(matrix, rows, cols, "matrix")?,
-        cols.len(),
-        tolerance,
-    )
+    let n = cols.len();
+    u32::try_from(n).map_err(|_| BackendError::Numerical("too many columns".into()))?;
+    let local = local_columns(matrix.cols(), cols);
+    let pattern = rows
+        .iter()
+        .map(|&i| {
+            matrix
+                .row(i)
+                .iter()
+                .map(|(j, _)| Ok((local_column(&local, i, *j, "matrix")?, ())))
+                .collect::<Result<Vec<_>, BackendError>>()
+        })
+        .collect::<Result<Vec<_>, BackendError>>()?;
+    let position = positions(&column_order(&pattern, n));
+    drop(pattern);
+    let scaled = rows
+        .iter()
+        .enumerate()
+        .map(|(k, &i)| {
+            Ok((
+                k,
+                scaled_row(&part_row(matrix, i, &local, "matrix")?, &position),
+            ))
+        })
+        .collect::<Result<Vec<_>, BackendError>>()?;
+    Ok(rank_of_scaled(scaled, n, tolerance))
 }
 
-/// The rank of the `f64` rows `rows` over `n` columns (see the module documentation).
-fn float_row_rank(
-    rows: Vec<Vec<(usize, f64)>>,
-    n: usize,
-    tolerance: f64,
-) -> Result<SparseRowRank, BackendError> {
-    let order = column_order(&rows, n);
-    let mut position = vec![0u32; n];
+/// The position of each column in `order`.
+fn positions(order: &[usize]) -> Vec<u32> {
+    let mut position = vec![0u32; order.len()];
     for (k, &c) in order.iter().enumerate() {
         position[c] = k as u32;
     }
-    // The rows of A, unit length, over the column positions, by their first position.
-    let mut scaled: Vec<(usize, SparseVector)> = rows
+    position
+}
+
+/// A row of `A` at unit length over the column positions, sorted (zeros left out).
+fn scaled_row(row: &[(usize, f64)], position: &[u32]) -> SparseVector {
+    let norm = row.iter().map(|(_, v)| v * v).sum::<f64>().sqrt();
+    let mut x: SparseVector = row
         .iter()
-        .enumerate()
-        .map(|(i, row)| {
-            let norm = row.iter().map(|(_, v)| v * v).sum::<f64>().sqrt();
-            let mut x: SparseVector = row
-                .iter()
-                .filter(|(_, v)| *v != 0.0)
-                .map(|(c, v)| (position[*c], v / norm))
-                .collect();
-            x.sort_unstable_by_key(|(k, _)| *k);
-            (i, x)
-        })
+        .filter(|(_, v)| *v != 0.0)
+        .map(|(c, v)| (position[*c], v / norm))
         .collect();
-    drop(rows);
+    x.sort_unstable_by_key(|(k, _)| *k);
+    x
+}
+
+/// The rank of the rows `scaled` (`(row, unit row over the column positions)`) over `n`
+/// columns (see the module documentation).
+fn rank_of_scaled(
+    mut scaled: Vec<(usize, SparseVector)>,
+    n: usize,
+    tolerance: f64,
+) -> SparseRowRank {
     scaled.sort_by_key(|(i, x)| (x.first().map_or(u32::MAX, |(k, _)| *k), *i));
     let mut r: Vec<SparseVector> = vec![Vec::new(); n];
     let mut scratch = (Vec::new(), Vec::new());
@@ -107,7 +138,7 @@ fn float_row_rank(
         }
     }
     independent.sort_unstable();
-    Ok(SparseRowRank {
+    SparseRowRank {
         rank: independent.len(),
         independent,
         margin: RankMargin {
@@ -115,7 +146,7 @@ fn float_row_rank(
             largest_dropped,
             tolerance,
         },
-    })
+    }
 }
 
 /// An order of the columns of `A` that keeps `R` sparse: approximate minimum degree (the `amd`
@@ -124,7 +155,7 @@ fn float_row_rank(
 /// The pattern is gathered column by column through the transpose of `A` with a marker per
 /// column, so it is held once, without the repeats of a row per shared column (at a whole mesh
 /// those repeats were the analysis's peak of memory).
-pub(crate) fn column_order(rows: &[Vec<(usize, f64)>], cols: usize) -> Vec<usize> {
+pub(crate) fn column_order<T>(rows: &[Vec<(usize, T)>], cols: usize) -> Vec<usize> {
     let natural = || (0..cols).collect::<Vec<_>>();
     let (Some((starts, indices)), Ok(size)) = (normal_pattern(rows, cols), isize::try_from(cols))
     else {
@@ -138,7 +169,7 @@ pub(crate) fn column_order(rows: &[Vec<(usize, f64)>], cols: usize) -> Vec<usize
 
 /// The pattern of `Aᵀ A` (every column with itself, and with every column it shares a row
 /// with), as column starts and sorted row indices; `None` if an index does not fit an `isize`.
-fn normal_pattern(rows: &[Vec<(usize, f64)>], cols: usize) -> Option<(Vec<isize>, Vec<isize>)> {
+fn normal_pattern<T>(rows: &[Vec<(usize, T)>], cols: usize) -> Option<(Vec<isize>, Vec<isize>)> {
     let mut rows_of: Vec<Vec<u32>> = vec![Vec::new(); cols];
     for (r, row) in rows.iter().enumerate() {
         let r = u32::try_from(r).ok()?;
