@@ -363,6 +363,9 @@ impl ConstraintSystem {
         Ok(())
     }
 
+    /// Makes room for `params` more parameters, exactly: a source that adds a million
+    /// parameters does not leave the doubling slack of a growing vector behind (its rows are
+    /// adopted or reserved exactly by [`ConstraintSystem::add_rows`]).
     pub(crate) fn reserve_exact(&mut self, params: usize) {
         self.params.reserve_exact(params);
         self.by_name.reserve(&self.params, params);
@@ -742,6 +745,9 @@ impl Values {
     }
 
     /// Makes room for `params` more values, exactly.
+    /// Makes room for `params` more parameters, exactly: a source that adds a million
+    /// parameters does not leave the doubling slack of a growing vector behind (its rows are
+    /// adopted or reserved exactly by [`ConstraintSystem::add_rows`]).
     pub(crate) fn reserve_exact(&mut self, params: usize) {
         std::sync::Arc::make_mut(&mut self.data).reserve_exact(params);
     }

@@ -124,7 +124,13 @@ pub fn shape_owned(system: ConstraintSystem) -> SystemMatrix {
                     }
                     terms.into_iter().map(|(p, c)| (p.index(), c)).collect()
                 }
-                RowBody::Scalar { .. } => unreachable!("every row is a vector row here"),
+                // Not met (every row is a vector row here); kept as `shape` has it.
+                RowBody::Scalar { rhs: q, .. } => {
+                    for column in &mut rhs {
+                        column.push(q.clone());
+                    }
+                    Vec::new()
+                }
             }
         })
         .collect();
