@@ -83,7 +83,7 @@ fn combine(out: &mut Limbs, a: &[u64], u: u64, b: &[u64], v: u64) {
 /// word. The new pair of a Lehmer step is computed modulo `2^128`, which is exact: both values
 /// are remainders of the Euclidean sequence, in `[0, a]`. (Binary GCD on two words spent one
 /// iteration of several word operations per bit: a third of a small exact update.)
-fn gcd_u128(mut a: u128, mut b: u128) -> u128 {
+pub(crate) fn gcd_u128(mut a: u128, mut b: u128) -> u128 {
     if a < b {
         std::mem::swap(&mut a, &mut b);
     }

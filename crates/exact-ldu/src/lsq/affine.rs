@@ -313,13 +313,13 @@ pub(super) fn combine<R: Ring>(
     let scales: Vec<BigInt> = moving.iter().map(|(a, r)| a * (&common / &r.den)).collect();
     let alpha_den = alpha.den.to_bigint();
     let base_scale = &alpha_den * (&common / &base.den);
-    // Small edits and drag frames: factors within an `i64` make each entry a sum of `i128`
+    // Small edits and drag frames: factors within an `i128` make each entry a sum of `i128`
     // products, computed without big-integer temporaries while it fits (checked).
-    let small_factors: Option<(i64, Vec<i64>)> = ToPrimitive::to_i64(&base_scale).zip(
+    let small_factors: Option<(i128, Vec<i128>)> = ToPrimitive::to_i128(&base_scale).zip(
         scales
             .iter()
-            .map(ToPrimitive::to_i64)
-            .collect::<Option<Vec<i64>>>(),
+            .map(ToPrimitive::to_i128)
+            .collect::<Option<Vec<i128>>>(),
     );
     let num = base
         .num
@@ -327,11 +327,9 @@ pub(super) fn combine<R: Ring>(
         .enumerate()
         .map(|(s, b)| {
             if let Some(value) = small_factors.as_ref().and_then(|(bs, fs)| {
-                let mut sum = i128::from(ToPrimitive::to_i64(b)?) * i128::from(*bs);
+                let mut sum = ToPrimitive::to_i128(b)?.checked_mul(*bs)?;
                 for ((_, r), f) in moving.iter().zip(fs) {
-                    sum = sum.checked_sub(
-                        i128::from(ToPrimitive::to_i64(&r.num[s])?) * i128::from(*f),
-                    )?;
+                    sum = sum.checked_sub(ToPrimitive::to_i128(&r.num[s])?.checked_mul(*f)?)?;
                 }
                 Some(sum)
             }) {
