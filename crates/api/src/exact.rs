@@ -308,6 +308,40 @@ pub fn identical_rationals(a: &[Rational], b: &[Rational]) -> bool {
             .all(|(x, y)| x.numer() == y.numer() && x.denom() == y.denom())
 }
 
+/// `a + b` in lowest terms; two integers are added as integers. (`Rational`'s `+` divides the
+/// sum by a GCD with its denominator even when that is one, which on the small integers of
+/// trivial constraints costs more than the addition.)
+pub fn rational_sum(a: &Rational, b: &Rational) -> Rational {
+    if a.is_integer() && b.is_integer() {
+        Rational::from_integer(a.numer() + b.numer())
+    } else {
+        a + b
+    }
+}
+
+/// `a − b` in lowest terms, integers subtracted as integers (see [`rational_sum`]).
+pub fn rational_difference(a: &Rational, b: &Rational) -> Rational {
+    if a.is_integer() && b.is_integer() {
+        Rational::from_integer(a.numer() - b.numer())
+    } else {
+        a - b
+    }
+}
+
+/// `a · k` in lowest terms; an integer `a` is multiplied as an integer, and `k = ±1` is a copy
+/// or a negation (see [`rational_sum`]).
+pub fn rational_times_integer(a: &Rational, k: &Integer) -> Rational {
+    if k.is_one() {
+        a.clone()
+    } else if k.sign() == num_bigint::Sign::Minus && k.magnitude().is_one() {
+        -a
+    } else if a.is_integer() {
+        Rational::from_integer(a.numer() * k)
+    } else {
+        a * k
+    }
+}
+
 /// Rational values scaled by one positive factor to coprime integers: multiplied by the least
 /// common multiple of their denominators, then divided by the greatest common divisor of the
 /// products. Signs, zeros and the ratios between the values are kept, so the data of a row
@@ -494,5 +528,26 @@ mod tests {
         assert_eq!(ints(&[q(5, 7)]), i(&[1]));
         assert_eq!(ints(&[q(0, 1), q(0, 1)]), i(&[0, 0]));
         assert!(ints(&[]).is_empty());
+    }
+
+    proptest::proptest! {
+        /// The shortcuts give the values, in lowest terms, of `Rational`'s own operations.
+        #[test]
+        fn sum_difference_and_integer_product_are_rationals_own(
+            an in -1000i64..1000, ad in 1i64..4, bn in -1000i64..1000, bd in 1i64..4,
+            k in -3i64..4,
+        ) {
+            let (a, b, k) = (q(an, ad), q(bn, bd), Integer::from(k));
+            let lowest = |x: &Rational| Rational::new(x.numer().clone(), x.denom().clone());
+            let sum = rational_sum(&a, &b);
+            proptest::prop_assert_eq!(&sum, &(&a + &b));
+            proptest::prop_assert!(identical_rationals(std::slice::from_ref(&sum), &[lowest(&sum)]));
+            let difference = rational_difference(&a, &b);
+            proptest::prop_assert_eq!(&difference, &(&a - &b));
+            proptest::prop_assert!(identical_rationals(std::slice::from_ref(&difference), &[lowest(&difference)]));
+            let product = rational_times_integer(&a, &k);
+            proptest::prop_assert_eq!(&product, &(&a * &k));
+            proptest::prop_assert!(identical_rationals(std::slice::from_ref(&product), &[lowest(&product)]));
+        }
     }
 }

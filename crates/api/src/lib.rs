@@ -28,8 +28,8 @@ pub use backend::{
     RankMargin, Redundancy, RhsFamily, Snapped, SolveError, StrongFailure, Value,
 };
 pub use exact::{
-    coprime_integers, format_rational, identical_rationals, parse_rational, Integer,
-    ParseRationalError, Rational,
+    coprime_integers, format_rational, identical_rationals, parse_rational, rational_difference,
+    rational_sum, rational_times_integer, Integer, ParseRationalError, Rational,
 };
 pub use matrix::{IntMatrix, MatrixError};
 pub use source::SCHEMA_VERSION;

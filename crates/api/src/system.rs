@@ -110,6 +110,20 @@ impl RowBody {
         out
     }
 
+    /// The parameter of every term, in the row's order; a parameter appears once per term
+    /// (a scalar row may name several coordinates of one parameter). No allocation, unlike
+    /// [`RowBody::params`].
+    pub fn term_params(&self) -> impl Iterator<Item = ParamId> + '_ {
+        let (vector, scalar) = match self {
+            RowBody::Vector { terms, .. } => (Some(terms.iter().map(|(p, _)| *p)), None),
+            RowBody::Scalar { terms, .. } => (None, Some(terms.iter().map(|(c, _)| c.param))),
+        };
+        vector
+            .into_iter()
+            .flatten()
+            .chain(scalar.into_iter().flatten())
+    }
+
     /// Number of scalar equations the row stands for.
     pub fn scalar_rows(&self) -> usize {
         match self {
@@ -796,6 +810,38 @@ mod tests {
 
     fn r(n: i64) -> Rational {
         Rational::from_integer(n.into())
+    }
+
+    /// `term_params` names each term's parameter in order, repeats included; `params` is the
+    /// same set sorted without repeats.
+    #[test]
+    fn term_params_follow_the_terms() {
+        let vector = RowBody::Vector {
+            terms: vec![(ParamId(4), 1.into()), (ParamId(2), (-1).into())],
+            rhs: vec![0.into(), 0.into()],
+        };
+        assert_eq!(
+            vector.term_params().collect::<Vec<_>>(),
+            [ParamId(4), ParamId(2)]
+        );
+        assert_eq!(vector.params(), [ParamId(2), ParamId(4)]);
+        let coord = |p: u32, component: usize| Coord {
+            param: ParamId(p),
+            component,
+        };
+        let scalar = RowBody::Scalar {
+            terms: vec![
+                (coord(3, 1), 2.into()),
+                (coord(1, 0), 1.into()),
+                (coord(3, 0), 1.into()),
+            ],
+            rhs: 5.into(),
+        };
+        assert_eq!(
+            scalar.term_params().collect::<Vec<_>>(),
+            [ParamId(3), ParamId(1), ParamId(3)]
+        );
+        assert_eq!(scalar.params(), [ParamId(1), ParamId(3)]);
     }
 
     #[test]

@@ -1,6 +1,7 @@
 //! spline2d: building control points, conditions and the control net for meshes of about 10,
 //! 1 000 and 10 000 triangles; 2DSD Select + ECLES Initialize and one Update for a single-anchor
-//! soft translation with δ_max = 3 and 8 on the 1 000-triangle mesh, exact and float backends.
+//! soft translation with δ_max = 3 and 8 on the 1 000-triangle mesh, exact and float backends;
+//! the exact Update snapped and as an unreduced drag frame.
 //!
 //! `cargo bench -p benchmarks --bench spline`
 
@@ -220,8 +221,10 @@ fn edits(c: &mut Criterion) {
 }
 
 /// A snapped Update (`Edit::update_snapped` on the grid `2^−24`) on the same edits, after the
-/// first one: what an editor committing snapped points draws per frame.
-fn snapped(c: &mut Criterion) {
+/// first one: what an editor committing snapped points draws per frame; and the exact drag
+/// frame (`Edit::frame`: the values of `Edit::update` over the solution's common denominator,
+/// not reduced), what an editor committing the exact optimum draws per frame.
+fn exact_frames(c: &mut Criterion) {
     let fixture = GridFixture::new();
     let (editor, system, values, anchor) = (
         fixture.editor(),
@@ -251,9 +254,21 @@ fn snapped(c: &mut Criterion) {
             BenchmarkId::new("snapped-update", format!("exact-delta{radius}")),
             |b| b.iter(|| black_box(edit.update_snapped(&step.anchors, &step.hints, 24).is_ok())),
         );
+        // The frame is the update, unreduced.
+        let frame = edit.frame(&step.anchors, &step.hints).expect("solvable");
+        let update = edit.update(&step.anchors, &step.hints).expect("solvable");
+        for (f, (_, u)) in frame.iter().zip(&update.derived) {
+            for (a, b) in f.iter().zip(u) {
+                assert_eq!(a.reduced(), *b);
+            }
+        }
+        group.bench_function(
+            BenchmarkId::new("unreduced-frame", format!("exact-delta{radius}")),
+            |b| b.iter(|| black_box(edit.frame(&step.anchors, &step.hints).is_ok())),
+        );
     }
     group.finish();
 }
 
-criterion_group!(benches, build, rank, edits, snapped);
+criterion_group!(benches, build, rank, edits, exact_frames);
 criterion_main!(benches);

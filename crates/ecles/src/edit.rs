@@ -1,6 +1,7 @@
 //! ECLES.Initialize and ECLES.Update (thesis, algorithms 1, 3, 4, 5).
 
 use crate::error::{Conflict, ConflictingRow, EditError};
+use crate::hint_columns::HintColumn;
 use crate::reduce::{reduce, ReducedSystem};
 use crate::relevant::{extract_relevant, Relevant};
 use crate::substitute::Substitution;
@@ -480,7 +481,7 @@ impl<F: Factorization> Edit<F> {
         weights: &[Rational],
         column: usize,
         alpha: &[Rational],
-        hints: &[Rational],
+        hints: &HintColumn,
     ) -> Result<Vec<F::Scalar>, SolveError<F::Scalar>> {
         through_substitution(
             substitution,
@@ -501,7 +502,7 @@ impl<F: Factorization> Edit<F> {
         &self,
         anchor_values: &[Vec<Rational>],
         hints: &[Vec<Rational>],
-        solve: impl Fn(usize, &[Rational], &[Rational]) -> Result<Vec<T>, SolveError<F::Scalar>> + Sync,
+        solve: impl Fn(usize, &[Rational], &HintColumn) -> Result<Vec<T>, SolveError<F::Scalar>> + Sync,
     ) -> Result<Vec<Vec<T>>, EditError<F::Scalar>>
     where
         T: Clone + Send,
@@ -541,7 +542,7 @@ impl<F: Factorization> Edit<F> {
             }
             Layout::Scalar => {
                 let alpha: Vec<Rational> = anchor_values.iter().flatten().cloned().collect();
-                let h: Vec<Rational> = hints.iter().flatten().cloned().collect();
+                let h = self.hint_columns.flattened(hints);
                 let mut x = solve(0, &alpha, &h)
                     .map_err(|e| self.solve_error(e, 0))?
                     .into_iter();
@@ -694,7 +695,7 @@ fn through_substitution<T: Clone, E>(
     substitution: Option<&Substitution>,
     weights: &[Rational],
     column: usize,
-    hints: &[Rational],
+    hints: &HintColumn,
     solve: impl Fn(&[Rational]) -> Result<Vec<T>, E>,
     from_rational: impl Fn(&Rational) -> T,
     plus: impl Fn(T, T) -> T,

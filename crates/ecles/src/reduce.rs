@@ -13,8 +13,10 @@
 
 use crate::edit::{EditSpec, Layout, RowRef};
 use crate::relevant::Relevant;
-use api::{ConstraintSystem, IntMatrix, ParamId, Rational, RhsFamily, RowBody, Values};
-use std::collections::HashMap;
+use api::{
+    rational_difference, rational_times_integer, ConstraintSystem, IntMatrix, ParamId, Rational,
+    RhsFamily, RowBody, Values,
+};
 
 /// `R_ED`, the family `b(α) = c − R_EA α` and what each row of `R_ED` is.
 #[derive(Debug, Clone, PartialEq)]
@@ -85,13 +87,27 @@ pub(crate) fn reduce(
         Layout::Scalar
     };
 
-    let mut role: HashMap<ParamId, Role> = HashMap::new();
-    for (k, p) in spec.anchors.iter().enumerate() {
-        role.insert(*p, Role::Anchor(k));
-    }
-    for (k, p) in spec.derived.iter().enumerate() {
-        role.insert(*p, Role::Derived(k));
-    }
+    // The role of each editable parameter, sorted by id for binary search (no hashing: the
+    // ids are distinct, validated by `Edit::initialize`).
+    let mut roles: Vec<(ParamId, Role)> = spec
+        .anchors
+        .iter()
+        .enumerate()
+        .map(|(k, p)| (*p, Role::Anchor(k)))
+        .chain(
+            spec.derived
+                .iter()
+                .enumerate()
+                .map(|(k, p)| (*p, Role::Derived(k))),
+        )
+        .collect();
+    roles.sort_unstable_by_key(|(p, _)| *p);
+    let role = |p: &ParamId| {
+        roles
+            .binary_search_by_key(p, |(q, _)| *q)
+            .ok()
+            .map(|i| &roles[i].1)
+    };
 
     let mut ed_rows = Vec::new();
     let mut ea_rows = Vec::new();
@@ -112,13 +128,12 @@ pub(crate) fn reduce(
                     .map(|q| Rational::from_integer(q.clone()))
                     .collect();
                 for (p, coeff) in terms {
-                    match role.get(p) {
+                    match role(p) {
                         Some(Role::Derived(k)) => ed.push((*k, coeff.clone())),
                         Some(Role::Anchor(k)) => ea.push((*k, coeff.clone())),
                         None => {
-                            let coeff = Rational::from_integer(coeff.clone());
                             for (cj, pj) in c.iter_mut().zip(values.get(*p)) {
-                                *cj -= &coeff * pj;
+                                *cj = rational_difference(cj, &rational_times_integer(pj, coeff));
                             }
                         }
                     }
@@ -170,12 +185,17 @@ pub(crate) fn reduce(
                     let mut ea = Vec::new();
                     let mut c = Rational::from_integer(equation.rhs);
                     for (coord, coeff) in equation.terms {
-                        match role.get(&coord.param) {
+                        match role(&coord.param) {
                             Some(Role::Derived(k)) => ed.push((d_off[*k] + coord.component, coeff)),
                             Some(Role::Anchor(k)) => ea.push((a_off[*k] + coord.component, coeff)),
                             None => {
-                                c -= Rational::from_integer(coeff)
-                                    * &values.get(coord.param)[coord.component];
+                                c = rational_difference(
+                                    &c,
+                                    &rational_times_integer(
+                                        &values.get(coord.param)[coord.component],
+                                        &coeff,
+                                    ),
+                                );
                             }
                         }
                     }

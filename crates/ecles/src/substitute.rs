@@ -29,10 +29,15 @@
 //! (leaves first, one row per unknown, coefficients `±1`): the same proof over the original
 //! rows.
 
+use crate::hint_columns::HintColumn;
 use crate::reduce::ReducedSystem;
-use api::{IntMatrix, Integer, Rational, RhsFamily, Value};
+use api::{
+    rational_difference, rational_sum, rational_times_integer, IntMatrix, Integer, Rational,
+    RhsFamily, Value,
+};
 use num_traits::{One, Zero};
 use std::collections::VecDeque;
+use std::sync::Arc;
 
 /// Trivial rows are substituted when they are at least `1 / SUBSTITUTE_FRACTION` of the rows.
 const SUBSTITUTE_FRACTION: usize = 4;
@@ -74,8 +79,9 @@ pub(crate) struct Substitution {
 #[derive(Debug, Default)]
 struct HintMemo(Vec<std::sync::Mutex<Option<HintsAndGroups>>>);
 
-/// Hints of the unknowns and the groups' hints from them.
-type HintsAndGroups = (Vec<Rational>, Vec<Rational>);
+/// Hints of the unknowns and the groups' hints from them (shared: a drag frame reads them
+/// without copying).
+type HintsAndGroups = (HintColumn, Arc<Vec<Rational>>);
 
 impl Clone for HintMemo {
     fn clone(&self) -> Self {
@@ -86,6 +92,15 @@ impl Clone for HintMemo {
 impl PartialEq for HintMemo {
     fn eq(&self, _: &Self) -> bool {
         true
+    }
+}
+
+/// `value · sign` for `sign = ±1`: a copy or a negation.
+fn signed(value: &Rational, sign: i8) -> Rational {
+    if sign > 0 {
+        value.clone()
+    } else {
+        -value
     }
 }
 
@@ -153,22 +168,23 @@ impl Substitution {
                           sign: &mut Vec<i8>,
                           group: &mut Vec<Option<usize>>,
                           offset: &mut Vec<Vec<Rational>>| {
-            let cc = Integer::from(edge.child_coef);
+            // b · child_coef, child_coef = ±1.
+            let constant =
+                |column: usize| signed(&reduced.family.constant[column][edge.row], edge.child_coef);
             match edge.parent {
                 None => {
                     sign[edge.child] = 0;
                     group[edge.child] = None;
                     for (column, t) in offset.iter_mut().enumerate() {
-                        t[edge.child] = &reduced.family.constant[column][edge.row] * &cc;
+                        t[edge.child] = constant(column);
                     }
                 }
                 Some((p, cp)) => {
-                    let flip = -i64::from(edge.child_coef) * i64::from(cp);
-                    sign[edge.child] = (flip * i64::from(sign[p])) as i8;
+                    let flip = -edge.child_coef * cp;
+                    sign[edge.child] = flip * sign[p];
                     group[edge.child] = group[p];
                     for (column, t) in offset.iter_mut().enumerate() {
-                        t[edge.child] = &reduced.family.constant[column][edge.row] * &cc
-                            + &t[p] * Integer::from(flip);
+                        t[edge.child] = rational_sum(&constant(column), &signed(&t[p], flip));
                     }
                 }
             }
@@ -250,7 +266,10 @@ impl Substitution {
                 }
                 for (column, cj) in c.iter_mut().enumerate() {
                     if !offset[column][*u].is_zero() {
-                        *cj -= &offset[column][*u] * a;
+                        *cj = rational_difference(
+                            cj,
+                            &rational_times_integer(&offset[column][*u], a),
+                        );
                     }
                 }
             }
@@ -263,7 +282,7 @@ impl Substitution {
         let mut group_weights = vec![Rational::zero(); groups];
         for (u, g) in group.iter().enumerate() {
             if let Some(g) = g {
-                group_weights[*g] += &weights[u];
+                group_weights[*g] = rational_sum(&group_weights[*g], &weights[u]);
             }
         }
         // A group whose members all have zero weight cannot happen: weights are positive.
@@ -311,24 +330,26 @@ impl Substitution {
     }
 
     /// The hints of the groups, `h̄_g = Σ w_u σ_u (h_u − τ_u) / W_g`, for right-hand-side
-    /// column `column`.
+    /// column `column`: from the memo when `hints` are the last ones — the same gathering of
+    /// hints (a drag), or number for number the same (a comparison of representations: equal
+    /// rationals in lowest terms are identical).
     pub(crate) fn group_hints(
         &self,
         weights: &[Rational],
-        hints: &[Rational],
+        hints: &HintColumn,
         column: usize,
-    ) -> Vec<Rational> {
+    ) -> Arc<Vec<Rational>> {
         let memo = &self.hint_memo.0[column];
         if let Ok(guard) = memo.lock() {
             if let Some((last, groups)) = guard.as_ref() {
-                if last.as_slice() == hints {
-                    return groups.clone();
+                if last.same_as(hints) || api::identical_rationals(last, hints) {
+                    return Arc::clone(groups);
                 }
             }
         }
-        let groups = self.compute_group_hints(weights, hints, column);
+        let groups = Arc::new(self.compute_group_hints(weights, hints, column));
         if let Ok(mut guard) = memo.lock() {
-            *guard = Some((hints.to_vec(), groups.clone()));
+            *guard = Some((hints.clone(), Arc::clone(&groups)));
         }
         groups
     }
@@ -348,18 +369,14 @@ impl Substitution {
             let shifted = if offset.is_zero() {
                 hints[u].clone()
             } else {
-                &hints[u] - offset
+                rational_difference(&hints[u], offset)
             };
             let term = if weights[u].is_one() {
                 shifted
             } else {
                 &weights[u] * shifted
             };
-            if self.sign[u] > 0 {
-                sums[*g] += term;
-            } else {
-                sums[*g] -= term;
-            }
+            sums[*g] = rational_sum(&sums[*g], &signed(&term, self.sign[u]));
         }
         sums.into_iter()
             .zip(&self.group_weights)

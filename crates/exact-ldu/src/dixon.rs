@@ -28,11 +28,13 @@
 //! right-hand side `2k (2 nnz(L) + nnz(A))` word operations (`n²` for `nnz(L)` when dense) for
 //! `k ≈ (bits of numerators + denominator) / 31` steps of each phase, plus combining the digits.
 
+use crate::bareiss_small::{self, SmallBareiss};
 use crate::ldlt_symbolic::fill_reducing_order;
 use crate::modular::{lifting_primes, ModularLu, Modulus, SparseLdlt};
 use num_bigint::{BigInt, BigUint, Sign};
 use num_integer::Integer;
 use num_traits::{One, Signed, ToPrimitive, Zero};
+use std::sync::OnceLock;
 
 /// Residuals below this size stay in `i128` (with `|A| < 2^62` and digits below `2^31`, one
 /// lifting step keeps them there).
@@ -48,7 +50,12 @@ pub(crate) struct LiftingSolver {
     rows: Vec<Vec<(usize, BigInt)>>,
     /// The rows again, when every entry is below `2^62` in absolute value.
     small_rows: Option<Vec<Vec<(usize, i64)>>>,
-    inverse: ModularInverse,
+    /// `A` eliminated fraction-free in `i128`, for small positive definite matrices: their
+    /// solves are exact without lifting while the numbers fit.
+    small: Option<SmallBareiss>,
+    /// `A⁻¹ mod p`: made when the solver is made, or (beside `small`) at the first solve that
+    /// lifts.
+    inverse: OnceLock<ModularInverse>,
     /// `Σ_j ⌈log₂ ‖A_{:,j}‖⌉`, an upper bound of `log₂ |det A|` (Hadamard).
     hadamard_bits: u64,
     /// Steps the last solve needed: the first attempt of the next one (solves with one matrix
@@ -139,6 +146,27 @@ impl LiftingSolver {
     /// `A` is singular.
     pub(crate) fn new_symmetric(n: usize, rows: Vec<Vec<(usize, BigInt)>>) -> Option<Self> {
         debug_assert_eq!(rows.len(), n);
+        if n <= bareiss_small::MAX_ORDER {
+            let (small_rows, hadamard_bits) = Self::bounds(n, &rows)?;
+            if let Some(small) = small_rows.as_ref().and_then(|r| SmallBareiss::factor(n, r)) {
+                // Nonsingular (its determinant is the last pivot, nonzero): the modular
+                // inverse waits for a solve that overflows.
+                return Some(LiftingSolver {
+                    n,
+                    rows,
+                    small_rows,
+                    small: Some(small),
+                    inverse: OnceLock::new(),
+                    hadamard_bits,
+                    last_steps: StepsMemo::default(),
+                });
+            }
+        }
+        Self::lifted_symmetric(n, rows)
+    }
+
+    /// [`LiftingSolver::new_symmetric`] without the fraction-free path: every solve lifts.
+    fn lifted_symmetric(n: usize, rows: Vec<Vec<(usize, BigInt)>>) -> Option<Self> {
         let order = fill_reducing_order(&rows);
         for p in lifting_primes().take(SPARSE_ATTEMPTS) {
             let modulus = Modulus::new(p);
@@ -161,7 +189,8 @@ impl LiftingSolver {
             n,
             rows,
             small_rows,
-            inverse,
+            small: None,
+            inverse: OnceLock::from(inverse),
             hadamard_bits,
             last_steps: StepsMemo::default(),
         })
@@ -174,27 +203,56 @@ impl LiftingSolver {
         n: usize,
         rows: &[Vec<(usize, BigInt)>],
     ) -> Option<(Option<Vec<Vec<(usize, i64)>>>, u64)> {
-        let mut columns: Vec<Vec<&BigInt>> = vec![Vec::new(); n];
-        for row in rows {
-            for (j, v) in row {
-                if !v.is_zero() {
-                    columns[*j].push(v);
-                }
-            }
-        }
-        if columns.iter().any(Vec::is_empty) {
-            return None;
-        }
-        let hadamard_bits: u64 = columns.iter().map(|c| norm_bits(c.iter().copied())).sum();
-        let limit = BigInt::from(1i64 << 62);
+        const LIMIT: i64 = 1 << 62;
         let small_rows = rows
             .iter()
             .map(|row| {
                 row.iter()
-                    .map(|(j, v)| (v.abs() < limit).then(|| (*j, v.to_i64().unwrap_or(0))))
+                    .map(|(j, v)| {
+                        v.to_i64()
+                            .filter(|x| x.unsigned_abs() < LIMIT.unsigned_abs())
+                            .map(|x| (*j, x))
+                    })
                     .collect::<Option<Vec<_>>>()
             })
             .collect::<Option<Vec<_>>>();
+        // Squared column norms in machine words while they fit (each square is below 2^124).
+        let word_norms = small_rows.as_ref().and_then(|small| {
+            let mut squares = vec![0u128; n];
+            for row in small {
+                for (j, v) in row {
+                    let v = v.unsigned_abs() as u128;
+                    squares[*j] = squares[*j].checked_add(v * v)?;
+                }
+            }
+            Some(squares)
+        });
+        let hadamard_bits = match word_norms {
+            Some(squares) => {
+                if squares.contains(&0) {
+                    return None;
+                }
+                // ⌈log₂ √s⌉ = ⌈bits(s) / 2⌉, as `norm_bits` computes it.
+                squares
+                    .iter()
+                    .map(|s| u64::from(u128::BITS - s.leading_zeros()).div_ceil(2))
+                    .sum()
+            }
+            None => {
+                let mut columns: Vec<Vec<&BigInt>> = vec![Vec::new(); n];
+                for row in rows {
+                    for (j, v) in row {
+                        if !v.is_zero() {
+                            columns[*j].push(v);
+                        }
+                    }
+                }
+                if columns.iter().any(Vec::is_empty) {
+                    return None;
+                }
+                columns.iter().map(|c| norm_bits(c.iter().copied())).sum()
+            }
+        };
         Some((small_rows, hadamard_bits))
     }
 
@@ -203,20 +261,32 @@ impl LiftingSolver {
     pub(crate) fn new(n: usize, rows: Vec<Vec<(usize, BigInt)>>) -> Option<Self> {
         debug_assert_eq!(rows.len(), n);
         let (small_rows, hadamard_bits) = Self::bounds(n, &rows)?;
+        let inverse = Self::dense_inverse(n, &rows, hadamard_bits)?;
+        Some(LiftingSolver {
+            n,
+            rows,
+            small_rows,
+            small: None,
+            inverse: OnceLock::from(inverse),
+            hadamard_bits,
+            last_steps: StepsMemo::default(),
+        })
+    }
+
+    /// `A⁻¹` modulo the first lifting prime that does not divide `det A`, factored densely;
+    /// `None` when `A` is singular.
+    fn dense_inverse(
+        n: usize,
+        rows: &[Vec<(usize, BigInt)>],
+        hadamard_bits: u64,
+    ) -> Option<ModularInverse> {
         // A prime that divides det A ≠ 0 is at least 2^30, so more than
         // `hadamard_bits / 30` such primes prove det A = 0.
         let mut failures = 0u64;
         for p in lifting_primes() {
             let modulus = Modulus::new(p);
-            if let Some(lu) = ModularLu::factor(n, &residue_rows(&rows, &modulus), modulus) {
-                return Some(LiftingSolver {
-                    n,
-                    rows,
-                    small_rows,
-                    inverse: ModularInverse::Dense(lu),
-                    hadamard_bits,
-                    last_steps: StepsMemo::default(),
-                });
+            if let Some(lu) = ModularLu::factor(n, &residue_rows(rows, &modulus), modulus) {
+                return Some(ModularInverse::Dense(lu));
             }
             failures += 1;
             if failures * BITS_PER_STEP > hadamard_bits {
@@ -224,6 +294,16 @@ impl LiftingSolver {
             }
         }
         None
+    }
+
+    /// `A⁻¹ mod p`, made now if the solver was made without it.
+    fn inverse(&self) -> &ModularInverse {
+        self.inverse.get_or_init(|| {
+            Self::dense_inverse(self.n, &self.rows, self.hadamard_bits).expect(
+                "a matrix with a nonzero fraction-free determinant is nonsingular modulo some \
+                 lifting prime",
+            )
+        })
     }
 
     /// The exact solution of `A x = b` as `(numerators, denominator)`, denominator positive.
@@ -241,7 +321,10 @@ impl LiftingSolver {
         if n == 0 {
             return (Vec::new(), BigInt::one());
         }
-        let p = self.inverse.modulus().prime();
+        if let Some(solution) = self.small.as_ref().and_then(|s| s.solve(b)) {
+            return solution;
+        }
+        let p = self.inverse().modulus().prime();
         // Cramer and Hadamard: |den| ≤ 2^H, |num_i| ≤ ‖b‖ 2^H; p^k > 2 N D suffices.
         let b_bits = norm_bits(b.iter());
         let last_step =
@@ -307,7 +390,7 @@ impl LiftingSolver {
     /// to the residual before step `t`), so the residual stays as small as in the first phase.
     /// `None` when an entry does not reconstruct within the bounds.
     fn solve_scaled(&self, b: &[BigInt], den: BigUint, k: usize) -> Option<(Vec<BigInt>, BigInt)> {
-        let p = self.inverse.modulus().prime();
+        let p = self.inverse().modulus().prime();
         let n = self.n;
         let feed = Feed::new(b, base_p_digits(&den, p));
         if feed.digits.len() > k {
@@ -540,7 +623,7 @@ impl Lifting {
             residual: Residual::new(b, solver.small_rows.is_some()),
             digits: Vec::new(),
             steps: 0,
-            p: solver.inverse.modulus().prime(),
+            p: solver.inverse().modulus().prime(),
             balanced,
             work: vec![0; n],
             signed: vec![0; n],
@@ -550,10 +633,10 @@ impl Lifting {
 
     /// One digit per entry: `xᵢ = A⁻¹ rᵢ mod p`, `rᵢ₊₁ = (rᵢ − A xᵢ) / p`.
     fn step(&mut self, solver: &LiftingSolver) {
-        let modulus = solver.inverse.modulus();
+        let modulus = solver.inverse().modulus();
         self.residual.residues(&modulus, &mut self.work);
         solver
-            .inverse
+            .inverse()
             .solve_in_place(&mut self.work, &mut self.scratch);
         self.digits.extend(self.work.iter().map(|&d| d as u32));
         for (s, &d) in self.signed.iter_mut().zip(&self.work) {
@@ -811,6 +894,23 @@ mod tests {
         }
     }
 
+    /// The Hadamard bound in machine words is the big-integer one; a zero column is refused.
+    #[test]
+    fn word_bounds_are_the_big_integer_bounds() {
+        let rows: Vec<Vec<i64>> = vec![vec![3, -(1 << 61), 0], vec![4, 5, 0], vec![0, 7, 1]];
+        let (small, bits) = LiftingSolver::bounds(3, &sparse(&rows)).expect("no zero column");
+        assert!(small.is_some());
+        let expected: u64 = (0..3)
+            .map(|j| {
+                let column: Vec<BigInt> = rows.iter().map(|r| BigInt::from(r[j])).collect();
+                norm_bits(column.iter())
+            })
+            .sum();
+        assert_eq!(bits, expected);
+        let zero_column: Vec<Vec<i64>> = vec![vec![1, 0], vec![2, 0]];
+        assert!(LiftingSolver::bounds(2, &sparse(&zero_column)).is_none());
+    }
+
     #[test]
     fn inverse_modulo_2_128_is_an_inverse() {
         for p in [3u64, 2_147_483_647, 2_147_483_629] {
@@ -904,7 +1004,7 @@ mod tests {
                     .collect()
             })
             .collect();
-        let solver = LiftingSolver::new_symmetric(n, sparse(&rows)).expect("nonsingular");
+        let solver = LiftingSolver::lifted_symmetric(n, sparse(&rows)).expect("nonsingular");
         let b: Vec<BigInt> = (0..n as i64).map(|i| BigInt::from(-7 * i - 2)).collect();
         let solution = solver.solve(&b);
         check_solution(&rows, &b, &solution);
@@ -936,9 +1036,18 @@ mod tests {
             let symmetric: Vec<Vec<i64>> = (0..n)
                 .map(|i| (0..n).map(|j| rows[i][j] + rows[j][i]).collect())
                 .collect();
-            let solver = LiftingSolver::new_symmetric(n, sparse(&symmetric)).expect("nonsingular");
+            let solver = LiftingSolver::lifted_symmetric(n, sparse(&symmetric)).expect("nonsingular");
             let solution = solver.solve(&b);
             check_solution(&symmetric, &b, &solution);
+            // The fraction-free path gives the same answer, and so does its fallback to
+            // lifting for a right-hand side beyond `i128` (the modular inverse made then).
+            let small = LiftingSolver::new_symmetric(n, sparse(&symmetric)).expect("nonsingular");
+            prop_assert!(small.small.is_some());
+            prop_assert_eq!(small.solve(&b), solution);
+            let huge: Vec<BigInt> = b.iter().map(|v| v * (BigInt::from(1) << 200) + 1).collect();
+            let lifted = small.solve(&huge);
+            check_solution(&symmetric, &huge, &lifted);
+            prop_assert_eq!(lifted, solver.solve(&huge));
         }
     }
 }

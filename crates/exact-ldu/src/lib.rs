@@ -21,6 +21,7 @@
 //! assert_eq!(x[0].clone() + x[1].clone() - x[2].clone(), b[0]);
 //! ```
 
+mod bareiss_small;
 mod blocks;
 mod certified;
 mod dixon;

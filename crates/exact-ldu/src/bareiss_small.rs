@@ -1,0 +1,213 @@
+//! Small symmetric positive definite systems solved by fraction-free elimination in `i128`:
+//! the normal equations of edits of a few points, where Dixon's lifting
+//! ([`crate::dixon::LiftingSolver`]) spends most of its time preparing (a fill-reducing order, a
+//! modular factoring, bounds) and reconstructing, for answers of a few dozen bits.
+//!
+//! Bareiss' one-step elimination (E. H. Bareiss, "Sylvester's identity and multistep
+//! integer-preserving Gaussian elimination", Math. Comp. 22, 1968): with `M⁽⁰⁾ = A`,
+//!
+//! ```text
+//! M⁽ᵏ⁾ᵢⱼ = (M⁽ᵏ⁻¹⁾ₖₖ M⁽ᵏ⁻¹⁾ᵢⱼ − M⁽ᵏ⁻¹⁾ᵢₖ M⁽ᵏ⁻¹⁾ₖⱼ) / M⁽ᵏ⁻²⁾ₖ₋₁,ₖ₋₁     (i, j > k),
+//! ```
+//!
+//! every division exact and every entry a minor of `A` (Sylvester's identity), so the numbers
+//! stay as small as the answer's. The pivots are leading principal minors: positive for a
+//! positive definite `A`, so no pivoting. The right-hand side follows the same recurrence, and
+//! back substitution gives `y = det(A) · x` (integers, Cramer) by exact divisions.
+//!
+//! Every operation is checked: an overflow (or a zero pivot, a matrix that is not positive
+//! definite) answers `None`, and the caller lifts instead. No result is ever rounded, so nothing
+//! needs verifying.
+
+use num_bigint::BigInt;
+use num_integer::Integer;
+use num_traits::ToPrimitive;
+
+/// The largest order solved this way: the factored matrix is kept dense (`n²` words of 128
+/// bits), and beyond a few dozen unknowns the minors outgrow `i128` on most systems anyway.
+pub(crate) const MAX_ORDER: usize = 48;
+
+/// `A` after Bareiss' elimination: on and above the diagonal the rows of the last step that
+/// changed them (`U`, with `U_{n−1,n−1} = det A`), below it the column entries each step
+/// eliminated (the multipliers the right-hand side needs).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub(crate) struct SmallBareiss {
+    n: usize,
+    m: Vec<i128>,
+}
+
+impl SmallBareiss {
+    /// Eliminates `A` (`n × n`, `n ≤ MAX_ORDER`, both triangles given as sparse rows). `None`
+    /// when `n` is too large, an intermediate value leaves `i128` or a pivot is zero.
+    pub(crate) fn factor(n: usize, rows: &[Vec<(usize, i64)>]) -> Option<Self> {
+        if n == 0 || n > MAX_ORDER || rows.len() != n {
+            return None;
+        }
+        let mut m = vec![0i128; n * n];
+        for (i, row) in rows.iter().enumerate() {
+            for &(j, v) in row {
+                m[i * n + j] = i128::from(v);
+            }
+        }
+        let mut previous = 1i128;
+        for k in 0..n {
+            let pivot = m[k * n + k];
+            if pivot == 0 {
+                return None;
+            }
+            for i in k + 1..n {
+                let below = m[i * n + k];
+                for j in k + 1..n {
+                    let (own, across) = (m[i * n + j], m[k * n + j]);
+                    // Zero stays zero (the matrices of edits are sparse).
+                    if own == 0 && (below == 0 || across == 0) {
+                        continue;
+                    }
+                    let value = pivot
+                        .checked_mul(own)?
+                        .checked_sub(below.checked_mul(across)?)?;
+                    m[i * n + j] = exact_quotient(value, previous);
+                }
+            }
+            previous = pivot;
+        }
+        Some(SmallBareiss { n, m })
+    }
+
+    /// The exact solution of `A x = b` as `(numerators, denominator)` with the smallest
+    /// positive common denominator (what lifting with rational reconstruction gives); `None`
+    /// when `b` or an intermediate value leaves `i128`.
+    pub(crate) fn solve(&self, b: &[BigInt]) -> Option<(Vec<BigInt>, BigInt)> {
+        let n = self.n;
+        let at = |i: usize, j: usize| self.m[i * n + j];
+        let mut c: Vec<i128> = b.iter().map(ToPrimitive::to_i128).collect::<Option<_>>()?;
+        // The right-hand side through the same steps.
+        let mut previous = 1i128;
+        for k in 0..n {
+            let pivot = at(k, k);
+            for i in k + 1..n {
+                let value = pivot
+                    .checked_mul(c[i])?
+                    .checked_sub(at(i, k).checked_mul(c[k])?)?;
+                c[i] = exact_quotient(value, previous);
+            }
+            previous = pivot;
+        }
+        // U x = c with U_{n−1,n−1} = det: y = det · x by exact divisions, last entry first.
+        let det = at(n - 1, n - 1);
+        let mut y = vec![0i128; n];
+        for i in (0..n).rev() {
+            let mut sum = det.checked_mul(c[i])?;
+            for (u, yj) in self.m[i * n + i + 1..(i + 1) * n].iter().zip(&y[i + 1..]) {
+                sum = sum.checked_sub(u.checked_mul(*yj)?)?;
+            }
+            y[i] = exact_quotient(sum, at(i, i));
+        }
+        // Lowest common denominator: divide by the content of (det, y).
+        let mut g = det.unsigned_abs();
+        for v in &y {
+            g = g.gcd(&v.unsigned_abs());
+        }
+        let sign: i128 = if det < 0 { -1 } else { 1 };
+        let g = i128::try_from(g).ok()?;
+        Some((
+            y.into_iter()
+                .map(|v| BigInt::from(sign * (v / g)))
+                .collect(),
+            BigInt::from(sign * (det / g)),
+        ))
+    }
+}
+
+/// `a / b` for a multiple `a` of `b ≠ 0`: by the processor's 64-bit division when both fit
+/// (the usual case; a 128-bit division is a library call several times slower).
+#[inline]
+fn exact_quotient(a: i128, b: i128) -> i128 {
+    match (i64::try_from(a), i64::try_from(b)) {
+        // i64::MIN / −1 overflows i64 only; its quotient 2^63 is computed below.
+        (Ok(a64), Ok(b64)) if !(a64 == i64::MIN && b64 == -1) => i128::from(a64 / b64),
+        _ => a / b,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use num_rational::BigRational;
+    use num_traits::Zero;
+    use proptest::prelude::*;
+
+    fn dense_rows(a: &[Vec<i64>]) -> Vec<Vec<(usize, i64)>> {
+        a.iter()
+            .map(|row| {
+                row.iter()
+                    .enumerate()
+                    .filter(|(_, v)| **v != 0)
+                    .map(|(j, v)| (j, *v))
+                    .collect()
+            })
+            .collect()
+    }
+
+    #[test]
+    fn solves_a_small_system_in_lowest_terms() {
+        // [[2, 1], [1, 2]] x = [1, 0]: x = (2/3, −1/3).
+        let f = SmallBareiss::factor(2, &dense_rows(&[vec![2, 1], vec![1, 2]])).expect("SPD");
+        let (num, den) = f.solve(&[BigInt::from(1), BigInt::from(0)]).expect("small");
+        assert_eq!(num, [BigInt::from(2), BigInt::from(-1)]);
+        assert_eq!(den, BigInt::from(3));
+        // An integer answer has denominator one.
+        let (num, den) = f.solve(&[BigInt::from(3), BigInt::from(3)]).expect("small");
+        assert_eq!(
+            (num, den),
+            (vec![BigInt::from(1), BigInt::from(1)], BigInt::from(1))
+        );
+    }
+
+    #[test]
+    fn refuses_what_it_cannot_do_exactly() {
+        // A zero pivot (not positive definite), too large an order, overflow.
+        assert!(SmallBareiss::factor(2, &dense_rows(&[vec![0, 1], vec![1, 0]])).is_none());
+        assert!(SmallBareiss::factor(MAX_ORDER + 1, &vec![Vec::new(); MAX_ORDER + 1]).is_none());
+        let big = 1i64 << 62;
+        let f = SmallBareiss::factor(2, &dense_rows(&[vec![big, 1], vec![1, big]]));
+        let f = f.expect("minors of 125 bits fit");
+        assert!(f.solve(&[BigInt::from(big), BigInt::from(1)]).is_none());
+        assert!(f
+            .solve(&[BigInt::from(1) << 130, BigInt::from(0)])
+            .is_none());
+    }
+
+    proptest! {
+        /// On random positive definite `A = Bᵀ B + I`: `A x = b` exactly, `x` in lowest terms
+        /// over the smallest common denominator.
+        #[test]
+        fn solutions_are_exact_and_in_lowest_terms(
+            n in 1usize..8,
+            entries in proptest::collection::vec(-9i64..10, 64),
+            rhs in proptest::collection::vec(-1000i64..1000, 8),
+        ) {
+            let b_mat = |i: usize, j: usize| entries[i * 8 + j];
+            let a: Vec<Vec<i64>> = (0..n)
+                .map(|i| {
+                    (0..n)
+                        .map(|j| (0..8).map(|k| b_mat(k, i) * b_mat(k, j)).sum::<i64>() + i64::from(i == j))
+                        .collect()
+                })
+                .collect();
+            let f = SmallBareiss::factor(n, &dense_rows(&a)).expect("SPD and small");
+            let b: Vec<BigInt> = rhs[..n].iter().map(|v| BigInt::from(*v)).collect();
+            let (num, den) = f.solve(&b).expect("small");
+            prop_assert!(den > BigInt::zero());
+            for (i, row) in a.iter().enumerate() {
+                let lhs: BigInt = row.iter().zip(&num).map(|(aij, x)| BigInt::from(*aij) * x).sum();
+                prop_assert_eq!(lhs, &den * &b[i]);
+            }
+            // The smallest common denominator: the lcm of the entries' own denominators.
+            let lcm = num.iter().fold(BigInt::from(1), |l, x| {
+                l.lcm(BigRational::new(x.clone(), den.clone()).denom())
+            });
+            prop_assert_eq!(lcm, den);
+        }
+    }
+}
