@@ -20,6 +20,7 @@
 
 use crate::exact::{rational_to_f64, Integer, Rational};
 use crate::matrix::IntMatrix;
+use num_traits::One;
 use std::fmt;
 
 /// A number a backend answers in.
@@ -362,6 +363,45 @@ impl Fraction {
     }
 }
 
+/// The sum as a fraction, not reduced: over the common denominator when the denominators are
+/// equal, over `b d` with numerator `a d + c b` otherwise (`d = 1`: `a + c b` over `b`).
+impl std::ops::Add for Fraction {
+    type Output = Fraction;
+
+    fn add(self, other: Fraction) -> Fraction {
+        if self.denominator == other.denominator {
+            Fraction {
+                numerator: self.numerator + other.numerator,
+                denominator: self.denominator,
+            }
+        } else if other.denominator.is_one() {
+            Fraction {
+                numerator: self.numerator + other.numerator * &self.denominator,
+                denominator: self.denominator,
+            }
+        } else if self.denominator.is_one() {
+            other + self
+        } else {
+            Fraction {
+                numerator: self.numerator * &other.denominator
+                    + other.numerator * &self.denominator,
+                denominator: self.denominator * other.denominator,
+            }
+        }
+    }
+}
+
+impl std::ops::Neg for Fraction {
+    type Output = Fraction;
+
+    fn neg(self) -> Fraction {
+        Fraction {
+            numerator: -self.numerator,
+            denominator: self.denominator,
+        }
+    }
+}
+
 impl From<Rational> for Fraction {
     fn from(r: Rational) -> Self {
         let (numerator, denominator) = r.into_raw();
@@ -423,5 +463,36 @@ pub fn check_len(what: &'static str, found: usize, expected: usize) -> Result<()
             expected,
             found,
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn fraction(n: i64, d: i64) -> Fraction {
+        Fraction {
+            numerator: n.into(),
+            denominator: d.into(),
+        }
+    }
+
+    proptest! {
+        /// Sums and negations of unreduced fractions have the values of the rationals'.
+        #[test]
+        fn fraction_sums_and_negations_are_rational_ones(
+            a in -500i64..500, b in 1i64..13, c in -500i64..500, d in 1i64..13,
+            same in proptest::bool::ANY,
+        ) {
+            let d = if same { b } else { d };
+            let sum = fraction(a, b) + fraction(c, d);
+            prop_assert!(sum.denominator > Integer::from(0));
+            prop_assert_eq!(sum.reduced(), fraction(a, b).reduced() + fraction(c, d).reduced());
+            prop_assert_eq!((-fraction(a, b)).reduced(), -fraction(a, b).reduced());
+            let integer = fraction(a, b) + fraction(c, 1);
+            prop_assert_eq!(&integer.denominator, &Integer::from(b));
+            prop_assert_eq!((fraction(c, 1) + fraction(a, b)).denominator, Integer::from(b));
+        }
     }
 }

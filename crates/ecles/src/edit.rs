@@ -584,28 +584,25 @@ impl<F: Factorization<Scalar = Rational>> Edit<F> {
         let prepared = &self.prepared;
         let (substitution, weights) = (self.substitution.as_ref(), &self.weights);
         self.solve_with(anchor_values, hints, |column, alpha, h| {
-            if substitution.is_some() {
-                // Offsets are added in lowest terms: the frame is the reduced update.
-                return through_substitution(
-                    substitution,
-                    weights,
-                    column,
-                    h,
-                    |h| prepared.solve(column, alpha, h),
-                    Rational::clone,
-                    |a, b| a + b,
-                    |a| -a,
-                )
-                .map(|x| x.into_iter().map(Fraction::from).collect());
-            }
-            match prepared.solve_unreduced(column, alpha, h)? {
+            // The groups' values unreduced, the offsets added as fractions.
+            let unreduced = |h: &[Rational]| match prepared.solve_unreduced(column, alpha, h)? {
                 Some(x) => Ok(x),
                 None => Ok(prepared
                     .solve(column, alpha, h)?
                     .into_iter()
                     .map(Fraction::from)
                     .collect()),
-            }
+            };
+            through_substitution(
+                substitution,
+                weights,
+                column,
+                h,
+                unreduced,
+                |r: &Rational| Fraction::from(r.clone()),
+                |a, b| a + b,
+                |a| -a,
+            )
         })
     }
 
@@ -846,7 +843,12 @@ pub(crate) fn validate_spec<S: std::fmt::Debug>(
     if spec.anchors.is_empty() {
         return Err(EditError::NoAnchors);
     }
-    let mut seen: HashMap<ParamId, bool> = HashMap::new();
+    // foldhash: SipHash's set-up and rounds were a visible part of initialising small edits.
+    let mut seen: HashMap<ParamId, bool, foldhash::fast::RandomState> =
+        HashMap::with_capacity_and_hasher(
+            spec.anchors.len() + spec.derived.len(),
+            Default::default(),
+        );
     for (p, is_anchor) in spec
         .anchors
         .iter()

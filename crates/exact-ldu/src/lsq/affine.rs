@@ -17,7 +17,7 @@ use crate::qvec::QVec;
 use crate::ring::{lcm, Ring};
 use api::Rational;
 use num_bigint::BigInt;
-use num_traits::{ToPrimitive, Zero};
+use num_traits::{One, ToPrimitive, Zero};
 use std::sync::{Arc, Mutex, OnceLock};
 
 /// A rational vector as integer numerators over one positive denominator.
@@ -52,7 +52,83 @@ impl Numerators {
 
 /// The last hint vector of one column, as given, and its base (shared: a drag frame reads it
 /// without copying its numerators).
-type BaseMemo = Mutex<Option<(Vec<Rational>, Arc<Numerators>)>>;
+type BaseMemo = Mutex<Option<(Vec<Rational>, Arc<Base>)>>;
+
+/// A base with what [`combine`] derives from it and the responses, for every frame with these
+/// hints: [`Scales`] for the last set of moving anchors.
+#[derive(Debug)]
+pub(super) struct Base {
+    pub(super) numerators: Numerators,
+    scales: Mutex<Option<Arc<Scales>>>,
+}
+
+impl Base {
+    fn new(numerators: Numerators) -> Self {
+        Base {
+            numerators,
+            scales: Mutex::new(None),
+        }
+    }
+
+    /// The memo of [`combine`]'s scales for this base.
+    pub(super) fn scales(&self) -> &Mutex<Option<Arc<Scales>>> {
+        &self.scales
+    }
+}
+
+/// The parts of `base − Σ_k α_k resp_k` that do not depend on `α`, for one set of moving
+/// anchors (those with `α_k ≠ 0`): the common denominator `L = lcm(b_den, r_den,k)`, the
+/// ratios `L / b_den` and `L / r_den,k`, and the numerators as `i128` when they all fit (read
+/// once, not converted every frame).
+#[derive(Debug)]
+pub(super) struct Scales {
+    moving: Vec<bool>,
+    common: BigInt,
+    base_ratio: BigInt,
+    ratios: Vec<BigInt>,
+    words: Option<Words>,
+}
+
+/// The base's numerators and the moving responses' (`responses[k][s]`), as `i128`.
+#[derive(Debug)]
+struct Words {
+    base: Vec<i128>,
+    responses: Vec<Vec<i128>>,
+}
+
+impl Scales {
+    fn new(base: &Numerators, responses: &[Numerators], moving: Vec<bool>) -> Self {
+        let moved = || {
+            responses
+                .iter()
+                .zip(&moving)
+                .filter(|(_, m)| **m)
+                .map(|(r, _)| r)
+        };
+        let mut common = base.den.clone();
+        for r in moved() {
+            common = num_integer::Integer::lcm(&common, &r.den);
+        }
+        let words = |v: &[BigInt]| {
+            v.iter()
+                .map(ToPrimitive::to_i128)
+                .collect::<Option<Vec<i128>>>()
+        };
+        let words = words(&base.num).and_then(|base| {
+            Some(Words {
+                base,
+                responses: moved().map(|r| words(&r.num)).collect::<Option<Vec<_>>>()?,
+            })
+        });
+        Scales {
+            base_ratio: &common / &base.den,
+            ratios: moved().map(|r| &common / &r.den).collect(),
+            common,
+            moving,
+            words,
+        }
+    }
+}
 
 /// The memos of [`ExactLeastSquares`]: the responses to the anchors and the last base per
 /// column. Copies start with the same contents; two memos always compare equal (they hold
@@ -156,7 +232,7 @@ impl<R: Ring> ExactLeastSquares<R> {
         normal: &LiftingSolver,
         column: usize,
         given: &[Rational],
-    ) -> Arc<Numerators> {
+    ) -> Arc<Base> {
         let slot = &self.memo.bases[column];
         if let Ok(guard) = slot.lock() {
             if let Some((hints, base)) = guard.as_ref() {
@@ -172,7 +248,7 @@ impl<R: Ring> ExactLeastSquares<R> {
             den: h.den.to_bigint(),
         };
         let base = match self.anchor_combination(&rho, &common) {
-            Some(beta) => combine(&hints, self.responses(normal), &beta.negated()),
+            Some(beta) => combine(&hints, None, self.responses(normal), &beta.negated()),
             None => {
                 let p = if self.responses_ready() {
                     self.projected(normal, &rho, &common)
@@ -196,7 +272,7 @@ impl<R: Ring> ExactLeastSquares<R> {
             }
         }
         .without_content();
-        let base = Arc::new(base);
+        let base = Arc::new(Base::new(base));
         if let Ok(mut guard) = slot.lock() {
             *guard = Some((given.to_vec(), Arc::clone(&base)));
         }
@@ -229,7 +305,8 @@ impl<R: Ring> ExactLeastSquares<R> {
     /// without anchors has a nonzero residual.
     fn anchor_combination(&self, rho: &[BigInt], rho_den: &BigInt) -> Option<QVec<R>> {
         let unknowns = self.parameters;
-        let mut equations: Vec<Vec<Rational>> = Vec::new();
+        // `K̂ β = −ρ / ρ_den` as integer rows `[K̂_i | −ρ_i]` (the denominator applied last).
+        let mut equations: Vec<Vec<BigInt>> = Vec::new();
         for (row, r) in self.k_hat.iter().zip(rho) {
             if row.is_empty() {
                 if !Zero::is_zero(r) {
@@ -237,115 +314,150 @@ impl<R: Ring> ExactLeastSquares<R> {
                 }
                 continue;
             }
-            let mut equation = vec![Rational::zero(); unknowns + 1];
+            let mut equation = vec![<BigInt as Zero>::zero(); unknowns + 1];
             for (k, v) in row {
-                equation[*k] = Rational::from_integer(v.to_bigint());
+                equation[*k] = v.to_bigint();
             }
-            equation[unknowns] = Rational::new(-r, rho_den.clone());
+            equation[unknowns] = -r;
             equations.push(equation);
         }
-        let beta = solve_consistent(equations, unknowns)?;
+        let beta: Vec<Rational> = solve_consistent(equations, unknowns)?
+            .into_iter()
+            .map(|(num, den)| Rational::new(num, den * rho_den))
+            .collect();
         Some(QVec::from_rationals(&beta))
     }
 }
 
-/// A solution of the equations `[coefficients | right-hand side]` (free unknowns set to zero)
-/// by exact Gauss–Jordan elimination, or `None` when they are inconsistent.
-fn solve_consistent(mut equations: Vec<Vec<Rational>>, unknowns: usize) -> Option<Vec<Rational>> {
+/// A solution of the integer equations `[coefficients | right-hand side]` (free unknowns set to
+/// zero) by fraction-free Gauss–Jordan elimination, as `(numerator, denominator)` per unknown,
+/// or `None` when they are inconsistent. Each step replaces a row by `p · row − f · pivot row`
+/// (`p` the pivot, `f` the row's entry in the pivot column) and divides it by its content, so
+/// the numbers stay small; no rational is formed until the end.
+fn solve_consistent(
+    mut equations: Vec<Vec<BigInt>>,
+    unknowns: usize,
+) -> Option<Vec<(BigInt, BigInt)>> {
     let mut pivots: Vec<(usize, usize)> = Vec::new();
     let mut next = 0;
     for k in 0..unknowns {
-        let Some(found) = (next..equations.len()).find(|&i| !equations[i][k].is_zero()) else {
+        let Some(found) = (next..equations.len()).find(|&i| !Zero::is_zero(&equations[i][k]))
+        else {
             continue;
         };
         equations.swap(next, found);
-        let pivot = equations[next][k].clone();
-        for v in equations[next].iter_mut() {
-            *v = &*v / &pivot;
-        }
         let pivot_row = equations[next].clone();
+        let pivot = &pivot_row[k];
         for (i, row) in equations.iter_mut().enumerate() {
-            if i == next || row[k].is_zero() {
+            if i == next || Zero::is_zero(&row[k]) {
                 continue;
             }
             let f = row[k].clone();
+            let mut content = <BigInt as Zero>::zero();
             for (v, pv) in row.iter_mut().zip(&pivot_row) {
-                if !pv.is_zero() {
-                    *v -= &f * pv;
+                *v = &*v * pivot - &f * pv;
+                if !One::is_one(&content) && !Zero::is_zero(&*v) {
+                    content = num_integer::Integer::gcd(&content, v);
+                }
+            }
+            if !Zero::is_zero(&content) && !One::is_one(&content) {
+                for v in row.iter_mut() {
+                    *v /= &content;
                 }
             }
         }
         pivots.push((next, k));
         next += 1;
     }
-    if equations[next..].iter().any(|row| !row[unknowns].is_zero()) {
+    if equations[next..]
+        .iter()
+        .any(|row| !Zero::is_zero(&row[unknowns]))
+    {
         return None;
     }
-    let mut beta = vec![Rational::zero(); unknowns];
+    let mut beta = vec![(<BigInt as Zero>::zero(), <BigInt as One>::one()); unknowns];
     for (i, k) in pivots {
-        beta[k] = equations[i][unknowns].clone();
+        let row = &equations[i];
+        beta[k] = (row[unknowns].clone(), row[k].clone());
     }
     Some(beta)
 }
 
-/// `base − Σ_k α_k resp_k` over one denominator, `α = alpha / alpha_den`.
+/// `base − Σ_k α_k resp_k` over one denominator, `α = alpha / alpha_den`; with `memo`, the
+/// base's [`Scales`] are taken from it (and kept there) when the same anchors move.
 pub(super) fn combine<R: Ring>(
     base: &Numerators,
+    memo: Option<&Mutex<Option<Arc<Scales>>>>,
     responses: &[Numerators],
     alpha: &QVec<R>,
 ) -> Numerators {
-    let moving: Vec<(BigInt, &Numerators)> = alpha
-        .num
-        .iter()
-        .zip(responses)
-        .filter(|(a, _)| !a.is_zero())
-        .map(|(a, r)| (a.to_bigint(), r))
-        .collect();
-    if moving.is_empty() {
+    let moving: Vec<bool> = alpha.num.iter().map(|a| !a.is_zero()).collect();
+    if !moving.contains(&true) {
         return base.clone();
     }
-    // One denominator for the base and the responses: their lcm `L`; then
-    // x = (b (L / b_den) α_den − Σ a_k (L / r_den,k) r_k) / (L α_den).
-    let mut common = base.den.clone();
-    for (_, r) in &moving {
-        common = num_integer::Integer::lcm(&common, &r.den);
-    }
-    let scales: Vec<BigInt> = moving.iter().map(|(a, r)| a * (&common / &r.den)).collect();
-    let alpha_den = alpha.den.to_bigint();
-    let base_scale = &alpha_den * (&common / &base.den);
-    // Small edits and drag frames: factors within an `i128` make each entry a sum of `i128`
-    // products, computed without big-integer temporaries while it fits (checked).
-    let small_factors: Option<(i128, Vec<i128>)> = ToPrimitive::to_i128(&base_scale).zip(
+    let remembered = memo.and_then(|m| {
+        m.lock()
+            .ok()?
+            .as_ref()
+            .filter(|s| s.moving == moving)
+            .map(Arc::clone)
+    });
+    let scales = remembered.unwrap_or_else(|| {
+        let scales = Arc::new(Scales::new(base, responses, moving));
+        if let Some(mut guard) = memo.and_then(|m| m.lock().ok()) {
+            *guard = Some(Arc::clone(&scales));
+        }
         scales
-            .iter()
-            .map(ToPrimitive::to_i128)
-            .collect::<Option<Vec<i128>>>(),
-    );
+    });
+    let factors: Vec<BigInt> = alpha
+        .num
+        .iter()
+        .filter(|a| !a.is_zero())
+        .zip(&scales.ratios)
+        .map(|(a, ratio)| a.to_bigint() * ratio)
+        .collect();
+    let moved: Vec<&Numerators> = responses
+        .iter()
+        .zip(&scales.moving)
+        .filter(|(_, m)| **m)
+        .map(|(r, _)| r)
+        .collect();
+    // x = (b (L / b_den) α_den − Σ a_k (L / r_den,k) r_k) / (L α_den).
+    let alpha_den = alpha.den.to_bigint();
+    let base_scale = &alpha_den * &scales.base_ratio;
+    // Small edits and drag frames: numerators and factors within an `i128` make each entry a
+    // sum of `i128` products, computed without big-integer temporaries while it fits (checked).
+    let small: Option<(&Words, i128, Vec<i128>)> = scales.words.as_ref().and_then(|w| {
+        Some((
+            w,
+            ToPrimitive::to_i128(&base_scale)?,
+            factors
+                .iter()
+                .map(ToPrimitive::to_i128)
+                .collect::<Option<Vec<i128>>>()?,
+        ))
+    });
     let num = base
         .num
         .iter()
         .enumerate()
         .map(|(s, b)| {
-            if let Some(value) = small_factors.as_ref().and_then(|(bs, fs)| {
-                let mut sum = ToPrimitive::to_i128(b)?.checked_mul(*bs)?;
-                for ((_, r), f) in moving.iter().zip(fs) {
-                    sum = sum.checked_sub(ToPrimitive::to_i128(&r.num[s])?.checked_mul(*f)?)?;
+            if let Some(value) = small.as_ref().and_then(|(w, bs, fs)| {
+                let mut sum = w.base[s].checked_mul(*bs)?;
+                for (r, f) in w.responses.iter().zip(fs) {
+                    sum = sum.checked_sub(r[s].checked_mul(*f)?)?;
                 }
                 Some(sum)
             }) {
                 return BigInt::from(value);
             }
-            let shift: BigInt = moving
-                .iter()
-                .zip(&scales)
-                .map(|((_, r), f)| f * &r.num[s])
-                .sum();
+            let shift: BigInt = moved.iter().zip(&factors).map(|(r, f)| f * &r.num[s]).sum();
             b * &base_scale - shift
         })
         .collect();
     Numerators {
         num,
-        den: common * alpha_den,
+        den: &scales.common * alpha_den,
     }
 }
 
@@ -440,5 +552,69 @@ mod tests {
                 assert_eq!(lhs, rhs);
             }
         }
+    }
+
+    /// The memo of the combination's scales follows the set of moving anchors: frames where
+    /// one anchor stays, then both move, then the other stays give the fresh answers, unreduced
+    /// fractions included.
+    #[test]
+    fn memoised_scales_follow_the_moving_anchors() {
+        let a = IntMatrix::from_dense(4, &[vec![1, -2, 0, 3], vec![0, 1, 5, -1]]).expect("matrix");
+        let family = RhsFamily {
+            constant: vec![vec![q(1, 2), q(-3, 1)]],
+            coefficients: IntMatrix::from_dense(2, &[vec![2, 1], vec![-1, 3]]).expect("K"),
+        };
+        let weights = vec![q(1, 1), q(2, 1), q(1, 3), q(5, 1)];
+        let f = ExactFactorization::<Int>::new(&a, Simplification::Gcd);
+        let memoised = f.prepare_least_squares(&family, &weights).expect("prepare");
+        let hints = vec![q(1, 1), q(-1, 2), q(3, 1), q(0, 1)];
+        for alpha in [
+            [q(3, 2), q(0, 1)],
+            [q(3, 2), q(-5, 7)],
+            [q(0, 1), q(-5, 7)],
+            [q(1, 3), q(4, 1)],
+            [q(0, 1), q(0, 1)],
+            [q(2, 1), q(0, 1)],
+        ] {
+            let fresh = f.prepare_least_squares(&family, &weights).expect("prepare");
+            assert_eq!(
+                memoised
+                    .solve_unreduced(0, &alpha, &hints)
+                    .expect("consistent"),
+                fresh
+                    .solve_unreduced(0, &alpha, &hints)
+                    .expect("consistent")
+            );
+            assert_eq!(
+                memoised.solve(0, &alpha, &hints).expect("consistent"),
+                fresh.solve(0, &alpha, &hints).expect("consistent")
+            );
+        }
+    }
+
+    /// Fraction-free Gauss–Jordan: a solution with the free unknown at zero, checked against
+    /// every equation; an inconsistent system refused.
+    #[test]
+    fn consistent_integer_equations_are_solved_and_inconsistent_ones_refused() {
+        let int = |v: &[i64]| {
+            v.iter()
+                .map(|x| num_bigint::BigInt::from(*x))
+                .collect::<Vec<_>>()
+        };
+        // 2 b0 + 3 b1 = 5, 4 b0 + 6 b1 = 10 (dependent), 3 b2 = −7: b1 free.
+        let rows = vec![int(&[2, 3, 0, 5]), int(&[4, 6, 0, 10]), int(&[0, 0, 3, -7])];
+        let beta = super::solve_consistent(rows.clone(), 3).expect("consistent");
+        let beta: Vec<Rational> = beta.into_iter().map(|(n, d)| Rational::new(n, d)).collect();
+        assert_eq!(beta, vec![q(5, 2), q(0, 1), q(-7, 3)]);
+        for row in &rows {
+            let lhs: Rational = row[..3]
+                .iter()
+                .zip(&beta)
+                .map(|(a, b)| Rational::from_integer(a.clone()) * b)
+                .sum();
+            assert_eq!(lhs, Rational::from_integer(row[3].clone()));
+        }
+        let inconsistent = vec![int(&[2, 3, 0, 5]), int(&[4, 6, 0, 11])];
+        assert!(super::solve_consistent(inconsistent, 3).is_none());
     }
 }

@@ -101,15 +101,19 @@ impl<R: Ring> ExactLeastSquares<R> {
         let r = f.rank();
         let independent = &f.independent_rows();
 
-        // V = δ W⁻¹ with δ the lcm of the weight numerators.
-        let mut delta = BigInt::from(1);
-        for w in weights {
-            delta = num_integer::Integer::lcm(&delta, w.numer());
-        }
-        let v: Vec<R> = weights
-            .iter()
-            .map(|w| R::from_bigint(&(w.denom() * (&delta / w.numer()))))
-            .collect();
+        // V = δ W⁻¹ with δ the lcm of the weight numerators (unit weights: V = I).
+        let v: Vec<R> = if weights.iter().all(num_traits::One::is_one) {
+            vec![R::one(); n]
+        } else {
+            let mut delta = BigInt::from(1);
+            for w in weights {
+                delta = num_integer::Integer::lcm(&delta, w.numer());
+            }
+            weights
+                .iter()
+                .map(|w| R::from_bigint(&(w.denom() * (&delta / w.numer()))))
+                .collect()
+        };
 
         let a_hat: Vec<SparseRow<R>> = independent
             .iter()
@@ -247,6 +251,9 @@ fn normal_matrix<R: Ring>(
             by_column[*s].push((k, val.to_bigint()));
         }
     }
+    if let Some(g) = normal_matrix_in_words(&by_column, v, r) {
+        return g;
+    }
     let mut g: Vec<std::collections::BTreeMap<usize, BigInt>> = vec![Default::default(); r];
     for (s, entries) in by_column.iter().enumerate() {
         for (k, aks) in entries {
@@ -259,6 +266,40 @@ fn normal_matrix<R: Ring>(
     g.into_iter()
         .map(|row| row.into_iter().filter(|(_, v)| !Zero::is_zero(v)).collect())
         .collect()
+}
+
+/// [`normal_matrix`] in `i128` (checked) when the entries of `Â` and `V` fit an `i64`: the
+/// small edits' case, without a big-integer product per entry; `None` on overflow.
+fn normal_matrix_in_words(
+    by_column: &[Vec<(usize, BigInt)>],
+    v: &[BigInt],
+    r: usize,
+) -> Option<Vec<Vec<(usize, BigInt)>>> {
+    let mut g: Vec<std::collections::BTreeMap<usize, i128>> = vec![Default::default(); r];
+    for (s, entries) in by_column.iter().enumerate() {
+        let vs = i128::from(v[s].to_i64()?);
+        let words: Vec<(usize, i128)> = entries
+            .iter()
+            .map(|(k, a)| Some((*k, i128::from(a.to_i64()?))))
+            .collect::<Option<_>>()?;
+        for &(k, aks) in &words {
+            let scaled = aks.checked_mul(vs)?;
+            for &(l, als) in &words {
+                let entry = g[k].entry(l).or_default();
+                *entry = entry.checked_add(scaled.checked_mul(als)?)?;
+            }
+        }
+    }
+    Some(
+        g.into_iter()
+            .map(|row| {
+                row.into_iter()
+                    .filter(|(_, v)| *v != 0)
+                    .map(|(l, v)| (l, BigInt::from(v)))
+                    .collect()
+            })
+            .collect(),
+    )
 }
 
 impl<R: Ring> PreparedLeastSquares for ExactLeastSquares<R> {
@@ -381,7 +422,12 @@ impl<R: Ring> ExactLeastSquares<R> {
             return Ok(None);
         };
         let base = self.base(normal, column, hints);
-        let x = affine::combine(&base, self.responses(normal), &alpha);
+        let x = affine::combine(
+            &base.numerators,
+            Some(base.scales()),
+            self.responses(normal),
+            &alpha,
+        );
         Ok(Some((x.num, x.den)))
     }
 
@@ -412,6 +458,27 @@ mod tests {
     use crate::Simplification;
     use api::IntMatrix;
     use num_traits::{One, Zero};
+
+    /// `G = Â V Âᵀ` in words equals the big-integer product, and entries beyond `i64` take the
+    /// big-integer path.
+    #[test]
+    fn normal_matrix_in_words_is_the_big_integer_one() {
+        let rows: Vec<Vec<(usize, Int)>> = vec![
+            vec![(0, Int::from_i64(2)), (2, Int::from_i64(-3))],
+            vec![(1, Int::from_i64(1)), (2, Int::from_i64(5))],
+        ];
+        let v = vec![BigInt::from(1), BigInt::from(4), BigInt::from(7)];
+        let g = normal_matrix(&rows, &v, 3);
+        // Row 0 · V · row 0 = 4 + 63, row 0 · V · row 1 = −105, row 1 · V · row 1 = 4 + 175.
+        let expected = vec![
+            vec![(0, BigInt::from(67)), (1, BigInt::from(-105))],
+            vec![(0, BigInt::from(-105)), (1, BigInt::from(179))],
+        ];
+        assert_eq!(g, expected);
+        let big = vec![BigInt::from(1) << 70, BigInt::from(4), BigInt::from(7)];
+        let g = normal_matrix(&rows, &big, 3);
+        assert_eq!(g[0][0].1, (BigInt::from(4) << 70) + 63);
+    }
 
     #[test]
     fn zero_weight_sum_is_rejected() {
