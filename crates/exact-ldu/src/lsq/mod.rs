@@ -269,13 +269,20 @@ fn normal_matrix<R: Ring>(
 }
 
 /// [`normal_matrix`] in `i128` (checked) when the entries of `Â` and `V` fit an `i64`: the
-/// small edits' case, without a big-integer product per entry; `None` on overflow.
+/// small edits' case, without a big-integer product per entry; `None` on overflow. The sums
+/// accumulate in a dense `r × r` array (`r` is at most the order solved fraction-free).
 fn normal_matrix_in_words(
     by_column: &[Vec<(usize, BigInt)>],
     v: &[BigInt],
     r: usize,
 ) -> Option<Vec<Vec<(usize, BigInt)>>> {
-    let mut g: Vec<std::collections::BTreeMap<usize, i128>> = vec![Default::default(); r];
+    if r == 0 {
+        return Some(Vec::new());
+    }
+    if r > crate::bareiss_small::MAX_ORDER {
+        return None;
+    }
+    let mut g = vec![0i128; r * r];
     for (s, entries) in by_column.iter().enumerate() {
         let vs = i128::from(v[s].to_i64()?);
         let words: Vec<(usize, i128)> = entries
@@ -285,17 +292,18 @@ fn normal_matrix_in_words(
         for &(k, aks) in &words {
             let scaled = aks.checked_mul(vs)?;
             for &(l, als) in &words {
-                let entry = g[k].entry(l).or_default();
+                let entry = &mut g[k * r + l];
                 *entry = entry.checked_add(scaled.checked_mul(als)?)?;
             }
         }
     }
     Some(
-        g.into_iter()
+        g.chunks(r)
             .map(|row| {
-                row.into_iter()
-                    .filter(|(_, v)| *v != 0)
-                    .map(|(l, v)| (l, BigInt::from(v)))
+                row.iter()
+                    .enumerate()
+                    .filter(|(_, v)| **v != 0)
+                    .map(|(l, v)| (l, BigInt::from(*v)))
                     .collect()
             })
             .collect(),
