@@ -1,4 +1,5 @@
-//! Small symmetric positive definite systems solved by fraction-free elimination in `i128`:
+//! Small symmetric positive definite systems solved by fraction-free elimination in machine
+//! words (values below `2^62`, products in `i128`):
 //! the normal equations of edits of a few points, where Dixon's lifting
 //! ([`crate::dixon::LiftingSolver`]) spends most of its time preparing (a fill-reducing order, a
 //! modular factoring, bounds) and reconstructing, for answers of a few dozen bits.
@@ -15,17 +16,34 @@
 //! positive definite `A`, so no pivoting. The right-hand side follows the same recurrence, and
 //! back substitution gives `y = det(A) · x` (integers, Cramer) by exact divisions.
 //!
-//! Every operation is checked: an overflow (or a zero pivot, a matrix that is not positive
-//! definite) answers `None`, and the caller lifts instead. No result is ever rounded, so nothing
-//! needs verifying.
+//! Every value is checked against `2^62`: a larger one (or a zero pivot, a matrix that is not
+//! positive definite) answers `None`, and the caller lifts instead. No result is ever rounded,
+//! so nothing needs verifying.
 
 use num_bigint::BigInt;
 use num_integer::Integer;
 use num_traits::ToPrimitive;
 
-/// The largest order solved this way: the factored matrix is kept dense (`n²` words of 128
-/// bits), and beyond a few dozen unknowns the minors outgrow `i128` on most systems anyway.
+/// The largest order solved this way: the factored matrix is kept dense (`n²` words), and
+/// beyond a few dozen unknowns the minors outgrow a word on most systems anyway.
 pub(crate) const MAX_ORDER: usize = 48;
+
+/// Every stored value is below `2^62` in magnitude: then `a b − c d` of four of them is below
+/// `2^125` and is computed in `i128` by plain widening multiplications, with no overflow check
+/// (a checked `i128` product is a library call, most of the elimination's time).
+const WORD_LIMIT: u64 = 1 << 62;
+
+/// `v` when it is below [`WORD_LIMIT`] in magnitude.
+#[inline]
+fn word(v: i128) -> Option<i64> {
+    (v.unsigned_abs() < u128::from(WORD_LIMIT)).then_some(v as i64)
+}
+
+/// `a b − c d` exactly (all four below `2^62` in magnitude).
+#[inline]
+fn cross(a: i64, b: i64, c: i64, d: i64) -> i128 {
+    i128::from(a) * i128::from(b) - i128::from(c) * i128::from(d)
+}
 
 /// `A` after Bareiss' elimination: on and above the diagonal the rows of the last step that
 /// changed them (`U`, with `U_{n−1,n−1} = det A`), below it the column entries each step
@@ -33,23 +51,23 @@ pub(crate) const MAX_ORDER: usize = 48;
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub(crate) struct SmallBareiss {
     n: usize,
-    m: Vec<i128>,
+    m: Vec<i64>,
 }
 
 impl SmallBareiss {
     /// Eliminates `A` (`n × n`, `n ≤ MAX_ORDER`, both triangles given as sparse rows). `None`
-    /// when `n` is too large, an intermediate value leaves `i128` or a pivot is zero.
+    /// when `n` is too large, a value reaches `2^62` or a pivot is zero.
     pub(crate) fn factor(n: usize, rows: &[Vec<(usize, i64)>]) -> Option<Self> {
         if n == 0 || n > MAX_ORDER || rows.len() != n {
             return None;
         }
-        let mut m = vec![0i128; n * n];
+        let mut m = vec![0i64; n * n];
         for (i, row) in rows.iter().enumerate() {
             for &(j, v) in row {
-                m[i * n + j] = i128::from(v);
+                m[i * n + j] = word(i128::from(v))?;
             }
         }
-        let mut previous = 1i128;
+        let mut previous = 1i64;
         for k in 0..n {
             let pivot = m[k * n + k];
             if pivot == 0 {
@@ -63,10 +81,8 @@ impl SmallBareiss {
                     if own == 0 && (below == 0 || across == 0) {
                         continue;
                     }
-                    let value = pivot
-                        .checked_mul(own)?
-                        .checked_sub(below.checked_mul(across)?)?;
-                    m[i * n + j] = exact_quotient(value, previous);
+                    let value = cross(pivot, own, below, across);
+                    m[i * n + j] = word(exact_quotient(value, previous))?;
                 }
             }
             previous = pivot;
@@ -76,40 +92,45 @@ impl SmallBareiss {
 
     /// The exact solution of `A x = b` as `(numerators, denominator)` with the smallest
     /// positive common denominator (what lifting with rational reconstruction gives); `None`
-    /// when `b` or an intermediate value leaves `i128`.
+    /// when `b` or a value on the way reaches `2^62`.
     pub(crate) fn solve(&self, b: &[BigInt]) -> Option<(Vec<BigInt>, BigInt)> {
         let n = self.n;
         let at = |i: usize, j: usize| self.m[i * n + j];
-        let mut c: Vec<i128> = b.iter().map(ToPrimitive::to_i128).collect::<Option<_>>()?;
+        let mut c: Vec<i64> = b
+            .iter()
+            .map(|v| word(ToPrimitive::to_i128(v)?))
+            .collect::<Option<_>>()?;
         // The right-hand side through the same steps.
-        let mut previous = 1i128;
+        let mut previous = 1i64;
         for k in 0..n {
             let pivot = at(k, k);
             for i in k + 1..n {
-                let value = pivot
-                    .checked_mul(c[i])?
-                    .checked_sub(at(i, k).checked_mul(c[k])?)?;
-                c[i] = exact_quotient(value, previous);
+                let below = at(i, k);
+                if c[i] == 0 && (below == 0 || c[k] == 0) {
+                    continue;
+                }
+                c[i] = word(exact_quotient(cross(pivot, c[i], below, c[k]), previous))?;
             }
             previous = pivot;
         }
         // U x = c with U_{n−1,n−1} = det: y = det · x by exact divisions, last entry first.
+        // Each product is below 2^124 and at most 48 are summed (checked: a sum may overflow).
         let det = at(n - 1, n - 1);
-        let mut y = vec![0i128; n];
+        let mut y = vec![0i64; n];
         for i in (0..n).rev() {
-            let mut sum = det.checked_mul(c[i])?;
+            let mut sum = i128::from(det) * i128::from(c[i]);
             for (u, yj) in self.m[i * n + i + 1..(i + 1) * n].iter().zip(&y[i + 1..]) {
-                sum = sum.checked_sub(u.checked_mul(*yj)?)?;
+                sum = sum.checked_sub(i128::from(*u) * i128::from(*yj))?;
             }
-            y[i] = exact_quotient(sum, at(i, i));
+            y[i] = word(exact_quotient(sum, i128::from(at(i, i))))?;
         }
         // Lowest common denominator: divide by the content of (det, y).
         let mut g = det.unsigned_abs();
         for v in &y {
             g = g.gcd(&v.unsigned_abs());
         }
-        let sign: i128 = if det < 0 { -1 } else { 1 };
-        let g = i128::try_from(g).ok()?;
+        let sign: i64 = if det < 0 { -1 } else { 1 };
+        let g = i64::try_from(g).ok()?;
         Some((
             y.into_iter()
                 .map(|v| BigInt::from(sign * (v / g)))
@@ -119,10 +140,11 @@ impl SmallBareiss {
     }
 }
 
-/// `a / b` for a multiple `a` of `b ≠ 0`: by the processor's 64-bit division when both fit
+/// `a / b` for a multiple `a` of `b ≠ 0`: by the processor's 64-bit division when `a` fits
 /// (the usual case; a 128-bit division is a library call several times slower).
 #[inline]
-fn exact_quotient(a: i128, b: i128) -> i128 {
+fn exact_quotient(a: i128, b: impl Into<i128>) -> i128 {
+    let b: i128 = b.into();
     match (i64::try_from(a), i64::try_from(b)) {
         // i64::MIN / −1 overflows i64 only; its quotient 2^63 is computed below.
         (Ok(a64), Ok(b64)) if !(a64 == i64::MIN && b64 == -1) => i128::from(a64 / b64),
@@ -166,16 +188,34 @@ mod tests {
 
     #[test]
     fn refuses_what_it_cannot_do_exactly() {
-        // A zero pivot (not positive definite), too large an order, overflow.
+        // A zero pivot (not positive definite), too large an order.
         assert!(SmallBareiss::factor(2, &dense_rows(&[vec![0, 1], vec![1, 0]])).is_none());
         assert!(SmallBareiss::factor(MAX_ORDER + 1, &vec![Vec::new(); MAX_ORDER + 1]).is_none());
-        let big = 1i64 << 62;
-        let f = SmallBareiss::factor(2, &dense_rows(&[vec![big, 1], vec![1, big]]));
-        let f = f.expect("minors of 125 bits fit");
-        assert!(f.solve(&[BigInt::from(big), BigInt::from(1)]).is_none());
+        // An entry, or a minor, of 2^62 or more.
+        assert!(SmallBareiss::factor(1, &dense_rows(&[vec![1 << 62]])).is_none());
+        let big = 1i64 << 40;
+        assert!(SmallBareiss::factor(2, &dense_rows(&[vec![big, 1], vec![1, big]])).is_none());
+        // A right-hand side, or a value on the way, of 2^62 or more.
+        let f = SmallBareiss::factor(2, &dense_rows(&[vec![2, 1], vec![1, 2]])).expect("small");
+        assert!(f.solve(&[BigInt::from(1) << 62, BigInt::from(0)]).is_none());
         assert!(f
             .solve(&[BigInt::from(1) << 130, BigInt::from(0)])
             .is_none());
+        let near = (1i64 << 61) + 1;
+        assert!(f
+            .solve(&[BigInt::from(-near), BigInt::from(near)])
+            .is_none());
+        // Just below the limit: solved.
+        let (num, den) = f
+            .solve(&[BigInt::from(3 << 20), BigInt::from(0)])
+            .expect("small");
+        assert_eq!(
+            (num, den),
+            (
+                vec![BigInt::from(2 << 20), BigInt::from(-1 << 20)],
+                BigInt::from(1)
+            )
+        );
     }
 
     proptest! {

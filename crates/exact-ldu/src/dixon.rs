@@ -1042,7 +1042,9 @@ mod tests {
             // The fraction-free path gives the same answer, and so does its fallback to
             // lifting for a right-hand side beyond `i128` (the modular inverse made then).
             let small = LiftingSolver::new_symmetric(n, sparse(&symmetric)).expect("nonsingular");
-            prop_assert!(small.small.is_some());
+            // Minors of at most four rows of entries below 2^10 stay below 2^62; larger
+            // systems may lift instead, with the same answers.
+            prop_assert!(n > 4 || small.small.is_some());
             prop_assert_eq!(small.solve(&b), solution);
             let huge: Vec<BigInt> = b.iter().map(|v| v * (BigInt::from(1) << 200) + 1).collect();
             let lifted = small.solve(&huge);
