@@ -43,6 +43,10 @@ const SMALL_RESIDUAL_BITS: u64 = 100;
 /// Bits per lifting step, a lower bound of `log₂ p` for every prime used.
 const BITS_PER_STEP: u64 = 30;
 
+/// The rows as machine integers when they all fit (below `2^62`), and the Hadamard bound
+/// `Σ_j ⌈log₂ ‖A_{:,j}‖⌉`.
+type Bounds = (Option<Vec<Vec<(usize, i64)>>>, u64);
+
 /// A nonsingular square integer matrix prepared for solving by lifting.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub(crate) struct LiftingSolver {
@@ -151,15 +155,13 @@ impl LiftingSolver {
             if let Some(small) = small_rows.as_ref().and_then(|r| SmallBareiss::factor(n, r)) {
                 // Nonsingular (its determinant is the last pivot, nonzero): the modular
                 // inverse waits for a solve that overflows.
-                return Some(LiftingSolver {
+                return Some(Self::from_parts(
                     n,
                     rows,
-                    small_rows,
-                    small: Some(small),
-                    inverse: OnceLock::new(),
-                    hadamard_bits,
-                    last_steps: StepsMemo::default(),
-                });
+                    (small_rows, hadamard_bits),
+                    Some(small),
+                    OnceLock::new(),
+                ));
             }
         }
         Self::lifted_symmetric(n, rows)
@@ -184,25 +186,38 @@ impl LiftingSolver {
         rows: Vec<Vec<(usize, BigInt)>>,
         inverse: ModularInverse,
     ) -> Option<Self> {
-        let (small_rows, hadamard_bits) = Self::bounds(n, &rows)?;
-        Some(LiftingSolver {
+        let bounds = Self::bounds(n, &rows)?;
+        Some(Self::from_parts(
+            n,
+            rows,
+            bounds,
+            None,
+            OnceLock::from(inverse),
+        ))
+    }
+
+    /// The solver from its parts: `bounds` as [`LiftingSolver::bounds`] gives them.
+    fn from_parts(
+        n: usize,
+        rows: Vec<Vec<(usize, BigInt)>>,
+        (small_rows, hadamard_bits): Bounds,
+        small: Option<SmallBareiss>,
+        inverse: OnceLock<ModularInverse>,
+    ) -> Self {
+        LiftingSolver {
             n,
             rows,
             small_rows,
-            small: None,
-            inverse: OnceLock::from(inverse),
+            small,
+            inverse,
             hadamard_bits,
             last_steps: StepsMemo::default(),
-        })
+        }
     }
 
     /// The rows as machine integers when they all fit, and the Hadamard bound; `None` when a
     /// column of `A` is zero (`A` singular).
-    #[allow(clippy::type_complexity)]
-    fn bounds(
-        n: usize,
-        rows: &[Vec<(usize, BigInt)>],
-    ) -> Option<(Option<Vec<Vec<(usize, i64)>>>, u64)> {
+    fn bounds(n: usize, rows: &[Vec<(usize, BigInt)>]) -> Option<Bounds> {
         const LIMIT: i64 = 1 << 62;
         let small_rows = rows
             .iter()
@@ -260,17 +275,15 @@ impl LiftingSolver {
     /// modulo a prime; `None` when `A` is singular.
     pub(crate) fn new(n: usize, rows: Vec<Vec<(usize, BigInt)>>) -> Option<Self> {
         debug_assert_eq!(rows.len(), n);
-        let (small_rows, hadamard_bits) = Self::bounds(n, &rows)?;
-        let inverse = Self::dense_inverse(n, &rows, hadamard_bits)?;
-        Some(LiftingSolver {
+        let bounds = Self::bounds(n, &rows)?;
+        let inverse = Self::dense_inverse(n, &rows, bounds.1)?;
+        Some(Self::from_parts(
             n,
             rows,
-            small_rows,
-            small: None,
-            inverse: OnceLock::from(inverse),
-            hadamard_bits,
-            last_steps: StepsMemo::default(),
-        })
+            bounds,
+            None,
+            OnceLock::from(inverse),
+        ))
     }
 
     /// `A⁻¹` modulo the first lifting prime that does not divide `det A`, factored densely;
