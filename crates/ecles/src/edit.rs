@@ -433,10 +433,14 @@ impl<F: Factorization> Edit<F> {
         anchor_values: &[Vec<Rational>],
         hints: &[Vec<Rational>],
     ) -> Result<UpdateResult<F::Scalar>, EditError<F::Scalar>> {
-        let (prepared, substitution, weights) =
-            (&self.prepared, self.substitution.as_ref(), &self.weights);
+        let (prepared, reduced, substitution, weights) = (
+            &self.prepared,
+            &self.reduced,
+            self.substitution.as_ref(),
+            &self.weights,
+        );
         let derived_values = self.solve_with(anchor_values, hints, |column, alpha, h| {
-            Self::solve_column(prepared, substitution, weights, column, alpha, h)
+            Self::solve_column(prepared, reduced, substitution, weights, column, alpha, h)
         })?;
         Ok(UpdateResult {
             anchors: self
@@ -458,15 +462,19 @@ impl<F: Factorization> Edit<F> {
         anchor_values: &[Vec<Rational>],
         hints: &[Vec<Rational>],
     ) -> Result<Vec<Vec<f64>>, EditError<F::Scalar>> {
-        let (prepared, substitution, weights) =
-            (&self.prepared, self.substitution.as_ref(), &self.weights);
+        let (prepared, reduced, substitution, weights) = (
+            &self.prepared,
+            &self.reduced,
+            self.substitution.as_ref(),
+            &self.weights,
+        );
         self.solve_with(anchor_values, hints, |column, alpha, h| {
             if substitution.is_none() {
                 return prepared.solve_approx(column, alpha, h);
             }
             // The offsets are added in the backend's values and the sum rounded once, so the
             // preview stays the update rounded (the inner system is small by construction).
-            Self::solve_column(prepared, substitution, weights, column, alpha, h)
+            Self::solve_column(prepared, reduced, substitution, weights, column, alpha, h)
                 .map(|x| x.iter().map(Value::to_f64).collect())
         })
     }
@@ -477,6 +485,7 @@ impl<F: Factorization> Edit<F> {
     /// `Sync`.)
     fn solve_column(
         prepared: &F::LeastSquares,
+        reduced: &ReducedSystem,
         substitution: Option<&Substitution>,
         weights: &[Rational],
         column: usize,
@@ -485,8 +494,10 @@ impl<F: Factorization> Edit<F> {
     ) -> Result<Vec<F::Scalar>, SolveError<F::Scalar>> {
         through_substitution(
             substitution,
+            reduced,
             weights,
             column,
+            alpha,
             hints,
             |h| prepared.solve(column, alpha, h),
             F::Scalar::from_rational,
@@ -582,7 +593,8 @@ impl<F: Factorization<Scalar = Rational>> Edit<F> {
         hints: &[Vec<Rational>],
     ) -> Result<Vec<Vec<Fraction>>, EditError<Rational>> {
         let prepared = &self.prepared;
-        let (substitution, weights) = (self.substitution.as_ref(), &self.weights);
+        let (reduced, substitution, weights) =
+            (&self.reduced, self.substitution.as_ref(), &self.weights);
         self.solve_with(anchor_values, hints, |column, alpha, h| {
             // The groups' values unreduced, the offsets added as fractions.
             let unreduced = |h: &[Rational]| match prepared.solve_unreduced(column, alpha, h)? {
@@ -595,8 +607,10 @@ impl<F: Factorization<Scalar = Rational>> Edit<F> {
             };
             through_substitution(
                 substitution,
+                reduced,
                 weights,
                 column,
+                alpha,
                 h,
                 unreduced,
                 |r: &Rational| Fraction::from(r.clone()),
@@ -618,7 +632,8 @@ impl<F: Factorization<Scalar = Rational>> Edit<F> {
         grid_bits: u32,
     ) -> Result<(UpdateResult<Rational>, SnapSummary), EditError<Rational>> {
         let prepared = &self.prepared;
-        let (substitution, weights) = (self.substitution.as_ref(), &self.weights);
+        let (reduced, substitution, weights) =
+            (&self.reduced, self.substitution.as_ref(), &self.weights);
         let summary = std::sync::Mutex::new(SnapSummary {
             grid_bits,
             distance_bound: 0.0,
@@ -629,8 +644,10 @@ impl<F: Factorization<Scalar = Rational>> Edit<F> {
             // the groups' distance bound is the unknowns'.
             through_substitution(
                 substitution,
+                reduced,
                 weights,
                 column,
+                alpha,
                 h,
                 |h| {
                     let snapped = prepared.solve_snapped(column, alpha, h, grid_bits)?;
@@ -684,14 +701,16 @@ impl<F: Factorization<Scalar = Rational>> Edit<F> {
     }
 }
 
-/// Solves one right-hand-side column through `substitution`, if any: the hints of the groups
-/// from those of the unknowns (`weights` per unknown), `solve` on the factored system, the
-/// unknowns from the groups' values.
+/// Solves one right-hand-side column through `substitution` of `reduced`, if any: the hints of
+/// the groups from those of the unknowns (`weights` per unknown), `solve` on the factored
+/// system, the unknowns from the groups' values and the anchor values `alpha`.
 #[allow(clippy::too_many_arguments)]
 fn through_substitution<T: Clone, E>(
     substitution: Option<&Substitution>,
+    reduced: &ReducedSystem,
     weights: &[Rational],
     column: usize,
+    alpha: &[Rational],
     hints: &HintColumn,
     solve: impl Fn(&[Rational]) -> Result<Vec<T>, E>,
     from_rational: impl Fn(&Rational) -> T,
@@ -703,7 +722,15 @@ fn through_substitution<T: Clone, E>(
         Some(sub) => {
             let inner_hints = sub.group_hints(weights, hints, column);
             let y = solve(&inner_hints)?;
-            Ok(sub.expand(&y, column, from_rational, plus, negate))
+            Ok(sub.expand(
+                &y,
+                column,
+                alpha,
+                &reduced.family.coefficients,
+                from_rational,
+                plus,
+                negate,
+            ))
         }
     }
 }
