@@ -342,6 +342,31 @@ pub fn rational_times_integer(a: &Rational, k: &Integer) -> Rational {
     }
 }
 
+/// `a / k` in lowest terms for a positive integer `k` (a group's weight, a count): one GCD, in
+/// machine words when the numerator and `k` fit in a `u64` (`Rational`'s `/` reduces twice,
+/// in big integers, and checks for a zero divisor).
+///
+/// # Panics
+/// When `k` is not positive.
+pub fn rational_over_integer(a: &Rational, k: &Integer) -> Rational {
+    assert!(
+        k.sign() == num_bigint::Sign::Plus,
+        "division by a non-positive integer"
+    );
+    if k.is_one() {
+        return a.clone();
+    }
+    use num_traits::ToPrimitive;
+    if let (Some(n), Some(d)) = (a.numer().magnitude().to_u64(), k.to_u64()) {
+        let g = n.gcd(&d);
+        let numer = Integer::from_biguint(a.numer().sign(), (n / g).into());
+        let denom = a.denom() * Integer::from(d / g);
+        // numer / g and d / g are coprime, numer and a's denominator already were.
+        return Rational::new_raw(numer, denom);
+    }
+    Rational::new(a.numer().clone(), a.denom() * k)
+}
+
 /// Rational values scaled by one positive factor to coprime integers: multiplied by the least
 /// common multiple of their denominators, then divided by the greatest common divisor of the
 /// products. Signs, zeros and the ratios between the values are kept, so the data of a row
@@ -548,6 +573,21 @@ mod tests {
             let product = rational_times_integer(&a, &k);
             proptest::prop_assert_eq!(&product, &(&a * &k));
             proptest::prop_assert!(identical_rationals(std::slice::from_ref(&product), &[lowest(&product)]));
+        }
+
+        /// Division by a positive integer is `Rational`'s, in lowest terms, in words and beyond.
+        #[test]
+        fn division_by_a_positive_integer_is_rationals_own(
+            an in -1000i64..1000, ad in 1i64..12, k in 1i64..30, big in proptest::bool::ANY,
+        ) {
+            // Numerators beyond 64 bits take the big-integer path.
+            let shift = if big { Integer::from(1u8) << 80 } else { Integer::from(1u8) };
+            let a = Rational::new(Integer::from(an) * shift, Integer::from(ad));
+            let k = Integer::from(k);
+            let quotient = rational_over_integer(&a, &k);
+            let lowest = Rational::new(quotient.numer().clone(), quotient.denom().clone());
+            proptest::prop_assert_eq!(&quotient, &(&a / Rational::from_integer(k)));
+            proptest::prop_assert!(identical_rationals(std::slice::from_ref(&quotient), &[lowest]));
         }
     }
 }

@@ -29,7 +29,8 @@ pub use backend::{
 };
 pub use exact::{
     coprime_integers, format_rational, identical_rationals, parse_rational, rational_difference,
-    rational_sum, rational_times_integer, Integer, ParseRationalError, Rational,
+    rational_over_integer, rational_sum, rational_times_integer, Integer, ParseRationalError,
+    Rational,
 };
 pub use matrix::{IntMatrix, MatrixError};
 pub use source::SCHEMA_VERSION;

@@ -14,8 +14,8 @@
 use crate::edit::{EditSpec, Layout, RowRef};
 use crate::relevant::Relevant;
 use api::{
-    rational_difference, rational_times_integer, ConstraintSystem, IntMatrix, ParamId, Rational,
-    RhsFamily, RowBody, Values,
+    rational_difference, rational_times_integer, ConstraintSystem, Coord, IntMatrix, Integer,
+    ParamId, Rational, RhsFamily, RowBody, Values,
 };
 
 /// `R_ED`, the family `b(α) = c − R_EA α` and what each row of `R_ED` is.
@@ -176,24 +176,34 @@ pub(crate) fn reduce(
             };
             let (d_off, d_cols) = offsets(&spec.derived);
             let (a_off, a_cols) = offsets(&spec.anchors);
-            let mut constant = Vec::new();
+            let capacity = relevant.constraints.len();
+            let mut constant = Vec::with_capacity(capacity);
+            ed_rows.reserve(capacity);
+            ea_rows.reserve(capacity);
+            rows.reserve(capacity);
+            labels.reserve(capacity);
             for &id in &relevant.constraints {
                 let row = &system.rows()[id.index()];
-                for equation in row.body.scalar_equations() {
-                    let component = equation.component;
+                let mut push = |component: Option<usize>,
+                                terms: &mut dyn Iterator<Item = (Coord, &Integer)>,
+                                rhs: &Integer| {
                     let mut ed = Vec::new();
                     let mut ea = Vec::new();
-                    let mut c = Rational::from_integer(equation.rhs);
-                    for (coord, coeff) in equation.terms {
+                    let mut c = Rational::from_integer(rhs.clone());
+                    for (coord, coeff) in terms {
                         match role(&coord.param) {
-                            Some(Role::Derived(k)) => ed.push((d_off[*k] + coord.component, coeff)),
-                            Some(Role::Anchor(k)) => ea.push((a_off[*k] + coord.component, coeff)),
+                            Some(Role::Derived(k)) => {
+                                ed.push((d_off[*k] + coord.component, coeff.clone()))
+                            }
+                            Some(Role::Anchor(k)) => {
+                                ea.push((a_off[*k] + coord.component, coeff.clone()))
+                            }
                             None => {
                                 c = rational_difference(
                                     &c,
                                     &rational_times_integer(
                                         &values.get(coord.param)[coord.component],
-                                        &coeff,
+                                        coeff,
                                     ),
                                 );
                             }
@@ -204,6 +214,21 @@ pub(crate) fn reduce(
                     ea_rows.push(ea);
                     rows.push(RowRef { row: id, component });
                     labels.push(row.label.clone());
+                };
+                match &row.body {
+                    // A scalar row is one equation as it stands (no split, no copy).
+                    RowBody::Scalar { terms, rhs } => {
+                        push(None, &mut terms.iter().map(|(c, v)| (*c, v)), rhs)
+                    }
+                    RowBody::Vector { .. } => {
+                        for equation in row.body.scalar_equations() {
+                            push(
+                                equation.component,
+                                &mut equation.terms.iter().map(|(c, v)| (*c, v)),
+                                &equation.rhs,
+                            );
+                        }
+                    }
                 }
             }
             let r_ed =

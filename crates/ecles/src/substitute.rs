@@ -37,8 +37,8 @@
 use crate::hint_columns::HintColumn;
 use crate::reduce::ReducedSystem;
 use api::{
-    rational_difference, rational_sum, rational_times_integer, IntMatrix, Integer, Rational,
-    RhsFamily, Value,
+    rational_difference, rational_over_integer, rational_sum, rational_times_integer, IntMatrix,
+    Integer, Rational, RhsFamily, Value,
 };
 use num_traits::{One, Zero};
 use std::collections::VecDeque;
@@ -63,8 +63,9 @@ pub(crate) struct Substitution {
     /// Per unknown of `R_ED`: its group (`None`: pinned through the ground) and `σ_u`.
     group: Vec<Option<usize>>,
     sign: Vec<i8>,
-    /// `τ_u` per right-hand-side column `j`: `offset[j][u]`, the constant part of the offset.
-    offset: Vec<Vec<Rational>>,
+    /// `τ_u` per right-hand-side column `j`: `offset[j][u]`, the constant part of the offset
+    /// (`None` for zero, the common case: a zero rational would cost an allocation).
+    offset: Vec<Vec<Option<Rational>>>,
     /// Per unknown hanging below a pin on the anchors: that pin's row `r` of `R_ED` and `s_u`,
     /// the anchor part of the offset being `−s_u K_r α`.
     anchor_pin: Vec<Option<(usize, i8)>>,
@@ -166,7 +167,7 @@ impl Substitution {
         let columns = reduced.family.constant.len();
         let mut group = vec![None; n];
         let mut sign = vec![0i8; n];
-        let mut offset = vec![vec![Rational::zero(); n]; columns];
+        let mut offset: Vec<Vec<Option<Rational>>> = vec![vec![None; n]; columns];
         let mut anchor_pin: Vec<Option<(usize, i8)>> = vec![None; n];
         let mut visited = vec![false; n];
         let mut used = vec![false; m];
@@ -176,11 +177,13 @@ impl Substitution {
         let mut attach = |edge: TreeRow,
                           sign: &mut Vec<i8>,
                           group: &mut Vec<Option<usize>>,
-                          offset: &mut Vec<Vec<Rational>>,
+                          offset: &mut Vec<Vec<Option<Rational>>>,
                           anchor_pin: &mut Vec<Option<(usize, i8)>>| {
             // b · child_coef, child_coef = ±1.
-            let constant =
-                |column: usize| signed(&reduced.family.constant[column][edge.row], edge.child_coef);
+            let constant = |column: usize| {
+                let b = &reduced.family.constant[column][edge.row];
+                (!b.is_zero()).then(|| signed(b, edge.child_coef))
+            };
             match edge.parent {
                 None => {
                     sign[edge.child] = 0;
@@ -199,7 +202,13 @@ impl Substitution {
                     group[edge.child] = group[p];
                     anchor_pin[edge.child] = anchor_pin[p].map(|(r, s)| (r, s * flip));
                     for (column, t) in offset.iter_mut().enumerate() {
-                        t[edge.child] = rational_sum(&constant(column), &signed(&t[p], flip));
+                        let carried = t[p].as_ref().map(|v| signed(v, flip));
+                        t[edge.child] = match (constant(column), carried) {
+                            (Some(a), Some(b)) => {
+                                Some(rational_sum(&a, &b)).filter(|v| !v.is_zero())
+                            }
+                            (a, b) => a.or(b),
+                        };
                     }
                 }
             }
@@ -297,11 +306,8 @@ impl Substitution {
                     );
                 }
                 for (column, cj) in c.iter_mut().enumerate() {
-                    if !offset[column][*u].is_zero() {
-                        *cj = rational_difference(
-                            cj,
-                            &rational_times_integer(&offset[column][*u], a),
-                        );
+                    if let Some(t) = &offset[column][*u] {
+                        *cj = rational_difference(cj, &rational_times_integer(t, a));
                     }
                 }
             }
@@ -398,11 +404,9 @@ impl Substitution {
             let Some(g) = g else {
                 continue;
             };
-            let offset = &self.offset[column][u];
-            let shifted = if offset.is_zero() {
-                hints[u].clone()
-            } else {
-                rational_difference(&hints[u], offset)
+            let shifted = match &self.offset[column][u] {
+                None => hints[u].clone(),
+                Some(offset) => rational_difference(&hints[u], offset),
             };
             let term = if weights[u].is_one() {
                 shifted
@@ -413,7 +417,15 @@ impl Substitution {
         }
         sums.into_iter()
             .zip(&self.group_weights)
-            .map(|(s, w)| if w.is_one() { s } else { s / w })
+            .map(|(s, w)| {
+                if w.is_one() {
+                    s
+                } else if w.is_integer() {
+                    rational_over_integer(&s, w.numer())
+                } else {
+                    s / w
+                }
+            })
             .collect()
     }
 
@@ -437,9 +449,9 @@ impl Substitution {
                 let offset = &self.offset[column][u];
                 match g {
                     None => match self.anchor_pin[u] {
-                        None => from_rational(offset),
+                        None => from_rational(offset.as_ref().unwrap_or(&Rational::zero())),
                         Some((r, s)) => {
-                            let mut value = offset.clone();
+                            let mut value = offset.clone().unwrap_or_else(Rational::zero);
                             for (j, k) in coefficients.row(r) {
                                 let term = rational_times_integer(&alpha[*j], k);
                                 value = if s > 0 {
@@ -458,10 +470,9 @@ impl Substitution {
                         } else {
                             negate(value)
                         };
-                        if offset.is_zero() {
-                            value
-                        } else {
-                            plus(value, from_rational(offset))
+                        match offset {
+                            None => value,
+                            Some(offset) => plus(value, from_rational(offset)),
                         }
                     }
                 }

@@ -77,6 +77,25 @@ impl PartialEq for SnapMemo {
 
 impl Eq for SnapMemo {}
 
+/// `V = δ W⁻¹` (`δ` the lcm of the weights' numerators) in machine words, when the numerators,
+/// their lcm and every `denominator · δ / numerator` fit in a `u64` (`None` otherwise: the
+/// caller takes big integers). Group weights of a substitution are small integers.
+fn scales_in_words(weights: &[Rational]) -> Option<Vec<u64>> {
+    use num_traits::ToPrimitive;
+    let mut delta: u64 = 1;
+    for w in weights {
+        let n = w.numer().to_u64()?;
+        delta = (delta / num_integer::Integer::gcd(&delta, &n)).checked_mul(n)?;
+    }
+    weights
+        .iter()
+        .map(|w| {
+            let (n, d) = (w.numer().to_u64()?, w.denom().to_u64()?);
+            d.checked_mul(delta / n)
+        })
+        .collect()
+}
+
 fn dot_sparse<R: Ring>(row: &[(usize, R)], x: &[R]) -> R {
     let mut acc = R::zero();
     for (c, v) in row {
@@ -104,6 +123,10 @@ impl<R: Ring> ExactLeastSquares<R> {
         // V = δ W⁻¹ with δ the lcm of the weight numerators (unit weights: V = I).
         let v: Vec<R> = if weights.iter().all(num_traits::One::is_one) {
             vec![R::one(); n]
+        } else if let Some(v) = scales_in_words(weights) {
+            v.into_iter()
+                .map(|x| R::from_bigint(&BigInt::from(x)))
+                .collect()
         } else {
             let mut delta = BigInt::from(1);
             for w in weights {
@@ -486,6 +509,17 @@ mod tests {
         let big = vec![BigInt::from(1) << 70, BigInt::from(4), BigInt::from(7)];
         let g = normal_matrix(&rows, &big, 3);
         assert_eq!(g[0][0].1, (BigInt::from(4) << 70) + 63);
+    }
+
+    #[test]
+    fn scales_in_words_are_the_big_integer_ones() {
+        let q = |n: i64, d: i64| Rational::new(n.into(), d.into());
+        let weights = [q(2, 1), q(3, 1), q(4, 3), q(5, 7)];
+        // δ = lcm(2, 3, 4, 5) = 60: V = (30, 20, 45, 84).
+        assert_eq!(scales_in_words(&weights), Some(vec![30, 20, 45, 84]));
+        // Numerators whose lcm passes 2^64 are left to big integers.
+        let big = [q((1 << 62) - 1, 1), q((1 << 61) - 1, 1), q(3, 1)];
+        assert_eq!(scales_in_words(&big), None);
     }
 
     #[test]
