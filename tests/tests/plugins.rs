@@ -205,3 +205,40 @@ fn a_missing_plugin_library_is_named() {
         &[&plugin_abi::library_file_name("plugins_c2"), "not found"],
     );
 }
+
+/// The editor's view of the worm (method 6 of the plugin ABI) is the same from the spline2d
+/// plugin library as from the built-in source, and passes the host's check.
+#[test]
+fn the_spline_view_crosses_the_plugin_boundary_unchanged() {
+    use api::{ConstraintSource, ConstraintSystem, SourceView, Values, ViewRequest};
+    let request = api::BuildRequest {
+        schema: api::SCHEMA_VERSION,
+        input_limit: api::input::DEFAULT_MAX_INPUT_BYTES,
+        name: "worm".into(),
+        config: r#"(mesh: "meshes/worm.obj", degree: 5, smoothness: 1)"#.into(),
+        base_dir: root().join("examples"),
+        system: ConstraintSystem::new(),
+        values: Values::default(),
+        sources: Vec::new(),
+    };
+    let plugin = plugin_abi::load(&library("plugins_spline2d_dylib")).expect("loads");
+    let mut dynamic = plugin.instantiate();
+    let mut fixed = plugins_spline2d::plugin::Spline2dSource::default();
+    let contribution = dynamic.build(&request).expect("dynamic build");
+    fixed.build(&request).expect("static build");
+    let mut system = ConstraintSystem::new();
+    let mut values = Values::default();
+    contribution
+        .apply_to(&mut system, &mut values)
+        .expect("applies");
+    let ask = ViewRequest {
+        schema: api::SCHEMA_VERSION,
+    };
+    let view = dynamic.view(&ask).expect("view").expect("spline2d draws");
+    assert_eq!(Some(view.clone()), fixed.view(&ask).expect("static view"));
+    view.validate(&system).expect("a valid view");
+    let SourceView::BezierTriangles(view) = view;
+    // The worm: 6 triangles, degree 5 (21 control points each).
+    assert_eq!((view.triangles.len(), view.degree), (6, 5));
+    assert!(view.patches.iter().all(|p| p.len() == 21));
+}

@@ -9,6 +9,7 @@
 //! * [`config`]: reading the RON fragments a host forwards to sources, with positions;
 //! * [`input`]: reading input files (meshes, models, height fields) as bounded regular files;
 //! * [`source`]: the [`ConstraintSource`] trait constraint plugins implement;
+//! * [`view`]: what an interactive editor draws of a source (optional for sources);
 //! * [`backend`]: the traits a linear-algebra backend implements (factor, rank, independent and
 //!   redundant rows, solve, weak and strong consistency, null space, weighted least squares).
 //!
@@ -22,6 +23,7 @@ pub mod matrix;
 mod name_index;
 pub mod source;
 pub mod system;
+pub mod view;
 
 pub use backend::{
     BackendError, Factorization, Fraction, Inconsistency, LinearBackend, PreparedLeastSquares,
@@ -43,3 +45,4 @@ pub use system::{
     ConstraintRow, ConstraintSystem, Coord, Origin, ParamId, Parameter, RowBody, RowId,
     ScalarEquation, SystemError, Values,
 };
+pub use view::{BezierTriangles, SourceView, ViewRequest};

@@ -13,6 +13,7 @@
 use crate::config::TextPosition;
 use crate::exact::Rational;
 use crate::system::{ConstraintRow, ConstraintSystem, ParamId, Values};
+use crate::view::{SourceView, ViewRequest};
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
 
@@ -448,6 +449,12 @@ pub trait ConstraintSource {
     /// Checks an output before the first edit of the run, reading and validating the files it
     /// needs, and says which files it will write. Sources without outputs refuse every request.
     fn check_output(&self, request: &OutputCheckRequest) -> Result<OutputCheck, SourceError>;
+    /// The source's geometry for an interactive editor ([`crate::view`]), asked once after
+    /// [`ConstraintSource::build`]; `None` when the source has nothing to draw (the default).
+    fn view(&self, request: &ViewRequest) -> Result<Option<SourceView>, SourceError> {
+        let _ = request;
+        Ok(None)
+    }
 }
 
 #[cfg(test)]

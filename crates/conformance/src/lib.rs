@@ -210,6 +210,14 @@ pub enum ConformanceError {
         /// The note.
         note: String,
     },
+    /// The source's view does not pass [`api::SourceView::validate`] on the system it built.
+    #[error("view of {name:?} cannot be drawn: {problem}")]
+    BadView {
+        /// Instance name.
+        name: String,
+        /// What is wrong.
+        problem: String,
+    },
 }
 
 /// Sample inputs for [`check_source`].
@@ -362,6 +370,34 @@ pub fn check_build(
         })?;
     check_contribution(name, &contribution, &request.system, &request.values)?;
     Ok(contribution)
+}
+
+/// Asks a built source for its editor view (no panic, no refusal) and checks a view it gives
+/// against the system it was built into ([`api::SourceView::validate`]). Sources without a
+/// view pass.
+pub fn check_view(
+    source: &dyn ConstraintSource,
+    name: &str,
+    system: &api::ConstraintSystem,
+) -> Result<(), ConformanceError> {
+    let request = api::ViewRequest {
+        schema: api::SCHEMA_VERSION,
+    };
+    let view = no_panic(format!("view of {name:?}"), || source.view(&request))?.map_err(|e| {
+        ConformanceError::BadView {
+            name: name.to_string(),
+            problem: format!("refused: {}", e.message),
+        }
+    })?;
+    match view {
+        Some(view) => view
+            .validate(system)
+            .map_err(|problem| ConformanceError::BadView {
+                name: name.to_string(),
+                problem,
+            }),
+        None => Ok(()),
+    }
 }
 
 /// Builds `request` on two fresh instances and checks both contributions
@@ -541,7 +577,7 @@ fn check_plan(
 /// * kind and version are non-empty and the same for every instance;
 /// * each good request builds identically on two instances ([`check_deterministic`]), and the
 ///   first instance then plans [`Samples::operations`] and renders [`Samples::outputs`]
-///   ([`check_plan_and_render`]);
+///   ([`check_plan_and_render`]) and gives a view that can be drawn, if any ([`check_view`]);
 /// * each bad request is refused ([`check_refuses`]).
 ///
 /// Returns the contributions of the good requests, in order. For a dynamic plugin, `make` is
@@ -598,6 +634,7 @@ pub fn check_source(
             &samples.operations,
             &samples.outputs,
         )?;
+        check_view(first.as_ref(), &request.name, &system)?;
         contributions.push(contribution);
     }
     for request in &samples.bad {
@@ -618,6 +655,8 @@ mod tests {
     #[derive(Default)]
     struct Fixture {
         calls: usize,
+        /// Built with `"view"`: gives a view whose point is the scalar `f.x`.
+        scalar_view: bool,
     }
 
     impl ConstraintSource for Fixture {
@@ -654,8 +693,9 @@ mod tests {
                 }],
                 ..Contribution::default()
             };
+            self.scalar_view = request.config == "view";
             match request.config.as_str() {
-                "good" => Ok(good),
+                "good" | "view" => Ok(good),
                 "panic" => panic!("fixture panics"),
                 "refuse" => Err(SourceError::new(format!("{name}: refused"))),
                 "mute" => Err(SourceError::new("")),
@@ -729,6 +769,18 @@ mod tests {
         fn check_output(&self, _: &OutputCheckRequest) -> Result<OutputCheck, SourceError> {
             Ok(OutputCheck::new(vec!["x.svg".into()], vec![]))
         }
+        fn view(&self, _: &api::ViewRequest) -> Result<Option<api::SourceView>, SourceError> {
+            let q = |n: i64| api::Rational::from_integer(n.into());
+            Ok(self.scalar_view.then(|| {
+                api::SourceView::BezierTriangles(api::BezierTriangles {
+                    degree: 1,
+                    smoothness: 0,
+                    vertices: vec![[q(0), q(0)], [q(1), q(0)], [q(0), q(1)]],
+                    triangles: vec![[0, 1, 2]],
+                    patches: vec![vec![ParamId(0); 3]],
+                })
+            }))
+        }
     }
 
     static COUNTER: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
@@ -757,6 +809,11 @@ mod tests {
     fn each_broken_rule_is_named() {
         let cases: &[(&[&str], &[&str], &str)] = &[
             (&["panic"], &[], "panicked: fixture panics"),
+            (
+                &["view"],
+                &[],
+                "view of \"f\" cannot be drawn: the view's patch 0 names \"f.x\" of dimension 1",
+            ),
             (&[], &["panic"], "panicked"),
             (&["refuse"], &[], "refused a good configuration"),
             (&[], &["good"], "accepted a bad configuration"),

@@ -48,6 +48,12 @@ pub const METHOD_CHECK_OPERATION: u32 = 4;
 ///
 /// Added within ABI version 1, like [`METHOD_CHECK_OPERATION`].
 pub const METHOD_CHECK_OUTPUT: u32 = 5;
+/// [`PluginVTable::call`] method: the source's view for an interactive editor. Input is a JSON
+/// `api::ViewRequest`, output on success a JSON `api::SourceView` or `null` (nothing to draw).
+///
+/// Added within ABI version 1, like [`METHOD_CHECK_OPERATION`]: "unknown method 6" from an
+/// older plugin means "no view".
+pub const METHOD_VIEW: u32 = 6;
 
 /// [`PluginVTable::call`] status: success; the output holds the JSON answer.
 pub const STATUS_OK: i32 = 0;

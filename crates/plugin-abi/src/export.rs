@@ -6,12 +6,12 @@
 
 use crate::abi::{
     ByteBuffer, CreateFn, PluginHeader, PluginVTable, ABI_VERSION, MAGIC, METHOD_BUILD,
-    METHOD_CHECK_OPERATION, METHOD_CHECK_OUTPUT, METHOD_PLAN, METHOD_RENDER, STATUS_BAD_INPUT,
-    STATUS_OK, STATUS_PANIC, STATUS_SOURCE_ERROR, VTABLE_SIZE,
+    METHOD_CHECK_OPERATION, METHOD_CHECK_OUTPUT, METHOD_PLAN, METHOD_RENDER, METHOD_VIEW,
+    STATUS_BAD_INPUT, STATUS_OK, STATUS_PANIC, STATUS_SOURCE_ERROR, VTABLE_SIZE,
 };
 use api::{
     BuildRequest, ConstraintSource, OperationCheckRequest, OutputCheckRequest, PlanRequest,
-    RenderRequest, SourceError,
+    RenderRequest, SourceError, ViewRequest,
 };
 use serde::de::DeserializeOwned;
 use serde::Serialize;
@@ -318,6 +318,7 @@ pub fn dispatch(source: &mut dyn ConstraintSource, method: u32, input: &[u8]) ->
         METHOD_CHECK_OUTPUT => run(input, "OutputCheckRequest", |r: OutputCheckRequest| {
             source.check_output(&r)
         }),
+        METHOD_VIEW => run(input, "ViewRequest", |r: ViewRequest| source.view(&r)),
         other => bad_input(format!("unknown method {other}")),
     }
 }

@@ -3,12 +3,13 @@
 use crate::abi::{
     AbiVersionFn, ByteBuffer, CallFn, CreateFn, DestroyFn, EntryFnV1, FreeBufferFn, PluginHeader,
     PluginVTable, ABI_VERSION, ENTRY_SYMBOL_V1, MAGIC, METHOD_BUILD, METHOD_CHECK_OPERATION,
-    METHOD_CHECK_OUTPUT, METHOD_PLAN, METHOD_RENDER, PROBE_SYMBOL, STATUS_BAD_INPUT, STATUS_OK,
-    STATUS_PANIC, STATUS_SOURCE_ERROR, VTABLE_SIZE,
+    METHOD_CHECK_OUTPUT, METHOD_PLAN, METHOD_RENDER, METHOD_VIEW, PROBE_SYMBOL, STATUS_BAD_INPUT,
+    STATUS_OK, STATUS_PANIC, STATUS_SOURCE_ERROR, VTABLE_SIZE,
 };
 use api::{
     BuildRequest, ConstraintSource, Contribution, OperationCheckRequest, OperationPlan,
     OutputCheck, OutputCheckRequest, OutputFile, PlanRequest, RenderRequest, SourceError,
+    SourceView, ViewRequest,
 };
 use serde::de::DeserializeOwned;
 use serde::Serialize;
@@ -495,6 +496,11 @@ impl ConstraintSource for DynamicSource {
         Ok(self
             .call(METHOD_CHECK_OUTPUT, "check_output", request)?
             .unwrap_or_default())
+    }
+
+    /// A plugin built before views existed has nothing to draw.
+    fn view(&self, request: &ViewRequest) -> Result<Option<SourceView>, SourceError> {
+        Ok(self.call(METHOD_VIEW, "view", request)?.flatten())
     }
 }
 

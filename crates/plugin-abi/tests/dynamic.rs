@@ -194,6 +194,12 @@ fn dynamic_and_static_builds_agree() {
         let x = system.param_id("ex.x").expect("ex.x declared");
         assert_eq!(x.index(), 1);
         assert!(system.violations(&values).is_empty());
+        // The example draws nothing: its view (method 6) is `None` across the boundary too.
+        let view = api::ViewRequest {
+            schema: api::SCHEMA_VERSION,
+        };
+        assert_eq!(dynamic.view(&view), Ok(None));
+        assert_eq!(fixed.view(&view), Ok(None));
     }
     let c = plugin
         .instantiate()

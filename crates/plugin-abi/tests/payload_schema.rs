@@ -5,6 +5,7 @@
 //! silently. Fixtures also read back into the same values.
 
 use api::config::TextPosition;
+use api::{BezierTriangles, SourceView, ViewRequest};
 use api::{
     BuildRequest, ConstraintRow, ConstraintSystem, Contribution, Coord, Highlight, NewParameter,
     OperationCheckRequest, OperationPlan, Origin, OutputCheck, OutputCheckRequest, OutputFile,
@@ -210,6 +211,22 @@ fn every_request_and_answer_matches_its_fixture() {
         "source_error",
         &SourceError::new("t config: unknown field")
             .with_position(TextPosition { line: 2, column: 5 }),
+    );
+    golden(
+        "view_request",
+        &ViewRequest {
+            schema: api::SCHEMA_VERSION,
+        },
+    );
+    golden(
+        "source_view",
+        &Some(SourceView::BezierTriangles(BezierTriangles {
+            degree: 1,
+            smoothness: 0,
+            vertices: vec![[q(0, 1), q(0, 1)], [q(1, 2), q(0, 1)], [q(0, 1), q(3, 1)]],
+            triangles: vec![[0, 1, 2]],
+            patches: vec![vec![ParamId(0), ParamId(0), ParamId(0)]],
+        })),
     );
 }
 

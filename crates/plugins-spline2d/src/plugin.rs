@@ -31,9 +31,9 @@
 use crate::output;
 use api::config::from_ron;
 use api::{
-    BuildRequest, ConstraintSource, Contribution, OperationCheckRequest, OperationPlan,
-    OutputCheck, OutputCheckRequest, OutputFile, ParamId, PlanRequest, RenderRequest, RowId,
-    SourceError, SummaryItem,
+    BezierTriangles, BuildRequest, ConstraintSource, Contribution, OperationCheckRequest,
+    OperationPlan, OutputCheck, OutputCheckRequest, OutputFile, ParamId, PlanRequest,
+    RenderRequest, RowId, SourceError, SourceView, SummaryItem, ViewRequest,
 };
 use serde::Deserialize;
 use spline2d::config::{spline_from_config_text, SplineRead};
@@ -233,6 +233,28 @@ impl ConstraintSource for Spline2dSource {
     fn render(&self, request: &RenderRequest) -> Result<Vec<OutputFile>, SourceError> {
         output::render(self.built()?, request)
     }
+
+    /// The Bézier patches over the reference mesh, each control point as its parameter.
+    fn view(&self, _: &ViewRequest) -> Result<Option<SourceView>, SourceError> {
+        let built = self.built()?;
+        let spline = &built.spline;
+        let mesh = spline.mesh();
+        Ok(Some(SourceView::BezierTriangles(BezierTriangles {
+            degree: spline.degree(),
+            smoothness: spline.smoothness(),
+            vertices: mesh.vertices().to_vec(),
+            triangles: mesh.triangles().to_vec(),
+            patches: (0..mesh.triangles().len())
+                .map(|t| {
+                    spline
+                        .triangle_points(t)
+                        .iter()
+                        .map(|&p| built.params.ids[p])
+                        .collect()
+                })
+                .collect(),
+        })))
+    }
 }
 
 #[cfg(test)]
@@ -279,6 +301,54 @@ mod tests {
         assert_eq!(plan.anchors.len(), 1);
         assert_eq!(plan.steps.len(), 2);
         assert_eq!(plan.weights.len(), plan.derived.len());
+    }
+
+    /// The view's contract: patch `t` lists the control points of triangle `t` in multi-index
+    /// order, so at the identity deformation (the initial values) control point `(i, j, k)` is
+    /// the domain point `(i A + j B + k C) / d` of the triangle's vertices `A, B, C`.
+    #[test]
+    fn the_view_lists_each_triangles_control_points_in_multi_index_order() {
+        let mut source = Spline2dSource::default();
+        let contribution = source.build(&request(SQUARE)).expect("build");
+        let mut system = ConstraintSystem::new();
+        let mut values = Values::default();
+        contribution
+            .apply_to(&mut system, &mut values)
+            .expect("apply");
+        let view = source
+            .view(&ViewRequest {
+                schema: api::SCHEMA_VERSION,
+            })
+            .expect("view")
+            .expect("spline2d has a view");
+        view.validate(&system).expect("valid");
+        let SourceView::BezierTriangles(view) = view;
+        assert_eq!((view.degree, view.smoothness), (5, 1));
+        assert_eq!(view.triangles.len(), 4);
+        let d = view.degree;
+        let q = |n: usize| api::Rational::from_integer(n.into());
+        for (tri, patch) in view.triangles.iter().zip(&view.patches) {
+            assert_eq!(patch.len(), 21);
+            let mut at = 0;
+            for i in (0..=d).rev() {
+                for j in (0..=d - i).rev() {
+                    let k = d - i - j;
+                    let weights = [q(i), q(j), q(k)];
+                    for c in 0..2 {
+                        let expected = (0..3)
+                            .map(|v| &weights[v] * &view.vertices[tri[v]][c])
+                            .fold(q(0), |a, b| a + b)
+                            / q(d);
+                        assert_eq!(values.get(patch[at])[c], expected, "({i},{j},{k})");
+                    }
+                    at += 1;
+                }
+            }
+            // Corners are the vertices' points, shared by every patch around the vertex.
+            let name = |id: ParamId| system.params()[id.index()].name.clone();
+            assert_eq!(name(patch[0]), format!("phi.v{}", tri[0]));
+            assert_eq!(name(patch[20]), format!("phi.v{}", tri[2]));
+        }
     }
 
     #[test]

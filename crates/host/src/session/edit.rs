@@ -604,6 +604,30 @@ mod tests {
     const WORM: &str =
         r#"(sources: [(name: "worm", plugin: "spline2d", config: (mesh: "meshes/worm.obj"))])"#;
 
+    /// An editor draws a spline source from its view and the current values: every patch's
+    /// points are parameters of the system; other sources draw nothing; unknown ones are named.
+    #[test]
+    fn an_editor_gets_the_view_of_a_spline_and_nothing_from_a_linear_source() {
+        let run = r#"(sources: [
+            (name: "worm", plugin: "spline2d", config: (mesh: "meshes/worm.obj", degree: 3)),
+            (name: "eq", plugin: "linear", config: (parameters: {"a": "1"}, equations: ["a = 1"])),
+        ])"#;
+        let (_dir, session) = session(run);
+        let Some(api::SourceView::BezierTriangles(view)) = session.view("worm").expect("view")
+        else {
+            panic!("spline2d draws Bézier triangles");
+        };
+        assert_eq!((view.degree, view.patches.len()), (3, 6));
+        assert!(view
+            .patches
+            .iter()
+            .flatten()
+            .all(|p| session.system.params()[p.index()].name.starts_with("worm.")));
+        assert_eq!(session.view("eq").expect("no view"), None);
+        let unknown = session.view("nope").expect_err("unknown source");
+        assert!(unknown.to_string().contains("\"nope\""), "{unknown}");
+    }
+
     #[test]
     fn an_editor_plans_initialises_drags_applies_and_undoes() {
         let (_dir, mut session) = session(WORM);

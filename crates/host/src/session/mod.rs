@@ -324,6 +324,27 @@ impl Session {
     }
 
     /// The built source named `name`.
+    /// The view of source `name` for an interactive editor ([`api::view`]), checked against
+    /// the system before it is returned (a plugin's answer is outside data); `None` when the
+    /// source draws nothing.
+    pub fn view(&self, name: &str) -> Result<Option<api::SourceView>, RunError> {
+        let loaded = self.loaded(name)?;
+        let view = loaded
+            .source
+            .view(&api::ViewRequest {
+                schema: api::SCHEMA_VERSION,
+            })
+            .map_err(|e| RunError::input(format!("source {name:?} refused its view: {e}")))?;
+        if let Some(view) = &view {
+            view.validate(&self.system).map_err(|problem| {
+                RunError::input(format!(
+                    "source {name:?} gave a view that cannot be drawn: {problem}"
+                ))
+            })?;
+        }
+        Ok(view)
+    }
+
     fn loaded(&self, name: &str) -> Result<&Loaded, RunError> {
         self.sources
             .iter()
