@@ -326,3 +326,33 @@ fn print_edits(report: &Report, out_dir: &Path, console: &mut Console<'_>) -> Re
     }
     Ok(())
 }
+
+/// `ecles edit`: serves the interactive editor for `run` until the process is stopped; prints
+/// the page's URL once it is served and, with `open`, hands it to the system's browser.
+pub fn edit(
+    run: &Path,
+    options: &crate::editor::EditorOptions,
+    open: bool,
+    max_input_bytes: u64,
+    console: &mut Console<'_>,
+) -> Result<u8, RunError> {
+    let mut printed = Ok(());
+    crate::editor::serve(run, max_input_bytes, options, |url| {
+        printed = console
+            .line(format!("ecles edit: serving {} at {url}", run.display()))
+            .and_then(|()| console.line("stop with Ctrl+C"))
+            .and_then(|()| console.flush());
+        if open {
+            let opener = if cfg!(target_os = "macos") {
+                "open"
+            } else {
+                "xdg-open"
+            };
+            if std::process::Command::new(opener).arg(url).spawn().is_err() {
+                let _ = console.line(format!("(could not start {opener}: open the URL yourself)"));
+            }
+        }
+    })?;
+    printed?;
+    Ok(0)
+}

@@ -16,6 +16,7 @@
 pub mod analysis;
 pub mod commands;
 pub mod console;
+pub mod editor;
 pub mod error;
 pub mod outputs;
 pub mod registry;

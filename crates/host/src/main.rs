@@ -6,6 +6,7 @@
 //! * `ecles analyze RUN.ron [--json]` builds the system and reports on it without editing.
 //! * `ecles explain RUN.ron PARAM` says why a parameter is fixed, limited or free.
 //! * `ecles plugins [--path LIB]` lists the built-in sources, or checks a dynamic plugin.
+//! * `ecles edit RUN.ron [--port P] [--no-token] [--open]` serves the interactive editor.
 //!
 //! Exit codes ([`host::error`]): 0 success; 1 the run completed but an edit failed (or, with
 //! `--strict`, the backends disagreed); 2 bad input; 3 the environment failed (an output or
@@ -67,6 +68,21 @@ enum Command {
         /// Parameter name (`src.name`), or one coordinate `src.name[k]`.
         param: String,
     },
+    /// Serve the interactive editor for a run file on 127.0.0.1 and print its URL.
+    Edit {
+        /// The RON run file.
+        run: PathBuf,
+        /// Port on 127.0.0.1 (0: any free port).
+        #[arg(long, default_value_t = 0)]
+        port: u16,
+        /// Serve without the session token (scripted use only: any local program can then
+        /// drive the editor).
+        #[arg(long)]
+        no_token: bool,
+        /// Open the page in the system's browser.
+        #[arg(long)]
+        open: bool,
+    },
     /// List built-in sources, or check a dynamic plugin library.
     Plugins {
         /// A plugin library to load and describe (without an extension: the platform's
@@ -99,6 +115,21 @@ fn main() -> ExitCode {
         Command::Analyze { run, json } => commands::analyze(&run, json, limit, &mut console),
         Command::Explain { run, param } => commands::explain(&run, &param, limit, &mut console),
         Command::Plugins { path } => commands::plugins(path.as_deref(), &mut console),
+        Command::Edit {
+            run,
+            port,
+            no_token,
+            open,
+        } => commands::edit(
+            &run,
+            &host::editor::EditorOptions {
+                port,
+                token: !no_token,
+            },
+            open,
+            limit,
+            &mut console,
+        ),
     };
     match outcome {
         Ok(code) => ExitCode::from(code),

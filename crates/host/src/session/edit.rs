@@ -131,12 +131,29 @@ impl Session {
         Ok(())
     }
 
-    /// Restores the values before the last committed edit; `false` when there is none.
+    /// Restores the values before the last committed edit (exactly: the state itself was
+    /// kept); `false` when there is none. [`Session::redo`] takes it back.
     pub fn undo(&mut self) -> bool {
         match self.history.pop() {
             Some((values, highlight)) => {
-                self.values = values;
-                self.last_highlight = highlight;
+                let current = std::mem::replace(&mut self.values, values);
+                let shown = std::mem::replace(&mut self.last_highlight, highlight);
+                self.undone.push((current, shown));
+                self.generation += 1;
+                true
+            }
+            None => false,
+        }
+    }
+
+    /// Commits again the last edit undone; `false` when there is none (a commit since the undo
+    /// forgets what was undone).
+    pub fn redo(&mut self) -> bool {
+        match self.undone.pop() {
+            Some((values, highlight)) => {
+                let current = std::mem::replace(&mut self.values, values);
+                let shown = std::mem::replace(&mut self.last_highlight, highlight);
+                self.history.push((current, shown));
                 self.generation += 1;
                 true
             }
@@ -146,6 +163,7 @@ impl Session {
 
     /// Writes a result into the values, keeping the previous state for [`Session::undo`].
     fn commit(&mut self, result: &UpdateResult<Rational>, highlight: Option<(String, Highlight)>) {
+        self.undone.clear();
         self.history
             .push((self.values.clone(), self.last_highlight.clone()));
         result.write_into(&mut self.values);
@@ -661,9 +679,20 @@ mod tests {
         assert_ne!(session.values, before);
         // The edit is stale now: applying it again is refused.
         assert!(session.apply(&edit, &last).is_err());
+        let after = session.values.clone();
         assert!(session.undo());
         assert_eq!(session.values, before);
         assert!(!session.undo());
+        // Redo restores the committed values exactly; a new commit forgets what was undone.
+        assert_eq!(session.can_undo_redo(), (false, true));
+        assert!(session.redo());
+        assert_eq!(session.values, after);
+        assert!(!session.redo());
+        assert!(session.undo());
+        let again = session.initialize(&plan).expect("initialises");
+        let first = again.update(&plan.steps[0]).expect("solvable");
+        session.apply(&again, &first).expect("applies");
+        assert_eq!(session.can_undo_redo(), (true, false));
     }
 
     /// The same session of overlapping edits committed as optima and as snapped points: both

@@ -90,6 +90,8 @@ pub struct Session {
     graph: std::cell::OnceCell<crate::structural::SystemGraph>,
     /// Values and highlights before each committed edit, for undo.
     history: Vec<(Values, BTreeMap<String, Highlight>)>,
+    /// Values and highlights undone since the last commit, for redo (a commit clears it).
+    undone: Vec<(Values, BTreeMap<String, Highlight>)>,
     /// Counts commits and undos: an edit initialised at another generation is stale.
     generation: u64,
     last_highlight: BTreeMap<String, Highlight>,
@@ -123,6 +125,7 @@ impl Session {
             inputs: vec![run_path.to_path_buf()],
             graph: std::cell::OnceCell::new(),
             history: Vec::new(),
+            undone: Vec::new(),
             generation: 0,
             last_highlight: BTreeMap::new(),
         };
@@ -324,6 +327,26 @@ impl Session {
     }
 
     /// The built source named `name`.
+    /// The constraint system of the run (all sources).
+    pub fn system(&self) -> &ConstraintSystem {
+        &self.system
+    }
+
+    /// The current values (exact), after the committed edits.
+    pub fn values(&self) -> &Values {
+        &self.values
+    }
+
+    /// The sources' names, in run-file order.
+    pub fn source_names(&self) -> impl Iterator<Item = &str> {
+        self.sources.iter().map(|s| s.name.as_str())
+    }
+
+    /// True when [`Session::undo`] has an edit to undo, and [`Session::redo`] one to redo.
+    pub fn can_undo_redo(&self) -> (bool, bool) {
+        (!self.history.is_empty(), !self.undone.is_empty())
+    }
+
     /// The view of source `name` for an interactive editor ([`api::view`]), checked against
     /// the system before it is returned (a plugin's answer is outside data); `None` when the
     /// source draws nothing.

@@ -1,0 +1,269 @@
+//! The editing session on a thread of its own: the server's handlers send it [`Command`]s and
+//! await the replies, so the session (and the plugin instances in it) never crosses threads
+//! and one command runs at a time.
+//!
+//! A drag is a sequence of [`DragRequest`]s for the same source, anchors and neighbourhood,
+//! each with the total displacement so far: every move plans the source's translation
+//! (2DSD Select and ExpandDerived for that move), reuses the initialised edit while the plan's
+//! anchors, derived set and weights stay the same (ECLES Initialize once), and answers the
+//! exact update rounded for drawing; the last request commits the exact update.
+
+use crate::error::RunError;
+use crate::session::{ActiveEdit, Planning, Session};
+use api::{format_rational, parse_rational, ParamId, Rational, Values};
+use serde::{Deserialize, Serialize};
+use serde_json::{json, Value};
+use std::path::Path;
+use std::sync::mpsc;
+use std::time::Instant;
+use tokio::sync::oneshot;
+
+/// The largest number of anchors one drag may name.
+const MAX_ANCHORS: usize = 1_000;
+
+/// A request of the page, with the channel for its answer.
+pub(crate) enum Command {
+    /// The whole state: sources with their views, points with their values, counts.
+    State(oneshot::Sender<Value>),
+    /// One frame of a drag, or its end.
+    Drag(DragRequest, oneshot::Sender<Result<Value, String>>),
+    /// Undo (`true`) or redo (`false`) the last committed edit.
+    History(bool, oneshot::Sender<Value>),
+}
+
+/// One frame of a drag: the anchors (control point names of `source`, without the source's
+/// prefix), the neighbourhood (`None`: every point), the displacement since the drag began
+/// as exact decimal text, and whether this is the release.
+#[derive(Debug, Clone, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct DragRequest {
+    /// The source whose points move.
+    pub source: String,
+    /// Point names (`v3`, `e3-7:2`, `t5:2,2,1`).
+    pub anchors: Vec<String>,
+    /// `δ_max` on the control net; `None` for every point.
+    pub neighborhood: Option<u32>,
+    /// Displacement in x and y since the drag began (decimal or fraction text, exact).
+    pub dx: String,
+    /// See `dx`.
+    pub dy: String,
+    /// Commit the exact result (the mouse was released).
+    pub commit: bool,
+}
+
+/// The drag under way: what it was planned for and its initialised edit.
+struct ActiveDrag {
+    key: (String, Vec<String>, Option<u32>),
+    spec: ecles::EditSpec,
+    edit: ActiveEdit,
+}
+
+/// Runs the session: answers commands until every sender is gone.
+pub(crate) fn run(mut session: Session, commands: mpsc::Receiver<Command>) {
+    let mut drag: Option<ActiveDrag> = None;
+    for command in commands {
+        match command {
+            Command::State(reply) => {
+                let _ = reply.send(state(&session));
+            }
+            Command::Drag(request, reply) => {
+                let _ = reply.send(drag_frame(&mut session, &mut drag, &request));
+            }
+            Command::History(undo, reply) => {
+                drag = None;
+                let done = if undo { session.undo() } else { session.redo() };
+                let mut answer = state(&session);
+                answer["done"] = json!(done);
+                let _ = reply.send(answer);
+            }
+        }
+    }
+}
+
+/// Builds the session of `run` (on the caller's thread: the actor's own thread), or the error.
+pub(crate) fn build(run: &Path, max_input_bytes: u64) -> Result<Session, RunError> {
+    let session = Session::build(run, max_input_bytes)?;
+    session.check()?;
+    Ok(session)
+}
+
+/// A point's coordinates rounded for drawing.
+fn approx(values: &Values, id: ParamId) -> Vec<f64> {
+    values
+        .get(id)
+        .iter()
+        .map(api::exact::rational_to_f64)
+        .collect()
+}
+
+fn state(session: &Session) -> Value {
+    let system = session.system();
+    let values = session.values();
+    let mut sources = Vec::new();
+    for name in session.source_names() {
+        let view = match session.view(name) {
+            Ok(view) => serde_json::to_value(view.map(drawable_view)).unwrap_or(Value::Null),
+            Err(e) => json!({ "error": e.to_string() }),
+        };
+        sources.push(json!({ "name": name, "view": view }));
+    }
+    let points: Vec<Value> = system
+        .params()
+        .iter()
+        .enumerate()
+        .filter(|(_, p)| p.dim == 2)
+        .map(|(i, p)| {
+            let id = ParamId(i as u32);
+            json!({
+                "id": i,
+                "name": p.name,
+                "value": approx(values, id),
+                "exact": values.get(id).iter().map(format_rational).collect::<Vec<_>>(),
+            })
+        })
+        .collect();
+    let (can_undo, can_redo) = session.can_undo_redo();
+    json!({
+        "run": session.run_path.display().to_string(),
+        "sources": sources,
+        "points": points,
+        "rows": system.rows().len(),
+        "violated_rows": system.violations(values).len(),
+        "can_undo": can_undo,
+        "can_redo": can_redo,
+    })
+}
+
+/// A view as the page draws it: exact vertices rounded (the page never computes with them),
+/// parameters as indices.
+fn drawable_view(view: api::SourceView) -> Value {
+    match view {
+        api::SourceView::BezierTriangles(v) => json!({
+            "kind": "bezier_triangles",
+            "degree": v.degree,
+            "smoothness": v.smoothness,
+            "vertices": v.vertices.iter().map(|p| [
+                api::exact::rational_to_f64(&p[0]),
+                api::exact::rational_to_f64(&p[1]),
+            ]).collect::<Vec<_>>(),
+            "triangles": v.triangles,
+            "patches": v.patches.iter().map(|p| p.iter().map(|id| id.0).collect::<Vec<_>>()).collect::<Vec<_>>(),
+        }),
+    }
+}
+
+/// Checks a point name before it goes into the source's operation text.
+fn check_point_name(name: &str) -> Result<(), String> {
+    let allowed = |c: char| c.is_ascii_alphanumeric() || "-_:,.".contains(c);
+    if name.is_empty() || name.len() > 64 || !name.chars().all(allowed) {
+        return Err(format!("{name:?} is not a control point name"));
+    }
+    Ok(())
+}
+
+fn drag_frame(
+    session: &mut Session,
+    drag: &mut Option<ActiveDrag>,
+    request: &DragRequest,
+) -> Result<Value, String> {
+    let started = Instant::now();
+    if request.anchors.is_empty() || request.anchors.len() > MAX_ANCHORS {
+        return Err(format!(
+            "a drag needs between 1 and {MAX_ANCHORS} anchors, not {}",
+            request.anchors.len()
+        ));
+    }
+    for name in &request.anchors {
+        check_point_name(name)?;
+    }
+    if !session.source_names().any(|s| s == request.source) {
+        return Err(format!("unknown source {:?}", request.source));
+    }
+    let exact = |what: &str, text: &str| -> Result<Rational, String> {
+        parse_rational(text).map_err(|e| format!("{what} {text:?}: {e}"))
+    };
+    let (dx, dy) = (exact("dx", &request.dx)?, exact("dy", &request.dy)?);
+    let neighborhood = request
+        .neighborhood
+        .map_or_else(|| "\"all\"".to_string(), |n| n.to_string());
+    let anchors: Vec<String> = request.anchors.iter().map(|a| format!("{a:?}")).collect();
+    let operation = format!(
+        "(anchors: [{}], neighborhood: {neighborhood}, translate: ({:?}, {:?}), steps: 1)",
+        anchors.join(", "),
+        format_rational(&dx),
+        format_rational(&dy),
+    );
+    let plan = match session
+        .plan_operation(&request.source, &operation)
+        .map_err(|e| e.to_string())?
+    {
+        Planning::Planned(plan) => plan,
+        Planning::Refused(message) => return Ok(json!({ "ok": false, "conflict": message })),
+    };
+    let key = (
+        request.source.clone(),
+        request.anchors.clone(),
+        request.neighborhood,
+    );
+    let reuse = drag
+        .as_ref()
+        .is_some_and(|d| d.key == key && d.spec == plan.spec);
+    if !reuse {
+        let edit = match session.initialize(&plan) {
+            Ok(edit) => edit,
+            Err(e) => {
+                *drag = None;
+                return Ok(json!({ "ok": false, "conflict": e.to_string() }));
+            }
+        };
+        *drag = Some(ActiveDrag {
+            key,
+            spec: plan.spec.clone(),
+            edit,
+        });
+    }
+    let Some(active) = drag.as_ref() else {
+        return Err("no drag under way".into());
+    };
+    let step = plan
+        .steps
+        .last()
+        .ok_or_else(|| "the source planned no step".to_string())?;
+    let result = match active.edit.update(step) {
+        Ok(result) => result,
+        Err(e) => return Ok(json!({ "ok": false, "conflict": e.to_string() })),
+    };
+    let report = active.edit.edit().report();
+    let moved: Vec<Value> = result
+        .anchors
+        .iter()
+        .chain(&result.derived)
+        .map(|(id, v)| {
+            json!({
+                "id": id.0,
+                "value": v.iter().map(api::exact::rational_to_f64).collect::<Vec<_>>(),
+            })
+        })
+        .collect();
+    let mut answer = json!({
+        "ok": true,
+        "moved": moved,
+        "anchors": result.anchors.len(),
+        "derived": result.derived.len(),
+        "rank": report.rank,
+        "redundant": report.redundant.len(),
+        "initialized": !reuse,
+    });
+    if request.commit {
+        let Some(active) = drag.take() else {
+            return Err("no drag under way".into());
+        };
+        session
+            .apply(&active.edit, &result)
+            .map_err(|e| e.to_string())?;
+        answer["committed"] = json!(true);
+        answer["violated_rows"] = json!(session.system().violations(session.values()).len());
+    }
+    answer["server_ms"] = json!(started.elapsed().as_secs_f64() * 1e3);
+    Ok(answer)
+}

@@ -1,0 +1,260 @@
+//! The editor's server through real HTTP on 127.0.0.1: who may talk to it, and a drag that
+//! commits exact values (every row holding), refusals that change nothing, undo and redo.
+
+use host::editor::{serve, EditorOptions};
+use serde_json::{json, Value};
+use std::io::{Read, Write};
+use std::net::TcpStream;
+use std::path::PathBuf;
+use std::sync::mpsc;
+
+/// A served editor: its port and token.
+struct Editor {
+    port: u16,
+    token: String,
+}
+
+fn examples() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../examples")
+}
+
+/// Serves `examples/{run}` on a free port (the server lives until the test process ends).
+fn start(run: &str) -> Editor {
+    let (tx, rx) = mpsc::channel();
+    let path = examples().join(run);
+    std::thread::spawn(move || {
+        let options = EditorOptions {
+            port: 0,
+            token: true,
+        };
+        let result = serve(
+            &path,
+            api::input::DEFAULT_MAX_INPUT_BYTES,
+            &options,
+            |url| {
+                let _ = tx.send(url.to_string());
+            },
+        );
+        panic!("the server stopped: {result:?}");
+    });
+    let url = rx.recv().expect("the editor serves");
+    let rest = url.strip_prefix("http://127.0.0.1:").expect("a local URL");
+    let (port, token) = rest.split_once("/?token=").expect("a token in the URL");
+    Editor {
+        port: port.parse().expect("a port"),
+        token: token.to_string(),
+    }
+}
+
+/// One HTTP/1.1 request with the given extra header lines; the status and the body.
+fn request(
+    editor: &Editor,
+    method: &str,
+    path: &str,
+    headers: &[String],
+    body: &str,
+) -> (u16, String) {
+    let mut stream = TcpStream::connect(("127.0.0.1", editor.port)).expect("connects");
+    let mut text = format!("{method} {path} HTTP/1.1\r\nConnection: close\r\n");
+    for h in headers {
+        text.push_str(h);
+        text.push_str("\r\n");
+    }
+    if !body.is_empty() {
+        text.push_str("Content-Type: application/json\r\n");
+    }
+    text.push_str(&format!("Content-Length: {}\r\n\r\n{body}", body.len()));
+    stream.write_all(text.as_bytes()).expect("sends");
+    let mut answer = String::new();
+    stream.read_to_string(&mut answer).expect("reads");
+    let status = answer[9..12].parse().expect("a status code");
+    let body = answer
+        .split_once("\r\n\r\n")
+        .map(|(_, b)| b.to_string())
+        .unwrap_or_default();
+    (status, body)
+}
+
+/// A request as the page sends it: the right host and the token.
+fn call(editor: &Editor, method: &str, path: &str, body: &Value) -> (u16, Value) {
+    let headers = [
+        format!("Host: 127.0.0.1:{}", editor.port),
+        format!("x-ecles-token: {}", editor.token),
+    ];
+    let text = if body.is_null() {
+        String::new()
+    } else {
+        body.to_string()
+    };
+    let (status, answer) = request(editor, method, path, &headers, &text);
+    (
+        status,
+        serde_json::from_str(&answer).unwrap_or(Value::String(answer)),
+    )
+}
+
+fn state(editor: &Editor) -> Value {
+    let (status, state) = call(editor, "GET", "/api/state", &Value::Null);
+    assert_eq!(status, 200, "{state}");
+    state
+}
+
+/// The exact value of point `name` in a state.
+fn exact(state: &Value, name: &str) -> Vec<String> {
+    let point = state["points"]
+        .as_array()
+        .expect("points")
+        .iter()
+        .find(|p| p["name"] == name)
+        .unwrap_or_else(|| panic!("{name} in the state"));
+    serde_json::from_value(point["exact"].clone()).expect("exact strings")
+}
+
+#[test]
+fn only_this_origin_with_the_token_may_talk_to_the_editor() {
+    let editor = start("worm.ron");
+    let host = format!("Host: 127.0.0.1:{}", editor.port);
+    let token = format!("x-ecles-token: {}", editor.token);
+    // Without the token, with a wrong one, from another host name, from another origin.
+    assert_eq!(
+        request(
+            &editor,
+            "GET",
+            "/api/state",
+            std::slice::from_ref(&host),
+            ""
+        )
+        .0,
+        401
+    );
+    let wrong = "x-ecles-token: 0123".to_string();
+    assert_eq!(
+        request(&editor, "GET", "/api/state", &[host.clone(), wrong], "").0,
+        401
+    );
+    let rebound = format!("Host: attacker.example:{}", editor.port);
+    assert_eq!(
+        request(&editor, "GET", "/api/state", &[rebound, token.clone()], "").0,
+        403
+    );
+    let origin = "Origin: http://attacker.example".to_string();
+    let drag = json!({"source": "worm", "anchors": ["v3"], "neighborhood": 3, "dx": "0", "dy": "1", "commit": true});
+    let (status, _) = request(
+        &editor,
+        "POST",
+        "/api/drag",
+        &[host.clone(), token.clone(), origin],
+        &drag.to_string(),
+    );
+    assert_eq!(status, 403);
+    // The page itself, with the token in its URL: script and style inlined, nothing fetched
+    // from elsewhere.
+    let (status, page) = request(
+        &editor,
+        "GET",
+        &format!("/?token={}", editor.token),
+        &[host],
+        "",
+    );
+    assert_eq!(status, 200);
+    assert!(page.contains("<canvas id=\"view\">") && page.contains("multiIndices"));
+    assert!(
+        !page.contains("/*SCRIPT*/") && !page.contains("http://") && !page.contains("https://")
+    );
+    // Nothing above changed the state.
+    assert_eq!(state(&editor)["can_undo"], false);
+}
+
+#[test]
+fn a_drag_commits_exact_values_and_undo_and_redo_restore_them() {
+    let editor = start("worm.ron");
+    let before = state(&editor);
+    assert_eq!(before["violated_rows"], 0);
+    let view = &before["sources"][0]["view"];
+    assert_eq!(view["kind"], "bezier_triangles");
+    assert_eq!(view["degree"], 5);
+    assert_eq!(exact(&before, "worm.v3"), ["36", "17"]);
+    // Frames of one drag: the edit is initialised once, then updated.
+    let frame = |dy: &str, commit: bool| json!({"source": "worm", "anchors": ["v3"], "neighborhood": 3, "dx": "0", "dy": dy, "commit": commit});
+    let (status, first) = call(&editor, "POST", "/api/drag", &frame("1.25", false));
+    assert_eq!(status, 200, "{first}");
+    assert_eq!(
+        (first["ok"].clone(), first["initialized"].clone()),
+        (json!(true), json!(true))
+    );
+    assert!(first["derived"].as_u64().expect("|D|") > 0);
+    let (_, second) = call(&editor, "POST", "/api/drag", &frame("2.5", false));
+    assert_eq!(second["initialized"], false, "{second}");
+    // Frames change nothing on the server.
+    assert_eq!(state(&editor)["points"], before["points"]);
+    let (_, last) = call(&editor, "POST", "/api/drag", &frame("6", true));
+    assert_eq!(
+        (last["committed"].clone(), last["violated_rows"].clone()),
+        (json!(true), json!(0))
+    );
+    let after = state(&editor);
+    // The anchor moved by exactly (0, 6); every row holds exactly.
+    assert_eq!(exact(&after, "worm.v3"), ["36", "23"]);
+    assert_eq!(after["violated_rows"], 0);
+    assert_eq!(after["can_undo"], true);
+    let (_, undone) = call(&editor, "POST", "/api/undo", &json!({}));
+    assert_eq!(undone["done"], true);
+    assert_eq!(undone["points"], before["points"]);
+    let (_, redone) = call(&editor, "POST", "/api/redo", &json!({}));
+    assert_eq!(redone["points"], after["points"]);
+    assert_eq!(redone["can_redo"], false);
+}
+
+#[test]
+fn refused_moves_and_bad_requests_change_nothing() {
+    let editor = start("worm.ron");
+    let before = state(&editor);
+    // The source refuses a point it does not have: the page shows its message.
+    let (status, refused) = call(
+        &editor,
+        "POST",
+        "/api/drag",
+        &json!({"source": "worm", "anchors": ["v99"], "neighborhood": 3, "dx": "1", "dy": "0", "commit": true}),
+    );
+    assert_eq!(status, 200);
+    assert_eq!(refused["ok"], false, "{refused}");
+    assert!(
+        refused["conflict"]
+            .as_str()
+            .is_some_and(|c| c.contains("v99")),
+        "{refused}"
+    );
+    for (bad, why) in [
+        (
+            json!({"source": "nope", "anchors": ["v3"], "neighborhood": 3, "dx": "0", "dy": "1", "commit": true}),
+            "unknown source",
+        ),
+        (
+            json!({"source": "worm", "anchors": ["v3\"]"], "neighborhood": 3, "dx": "0", "dy": "1", "commit": true}),
+            "not a control point name",
+        ),
+        (
+            json!({"source": "worm", "anchors": ["v3"], "neighborhood": 3, "dx": "0.1x", "dy": "1", "commit": true}),
+            "dx",
+        ),
+        (
+            json!({"source": "worm", "anchors": [], "neighborhood": 3, "dx": "0", "dy": "1", "commit": true}),
+            "between 1 and",
+        ),
+    ] {
+        let (status, answer) = call(&editor, "POST", "/api/drag", &bad);
+        assert_eq!(status, 400, "{bad}: {answer}");
+        assert!(
+            answer["error"].as_str().is_some_and(|e| e.contains(why)),
+            "{why}: {answer}"
+        );
+    }
+    let (status, _) = call(
+        &editor,
+        "POST",
+        "/api/drag",
+        &json!({"source": "worm", "extra": 1}),
+    );
+    assert_eq!(status, 422);
+    assert_eq!(state(&editor), before);
+}
