@@ -83,7 +83,10 @@ fn a_drag_commits_exact_values_and_undo_and_redo_restore_them() {
     assert_eq!(second["initialized"], false, "{second}");
     // Frames change nothing on the server.
     assert_eq!(state(&editor)["points"], before["points"]);
+    let (_, drawn) = call(&editor, "POST", "/api/drag", &frame("6", false));
     let (_, last) = call(&editor, "POST", "/api/drag", &frame("6", true));
+    // A frame draws the commit's exact values, rounded: the same numbers.
+    assert_eq!(drawn["moved"], last["moved"]);
     assert_eq!(
         (last["committed"].clone(), last["violated_rows"].clone()),
         (json!(true), json!(0))

@@ -6,7 +6,8 @@
 //! each with the total displacement so far: every move plans the source's translation
 //! (2DSD Select and ExpandDerived for that move), reuses the initialised edit while the plan's
 //! anchors, derived set and weights stay the same (ECLES Initialize once), and answers the
-//! exact update rounded for drawing; the last request commits the exact update.
+//! moved points for drawing: the exact verdict with the values rounded (`preview`, which skips
+//! reducing fractions); the last request commits the exact update.
 
 use crate::error::RunError;
 use crate::session::{ActiveEdit, Planning, Session};
@@ -56,6 +57,9 @@ struct ActiveDrag {
     key: (String, Vec<String>, Option<u32>),
     spec: ecles::EditSpec,
     edit: ActiveEdit,
+    /// Rank of `R_ED` and its redundant rows (from the edit's report, made once).
+    rank: usize,
+    redundant: usize,
 }
 
 /// Runs the session: answers commands until every sender is gone.
@@ -216,10 +220,13 @@ fn drag_frame(
                 return Ok(json!({ "ok": false, "conflict": e.to_string() }));
             }
         };
+        let report = edit.edit().report();
         *drag = Some(ActiveDrag {
             key,
             spec: plan.spec.clone(),
             edit,
+            rank: report.rank,
+            redundant: report.redundant.len(),
         });
     }
     let Some(active) = drag.as_ref() else {
@@ -229,32 +236,56 @@ fn drag_frame(
         .steps
         .last()
         .ok_or_else(|| "the source planned no step".to_string())?;
-    let result = match active.edit.update(step) {
-        Ok(result) => result,
-        Err(e) => return Ok(json!({ "ok": false, "conflict": e.to_string() })),
+    let to_f64 = |v: &[Rational]| {
+        v.iter()
+            .map(api::exact::rational_to_f64)
+            .collect::<Vec<_>>()
     };
-    let report = active.edit.edit().report();
-    let moved: Vec<Value> = result
-        .anchors
-        .iter()
-        .chain(&result.derived)
-        .map(|(id, v)| {
-            json!({
-                "id": id.0,
-                "value": v.iter().map(api::exact::rational_to_f64).collect::<Vec<_>>(),
-            })
-        })
-        .collect();
+    let moved_point = |id: &ParamId, value: Vec<f64>| json!({ "id": id.0, "value": value });
+    // A frame is drawn: the exact verdict with the values rounded (`preview`); the release
+    // commits the exact update.
+    let (moved, committed) = if request.commit {
+        let result = match active.edit.update(step) {
+            Ok(result) => result,
+            Err(e) => return Ok(json!({ "ok": false, "conflict": e.to_string() })),
+        };
+        let moved: Vec<Value> = result
+            .anchors
+            .iter()
+            .chain(&result.derived)
+            .map(|(id, v)| moved_point(id, to_f64(v)))
+            .collect();
+        (moved, Some(result))
+    } else {
+        let derived = match active.edit.preview(step) {
+            Ok(derived) => derived,
+            Err(e) => return Ok(json!({ "ok": false, "conflict": e.to_string() })),
+        };
+        let edit = active.edit.edit();
+        let moved: Vec<Value> = edit
+            .anchors()
+            .iter()
+            .zip(&step.anchors)
+            .map(|(id, v)| moved_point(id, to_f64(v)))
+            .chain(
+                edit.derived()
+                    .iter()
+                    .zip(derived)
+                    .map(|(id, v)| moved_point(id, v)),
+            )
+            .collect();
+        (moved, None)
+    };
     let mut answer = json!({
         "ok": true,
         "moved": moved,
-        "anchors": result.anchors.len(),
-        "derived": result.derived.len(),
-        "rank": report.rank,
-        "redundant": report.redundant.len(),
+        "anchors": active.spec.anchors.len(),
+        "derived": active.spec.derived.len(),
+        "rank": active.rank,
+        "redundant": active.redundant,
         "initialized": !reuse,
     });
-    if request.commit {
+    if let Some(result) = committed {
         let Some(active) = drag.take() else {
             return Err("no drag under way".into());
         };
