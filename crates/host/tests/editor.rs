@@ -137,6 +137,10 @@ fn refused_moves_and_bad_requests_change_nothing() {
             "dx",
         ),
         (
+            json!({"source": "worm", "anchors": ["v3"], "neighborhood": 3, "dx": "0", "dy": "1".repeat(65), "commit": true}),
+            "dy has 65 characters",
+        ),
+        (
             json!({"source": "worm", "anchors": [], "neighborhood": 3, "dx": "0", "dy": "1", "commit": true}),
             "between 1 and",
         ),

@@ -22,6 +22,10 @@ use tokio::sync::oneshot;
 /// The largest number of anchors one drag may name.
 const MAX_ANCHORS: usize = 1_000;
 
+/// The longest text of a displacement (a mouse move needs a few digits; this bounds the
+/// exact numbers a request can make the session compute with).
+const MAX_NUMBER_TEXT: usize = 64;
+
 /// A request of the page, with the channel for its answer.
 pub(crate) enum Command {
     /// The whole state: sources with their views, points with their values, counts.
@@ -184,6 +188,12 @@ fn drag_frame(
         return Err(format!("unknown source {:?}", request.source));
     }
     let exact = |what: &str, text: &str| -> Result<Rational, String> {
+        if text.len() > MAX_NUMBER_TEXT {
+            return Err(format!(
+                "{what} has {} characters, more than {MAX_NUMBER_TEXT}",
+                text.len()
+            ));
+        }
         parse_rational(text).map_err(|e| format!("{what} {text:?}: {e}"))
     };
     let (dx, dy) = (exact("dx", &request.dx)?, exact("dy", &request.dy)?);
