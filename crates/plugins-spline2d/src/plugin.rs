@@ -269,8 +269,8 @@ mod tests {
     const SQUARE: &str = r#"(mesh: (vertices: [("0", "0"), ("10", "0"), ("10", "10"), ("0", "10"), ("5", "4")],
         triangles: [(0, 1, 4), (1, 2, 4), (2, 3, 4), (3, 0, 4)]), degree: 5)"#;
 
-    #[test]
-    fn builds_and_plans_a_translation() {
+    /// The source built on [`SQUARE`], its contribution, and the system and values it makes.
+    fn built_square() -> (Spline2dSource, Contribution, ConstraintSystem, Values) {
         let mut source = Spline2dSource::default();
         let contribution = source.build(&request(SQUARE)).expect("build");
         let mut system = ConstraintSystem::new();
@@ -278,6 +278,12 @@ mod tests {
         contribution
             .apply_to(&mut system, &mut values)
             .expect("apply");
+        (source, contribution, system, values)
+    }
+
+    #[test]
+    fn builds_and_plans_a_translation() {
+        let (source, contribution, system, values) = built_square();
         assert!(system.violations(&values).is_empty());
         let count = |k: &str| {
             contribution
@@ -308,13 +314,7 @@ mod tests {
     /// the domain point `(i A + j B + k C) / d` of the triangle's vertices `A, B, C`.
     #[test]
     fn the_view_lists_each_triangles_control_points_in_multi_index_order() {
-        let mut source = Spline2dSource::default();
-        let contribution = source.build(&request(SQUARE)).expect("build");
-        let mut system = ConstraintSystem::new();
-        let mut values = Values::default();
-        contribution
-            .apply_to(&mut system, &mut values)
-            .expect("apply");
+        let (source, _, system, values) = built_square();
         let view = source
             .view(&ViewRequest {
                 schema: api::SCHEMA_VERSION,

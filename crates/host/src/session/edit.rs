@@ -134,31 +134,46 @@ impl Session {
     /// Restores the values before the last committed edit (exactly: the state itself was
     /// kept); `false` when there is none. [`Session::redo`] takes it back.
     pub fn undo(&mut self) -> bool {
-        match self.history.pop() {
-            Some((values, highlight)) => {
-                let current = std::mem::replace(&mut self.values, values);
-                let shown = std::mem::replace(&mut self.last_highlight, highlight);
-                self.undone.push((current, shown));
-                self.generation += 1;
-                true
-            }
-            None => false,
-        }
+        let (from, to) = (&mut self.history, &mut self.undone);
+        Self::step_back(
+            from,
+            to,
+            &mut self.values,
+            &mut self.last_highlight,
+            &mut self.generation,
+        )
     }
 
     /// Commits again the last edit undone; `false` when there is none (a commit since the undo
     /// forgets what was undone).
     pub fn redo(&mut self) -> bool {
-        match self.undone.pop() {
-            Some((values, highlight)) => {
-                let current = std::mem::replace(&mut self.values, values);
-                let shown = std::mem::replace(&mut self.last_highlight, highlight);
-                self.history.push((current, shown));
-                self.generation += 1;
-                true
-            }
-            None => false,
-        }
+        let (from, to) = (&mut self.undone, &mut self.history);
+        Self::step_back(
+            from,
+            to,
+            &mut self.values,
+            &mut self.last_highlight,
+            &mut self.generation,
+        )
+    }
+
+    /// Undo and redo: the state on top of `from` becomes current, the current one goes on `to`.
+    fn step_back(
+        from: &mut Vec<(Values, BTreeMap<String, Highlight>)>,
+        to: &mut Vec<(Values, BTreeMap<String, Highlight>)>,
+        values: &mut Values,
+        highlight: &mut BTreeMap<String, Highlight>,
+        generation: &mut u64,
+    ) -> bool {
+        let Some((restored, shown)) = from.pop() else {
+            return false;
+        };
+        to.push((
+            std::mem::replace(values, restored),
+            std::mem::replace(highlight, shown),
+        ));
+        *generation += 1;
+        true
     }
 
     /// Writes a result into the values, keeping the previous state for [`Session::undo`].
