@@ -78,10 +78,7 @@ impl PreparedRun {
 
     /// Runs every edit (calling `after_edit` after each), renders the outputs and completes
     /// the report. Nothing is written.
-    pub fn execute(
-        mut self,
-        mut after_edit: impl FnMut(),
-    ) -> Result<(Report, Vec<OutputFile>), RunError> {
+    pub fn execute(mut self, mut after_edit: impl FnMut()) -> Result<Executed, RunError> {
         let mut report = self.report;
         for i in 0..self.session.edit_count() {
             let edit = self.session.run_edit(i)?;
@@ -107,7 +104,48 @@ impl PreparedRun {
                 })
             })
             .collect();
-        Ok((report, files))
+        Ok(Executed {
+            report,
+            files,
+            values: self.session.values().clone(),
+        })
+    }
+}
+
+/// What a run made: its report, its rendered outputs and the final exact values.
+pub struct Executed {
+    /// The completed report.
+    pub report: Report,
+    /// The rendered outputs, not yet written.
+    pub files: Vec<OutputFile>,
+    /// Every parameter's value after the last edit.
+    pub values: api::Values,
+}
+
+impl Executed {
+    /// The report as written to `report.json`.
+    pub fn report_json(&self) -> Result<String, RunError> {
+        Ok(serde_json::to_string_pretty(&self.report)
+            .map_err(|e| RunError::environment(format!("cannot encode the report: {e}")))?
+            + "\n")
+    }
+
+    /// Writes the outputs, then `extra` files, then `report.json` into `out_dir` (created if
+    /// needed), all or nothing.
+    pub fn write(&self, out_dir: &Path, extra: Vec<(String, Vec<u8>)>) -> Result<(), RunError> {
+        let json = self.report_json()?;
+        outputs::create_dir(out_dir)?;
+        let contents: Vec<(&str, &[u8])> = self
+            .files
+            .iter()
+            .map(|f| (f.name.as_str(), f.bytes.as_slice()))
+            .chain(
+                extra
+                    .iter()
+                    .map(|(name, bytes)| (name.as_str(), bytes.as_slice())),
+            )
+            .collect();
+        outputs::write_all(out_dir, &contents, json.as_bytes())
     }
 }
 
@@ -137,14 +175,10 @@ pub fn run(options: &RunOptions, console: &mut Console<'_>) -> Result<u8, RunErr
         }
         bar
     };
-    let (report, files) = prepared.execute(|| progress.inc(1))?;
+    let executed = prepared.execute(|| progress.inc(1))?;
     progress.finish_and_clear();
-    let json = serde_json::to_string_pretty(&report)
-        .map_err(|e| RunError::environment(format!("cannot encode the report: {e}")))?
-        + "\n";
-    outputs::create_dir(&out_dir)?;
-    let contents: Vec<(String, Vec<u8>)> = files.into_iter().map(|f| (f.name, f.bytes)).collect();
-    outputs::write_all(&out_dir, &contents, json.as_bytes())?;
+    executed.write(&out_dir, Vec::new())?;
+    let report = executed.report;
     if !options.quiet {
         print_edits(&report, &out_dir, console)?;
         console.flush()?;
@@ -340,6 +374,19 @@ pub fn edit(
     crate::editor::serve(run, max_input_bytes, options, |url| {
         printed = console
             .line(format!("ecles edit: serving {} at {url}", run.display()))
+            .and_then(|()| {
+                let autosave = crate::editor::autosave_path(run);
+                if !options.autosave {
+                    console.line("no autosave (--no-autosave)")
+                } else if autosave.exists() {
+                    console.line(format!(
+                        "an autosave is at {}: the page offers to resume it; the first new edit replaces it",
+                        autosave.display()
+                    ))
+                } else {
+                    console.line(format!("autosaving to {}", autosave.display()))
+                }
+            })
             .and_then(|()| console.line("stop with Ctrl+C"))
             .and_then(|()| console.flush());
         if open {

@@ -6,7 +6,8 @@
 //! * `ecles analyze RUN.ron [--json]` builds the system and reports on it without editing.
 //! * `ecles explain RUN.ron PARAM` says why a parameter is fixed, limited or free.
 //! * `ecles plugins [--path LIB]` lists the built-in sources, or checks a dynamic plugin.
-//! * `ecles edit RUN.ron [--port P] [--no-token] [--open]` serves the interactive editor.
+//! * `ecles edit RUN.ron [--port P] [--no-token] [--no-autosave] [--open]` serves the
+//!   interactive editor.
 //!
 //! Exit codes ([`host::error`]): 0 success; 1 the run completed but an edit failed (or, with
 //! `--strict`, the backends disagreed); 2 bad input; 3 the environment failed (an output or
@@ -79,6 +80,11 @@ enum Command {
         /// drive the editor).
         #[arg(long)]
         no_token: bool,
+        /// Keep no autosave (by default the session is autosaved after every change as
+        /// `<run>.autosave.ron` beside the run file, and one found at start is offered for
+        /// resuming).
+        #[arg(long)]
+        no_autosave: bool,
         /// Open the page in the system's browser.
         #[arg(long)]
         open: bool,
@@ -119,12 +125,14 @@ fn main() -> ExitCode {
             run,
             port,
             no_token,
+            no_autosave,
             open,
         } => commands::edit(
             &run,
             &host::editor::EditorOptions {
                 port,
                 token: !no_token,
+                autosave: !no_autosave,
             },
             open,
             limit,

@@ -78,13 +78,9 @@ struct Staged {
 
 /// Writes `files` (name and contents) and then `report` as `report.json` into `dir`, all or
 /// nothing (see the module documentation).
-pub fn write_all(dir: &Path, files: &[(String, Vec<u8>)], report: &[u8]) -> Result<(), RunError> {
+pub fn write_all(dir: &Path, files: &[(&str, &[u8])], report: &[u8]) -> Result<(), RunError> {
     let mut staged = Vec::with_capacity(files.len() + 1);
-    for (name, bytes) in files
-        .iter()
-        .map(|(name, bytes)| (name.as_str(), bytes.as_slice()))
-        .chain([(REPORT, report)])
-    {
+    for &(name, bytes) in files.iter().chain(&[(REPORT, report)]) {
         staged.push(stage(dir, name, bytes)?);
     }
     let mut placed: Vec<PathBuf> = Vec::with_capacity(staged.len());
@@ -139,7 +135,7 @@ mod tests {
     #[test]
     fn writes_everything_and_the_report_last() {
         let dir = tempfile::tempdir().expect("dir");
-        write_all(dir.path(), &[("a.svg".into(), b"<svg/>".to_vec())], b"{}\n").expect("write");
+        write_all(dir.path(), &[("a.svg", b"<svg/>")], b"{}\n").expect("write");
         assert_eq!(listing(dir.path()), ["a.svg", "report.json"]);
         assert_eq!(
             std::fs::read(dir.path().join("a.svg")).expect("read"),
@@ -155,10 +151,7 @@ mod tests {
         std::fs::write(dir.path().join("b.obj").join("keep"), b"x").expect("write");
         let error = write_all(
             dir.path(),
-            &[
-                ("a.svg".into(), b"a".to_vec()),
-                ("b.obj".into(), b"b".to_vec()),
-            ],
+            &[("a.svg", b"a".as_slice()), ("b.obj", b"b".as_slice())],
             b"{}",
         )
         .expect_err("cannot replace a directory");

@@ -115,6 +115,8 @@ pub struct SourceEntry {
     pub config: Fragment,
     /// Where the entry starts.
     pub at: TextPosition,
+    /// The whole entry's RON text as written (what a saved session repeats).
+    pub text: String,
 }
 
 /// Simplification method of the exact factoring.
@@ -332,6 +334,8 @@ pub struct EditEntry {
     pub kind: EditKind,
     /// Where it starts in the run file.
     pub at: TextPosition,
+    /// The whole entry's RON text as written (what a saved session repeats).
+    pub text: String,
 }
 
 /// An output rendered by a source.
@@ -343,6 +347,8 @@ pub struct OutputEntry {
     pub output: Fragment,
     /// Where the entry starts.
     pub at: TextPosition,
+    /// The whole entry's RON text as written (what a saved session repeats).
+    pub text: String,
 }
 
 /// Why a run file could not be read.
@@ -420,6 +426,60 @@ struct RawOutput<'a> {
     output: &'a RawValue,
 }
 
+impl RunFile {
+    /// This run file's text with `edits` (whole entries, RON text) in place of its own edits:
+    /// the same sources, backend, cross-check, commit policy and outputs, as written, after
+    /// `comment` (lines of text, each written as a `//` comment). What an editor saves: reading
+    /// the text back gives this run file with those edits.
+    pub fn with_edits<'e>(
+        &self,
+        comment: &str,
+        edits: impl IntoIterator<Item = &'e str>,
+    ) -> String {
+        let mut out = String::new();
+        for line in comment.lines() {
+            out.push_str("// ");
+            out.push_str(line);
+            out.push('\n');
+        }
+        out.push_str("(\n    sources: [\n");
+        for source in &self.sources {
+            out.push_str(&format!("        {},\n", source.text));
+        }
+        out.push_str("    ],\n");
+        let simplify = match self.backend.simplify {
+            Simplify::Gcd => "Gcd",
+            Simplify::Turner => "Turner",
+            Simplify::None => "None",
+        };
+        out.push_str(&format!("    backend: (simplify: {simplify}),\n"));
+        match self.cross_check {
+            // `{:?}` of an f64 is the shortest text that reads back as the same number.
+            Some(c) => out.push_str(&format!(
+                "    cross_check: (tolerance: {:?}),\n",
+                c.tolerance
+            )),
+            None => out.push_str("    cross_check: None,\n"),
+        }
+        match self.commit {
+            CommitPolicy::Optimum => out.push_str("    commit: Optimum,\n"),
+            CommitPolicy::Snapped { grid_bits } => {
+                out.push_str(&format!("    commit: Snapped(grid_bits: {grid_bits}),\n"))
+            }
+        }
+        out.push_str("    edits: [\n");
+        for edit in edits {
+            out.push_str(&format!("        {edit},\n"));
+        }
+        out.push_str("    ],\n    outputs: [\n");
+        for output in &self.outputs {
+            out.push_str(&format!("        {},\n", output.text));
+        }
+        out.push_str("    ],\n)\n");
+        out
+    }
+}
+
 /// Reads and checks a run file of at most `limit` bytes.
 pub fn read(path: &Path, limit: u64) -> Result<RunFile, RunFileError> {
     let text = read_text_file(path, "run file", limit)?;
@@ -481,6 +541,7 @@ pub fn parse(text: &str, name: &str) -> Result<RunFile, RunFileError> {
             plugin: entry.plugin,
             config,
             at,
+            text: value.get_ron().trim().to_string(),
         });
     }
     let known = |source: &str| sources.iter().any(|s| s.name == source);
@@ -513,7 +574,11 @@ pub fn parse(text: &str, name: &str) -> Result<RunFile, RunFileError> {
                 }
             }
         };
-        edits.push(EditEntry { kind, at });
+        edits.push(EditEntry {
+            kind,
+            at,
+            text: value.get_ron().trim().to_string(),
+        });
     }
     let mut outputs = Vec::with_capacity(raw.outputs.len());
     for (i, value) in raw.outputs.iter().enumerate() {
@@ -529,6 +594,7 @@ pub fn parse(text: &str, name: &str) -> Result<RunFile, RunFileError> {
             source: entry.source,
             output: reader.fragment(entry.output),
             at,
+            text: value.get_ron().trim().to_string(),
         });
     }
     Ok(RunFile {

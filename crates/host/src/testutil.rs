@@ -29,7 +29,7 @@ pub fn beside_examples(run_text: &str) -> (tempfile::TempDir, PathBuf) {
 pub fn check(run_text: &str) -> Result<Report, RunError> {
     let (_dir, run) = beside_examples(run_text);
     let prepared = PreparedRun::prepare(&run, api::input::DEFAULT_MAX_INPUT_BYTES)?;
-    Ok(prepared.execute(|| {})?.0)
+    Ok(prepared.execute(|| {})?.report)
 }
 
 /// The session of `run_text`, built and checked (keep the directory alive).

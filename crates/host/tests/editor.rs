@@ -1,10 +1,13 @@
-//! The editor's server through real HTTP on 127.0.0.1: who may talk to it, and a drag that
-//! commits exact values (every row holding), refusals that change nothing, undo and redo.
+//! The editor's server through real HTTP on 127.0.0.1: who may talk to it, a drag that
+//! commits exact values (every row holding), refusals that change nothing, undo and redo,
+//! saving, the autosave and resuming it.
 
 mod common;
 
-use common::{call, exact, request, start, state};
-use serde_json::json;
+use common::{
+    build_align_plugin, call, commit_drag, exact, request, start, start_at, state, worm_copy,
+};
+use serde_json::{json, Value};
 
 #[test]
 fn only_this_origin_with_the_token_may_talk_to_the_editor() {
@@ -118,7 +121,7 @@ fn refused_moves_and_bad_requests_change_nothing() {
     assert_eq!(status, 200);
     assert_eq!(refused["ok"], false, "{refused}");
     assert!(
-        refused["conflict"]
+        refused["conflict"]["message"]
             .as_str()
             .is_some_and(|c| c.contains("v99")),
         "{refused}"
@@ -160,4 +163,131 @@ fn refused_moves_and_bad_requests_change_nothing() {
     );
     assert_eq!(status, 422);
     assert_eq!(state(&editor), before);
+}
+
+/// Save writes the session as a run file and what `ecles run` writes for it; running the saved
+/// file again gives the same report, model and values byte for byte, and the editor's exact
+/// values. The autosave kept after every change is offered to a new editor, which resumes it
+/// to the same values.
+#[test]
+fn a_saved_session_reruns_exactly_and_the_autosave_resumes() {
+    let (dir, run) = worm_copy();
+    let editor = start_at(run.clone(), true);
+    assert_eq!(state(&editor)["autosave"]["offer"], Value::Null);
+    commit_drag(&editor, &["v3"], 3, "0", "6");
+    commit_drag(&editor, &["v7"], 4, "-3/7", "2.5");
+    commit_drag(&editor, &["v5"], 2, "1", "1");
+    let (_, undone) = call(&editor, "POST", "/api/undo", &json!({}));
+    assert_eq!(undone["done"], true);
+    commit_drag(&editor, &["e0-1:2", "e0-1:3"], 2, "-1", "0.75");
+    let edited = state(&editor);
+    assert_eq!(edited["committed"], 3);
+    let autosave = dir.path().join("worm.autosave.ron");
+    let autosaved = std::fs::read_to_string(&autosave).expect("an autosave");
+    assert_eq!(
+        autosaved.matches("Source(source: \"worm\"").count(),
+        3,
+        "{autosaved}"
+    );
+
+    // Bad names are refused, nothing written.
+    for bad in [
+        "../x.ron",
+        "worm.ron",
+        "worm.autosave.ron",
+        "x.txt",
+        ".x.ron",
+    ] {
+        let (status, answer) = call(&editor, "POST", "/api/save", &json!({"name": bad}));
+        assert_eq!(status, 422, "{bad}: {answer}");
+    }
+    let (status, saved) = call(&editor, "POST", "/api/save", &json!({"name": null}));
+    assert_eq!(status, 200, "{saved}");
+    let out = dir.path().join("worm.session.out");
+    let values: Value = serde_json::from_str(
+        &std::fs::read_to_string(out.join("values.json")).expect("values.json"),
+    )
+    .expect("json");
+    for point in edited["points"].as_array().expect("points") {
+        let name = point["name"].as_str().expect("a name");
+        let saved_value = values["values"]
+            .as_array()
+            .expect("values")
+            .iter()
+            .find(|v| v["name"] == name)
+            .expect("every parameter saved");
+        assert_eq!(saved_value["exact"], point["exact"], "{name}");
+    }
+
+    // `ecles run` on the saved file, elsewhere: the same report, model and picture, byte for
+    // byte.
+    let again = dir.path().join("again");
+    let status = std::process::Command::new(env!("CARGO_BIN_EXE_ecles"))
+        .args(["run", "--quiet", "--out"])
+        .arg(&again)
+        .arg(dir.path().join("worm.session.ron"))
+        .status()
+        .expect("ecles runs");
+    assert!(status.success());
+    let files: Vec<String> = serde_json::from_value(saved["files"].clone()).expect("files");
+    assert_eq!(
+        files,
+        ["worm-model-deformed.obj", "worm.svg", "values.json"]
+    );
+    for file in ["report.json", "worm.svg", "worm-model-deformed.obj"] {
+        assert_eq!(
+            std::fs::read(out.join(file)).expect("saved"),
+            std::fs::read(again.join(file)).expect("run again"),
+            "{file}"
+        );
+    }
+
+    // A new editor on the run finds the autosave, resumes it and has the same values.
+    let second = start_at(run, true);
+    let offered = state(&second);
+    assert_eq!(offered["autosave"]["offer"]["edits"], 3, "{offered}");
+    let (status, resumed) = call(&second, "POST", "/api/resume", &json!({"resume": true}));
+    assert_eq!(status, 200, "{resumed}");
+    assert_eq!(resumed["resumed"], 3);
+    assert_eq!(resumed["points"], edited["points"]);
+    assert_eq!(resumed["autosave"]["offer"], Value::Null);
+    let (status, _) = call(&second, "POST", "/api/resume", &json!({"resume": true}));
+    assert_eq!(status, 422, "offered once");
+}
+
+/// A pinned point cannot move: the answer names the alignment row in the way and explains the
+/// over-determined part; a release there commits nothing.
+#[test]
+fn a_pinned_point_is_refused_with_the_constraints_in_the_way() {
+    build_align_plugin();
+    let editor = start("align.ron");
+    let before = state(&editor);
+    for commit in [false, true] {
+        let (status, refused) = call(
+            &editor,
+            "POST",
+            "/api/drag",
+            &json!({"source": "worm", "anchors": ["v1"], "neighborhood": 3, "dx": "2", "dy": "0", "commit": commit}),
+        );
+        assert_eq!(status, 200, "{refused}");
+        assert_eq!(refused["ok"], false, "{refused}");
+        let conflict = &refused["conflict"];
+        assert_eq!(
+            conflict["labels"],
+            json!(["align row 5: worm.v1 x = 12"]),
+            "{refused}"
+        );
+        let explanation: Vec<String> =
+            serde_json::from_value(conflict["explanation"].clone()).expect("lines");
+        assert!(
+            explanation
+                .iter()
+                .any(|l| l.starts_with("structurally over-determined")
+                    && l.contains("worm row 1: C1 edge 1-2")),
+            "{explanation:?}"
+        );
+    }
+    let after = state(&editor);
+    assert_eq!(after["points"], before["points"]);
+    assert_eq!(after["can_undo"], false);
 }

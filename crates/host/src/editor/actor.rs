@@ -9,12 +9,13 @@
 //! moved points for drawing: the exact verdict with the values rounded (`preview`, which skips
 //! reducing fractions); the last request commits the exact update.
 
+use super::save;
 use crate::error::RunError;
 use crate::session::{ActiveEdit, Planning, Session};
 use api::{format_rational, parse_rational, ParamId, Rational, Values};
 use serde::{Deserialize, Serialize};
 use serde_json::{json, Value};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::sync::mpsc;
 use std::time::Instant;
 use tokio::sync::oneshot;
@@ -34,6 +35,10 @@ pub(crate) enum Command {
     Drag(DragRequest, oneshot::Sender<Result<Value, String>>),
     /// Undo (`true`) or redo (`false`) the last committed edit.
     History(bool, oneshot::Sender<Value>),
+    /// Save the session under a name (`None`: the default name).
+    Save(Option<String>, oneshot::Sender<Result<Value, String>>),
+    /// Resume the autosave offered at start (`true`), or decline it (`false`).
+    Resume(bool, oneshot::Sender<Result<Value, String>>),
 }
 
 /// One frame of a drag: the anchors (control point names of `source`, without the source's
@@ -66,25 +71,124 @@ struct ActiveDrag {
     redundant: usize,
 }
 
-/// Runs the session: answers commands until every sender is gone.
-pub(crate) fn run(mut session: Session, commands: mpsc::Receiver<Command>) {
-    let mut drag: Option<ActiveDrag> = None;
-    for command in commands {
-        match command {
-            Command::State(reply) => {
-                let _ = reply.send(state(&session));
-            }
-            Command::Drag(request, reply) => {
-                let _ = reply.send(drag_frame(&mut session, &mut drag, &request));
-            }
-            Command::History(undo, reply) => {
-                drag = None;
-                let done = if undo { session.undo() } else { session.redo() };
-                let mut answer = state(&session);
-                answer["done"] = json!(done);
-                let _ = reply.send(answer);
+/// The editor's side of the session: the session, the drag under way and the autosave.
+pub(crate) struct Editor {
+    session: Session,
+    drag: Option<ActiveDrag>,
+    /// Where the autosave goes (`None`: no autosave).
+    autosave: Option<PathBuf>,
+    /// An autosave found at start, with its number of edits, until resumed, declined or
+    /// replaced by a commit.
+    offer: Option<(PathBuf, usize)>,
+    /// The last autosave's failure, shown until one succeeds.
+    autosave_error: Option<String>,
+    input_limit: u64,
+}
+
+impl Editor {
+    /// The editor of a built session; with `autosave`, the autosave beside the run file is
+    /// kept after every change, and one found now is offered for resuming.
+    pub(crate) fn new(session: Session, autosave: bool, input_limit: u64) -> Editor {
+        let autosave = autosave.then(|| save::autosave_path(&session.run_path));
+        let offer = autosave
+            .as_ref()
+            .and_then(|path| Some((path.clone(), save::autosave_offer(path, input_limit)?)));
+        Editor {
+            session,
+            drag: None,
+            autosave,
+            offer,
+            autosave_error: None,
+            input_limit,
+        }
+    }
+
+    /// Answers commands until every sender is gone.
+    pub(crate) fn run(mut self, commands: mpsc::Receiver<Command>) {
+        for command in commands {
+            match command {
+                Command::State(reply) => {
+                    let _ = reply.send(self.state());
+                }
+                Command::Drag(request, reply) => {
+                    let answer = self.drag_frame(&request);
+                    let _ = reply.send(answer);
+                }
+                Command::History(undo, reply) => {
+                    self.drag = None;
+                    let done = if undo {
+                        self.session.undo()
+                    } else {
+                        self.session.redo()
+                    };
+                    if done {
+                        self.changed();
+                    }
+                    let mut answer = self.state();
+                    answer["done"] = json!(done);
+                    let _ = reply.send(answer);
+                }
+                Command::Save(name, reply) => {
+                    let answer = save::save(&self.session, name.as_deref(), self.input_limit)
+                        .map_err(|e| e.to_string());
+                    let _ = reply.send(answer);
+                }
+                Command::Resume(resume, reply) => {
+                    let _ = reply.send(self.resume(resume));
+                }
             }
         }
+    }
+
+    /// After a commit, undo, redo or resume: the offer lapses, the autosave is written.
+    fn changed(&mut self) {
+        self.offer = None;
+        if let Some(path) = &self.autosave {
+            self.autosave_error = save::autosave(&self.session, path)
+                .err()
+                .map(|e| e.to_string());
+        }
+    }
+
+    /// Resumes the offered autosave, or declines it.
+    fn resume(&mut self, resume: bool) -> Result<Value, String> {
+        let Some((path, _)) = self.offer.clone() else {
+            return Err("there is no autosave to resume".into());
+        };
+        if !resume {
+            self.offer = None;
+            return Ok(self.state());
+        }
+        self.drag = None;
+        let repeated = self.session.resume(&path).map_err(|e| e.to_string())?;
+        self.changed();
+        let mut answer = self.state();
+        answer["resumed"] = json!(repeated);
+        Ok(answer)
+    }
+
+    /// The state ([`session_state`]) with the autosave's offer and failure.
+    fn state(&self) -> Value {
+        let mut state = session_state(&self.session);
+        state["autosave"] = json!({
+            "path": self.autosave.as_ref().map(|p| p.display().to_string()),
+            "offer": self.offer.as_ref().map(|(path, edits)| json!({
+                "path": path.display().to_string(),
+                "edits": edits,
+            })),
+            "error": self.autosave_error,
+        });
+        state["committed"] = json!(self.session.committed_count());
+        state
+    }
+
+    /// A drag frame ([`drag_frame`]); a commit is autosaved.
+    fn drag_frame(&mut self, request: &DragRequest) -> Result<Value, String> {
+        let answer = drag_frame(&mut self.session, &mut self.drag, request)?;
+        if answer["committed"] == json!(true) {
+            self.changed();
+        }
+        Ok(answer)
     }
 }
 
@@ -104,7 +208,8 @@ fn approx(values: &Values, id: ParamId) -> Vec<f64> {
         .collect()
 }
 
-fn state(session: &Session) -> Value {
+/// The whole state: sources with their views, points with their values, counts.
+fn session_state(session: &Session) -> Value {
     let system = session.system();
     let values = session.values();
     let mut sources = Vec::new();
@@ -160,6 +265,15 @@ fn drawable_view(view: api::SourceView) -> Value {
     }
 }
 
+/// The answer to a move that cannot be made: the message, the labels of the constraints in
+/// the way and the explanation (the state is unchanged).
+fn refused(message: String, labels: Vec<String>, explanation: Vec<String>) -> Value {
+    json!({
+        "ok": false,
+        "conflict": { "message": message, "labels": labels, "explanation": explanation },
+    })
+}
+
 /// Checks a point name before it goes into the source's operation text.
 fn check_point_name(name: &str) -> Result<(), String> {
     let allowed = |c: char| c.is_ascii_alphanumeric() || "-_:,.".contains(c);
@@ -212,7 +326,7 @@ fn drag_frame(
         .map_err(|e| e.to_string())?
     {
         Planning::Planned(plan) => plan,
-        Planning::Refused(message) => return Ok(json!({ "ok": false, "conflict": message })),
+        Planning::Refused(message) => return Ok(refused(message, Vec::new(), Vec::new())),
     };
     let key = (
         request.source.clone(),
@@ -227,7 +341,8 @@ fn drag_frame(
             Ok(edit) => edit,
             Err(e) => {
                 *drag = None;
-                return Ok(json!({ "ok": false, "conflict": e.to_string() }));
+                let (labels, explanation) = session.conflict_details(&plan.spec, &e);
+                return Ok(refused(e.to_string(), labels, explanation));
             }
         };
         let report = edit.edit().report();
@@ -255,9 +370,12 @@ fn drag_frame(
     // A frame is drawn: the exact verdict with the values rounded (`preview`); the release
     // commits the exact update.
     let (moved, committed) = if request.commit {
-        let result = match active.edit.update(step) {
+        let result = match session.committed_update(&active.edit, step) {
             Ok(result) => result,
-            Err(e) => return Ok(json!({ "ok": false, "conflict": e.to_string() })),
+            Err(e) => {
+                let (labels, explanation) = session.conflict_details(&active.spec, &e);
+                return Ok(refused(e.to_string(), labels, explanation));
+            }
         };
         let moved: Vec<Value> = result
             .anchors
@@ -269,7 +387,10 @@ fn drag_frame(
     } else {
         let derived = match active.edit.preview(step) {
             Ok(derived) => derived,
-            Err(e) => return Ok(json!({ "ok": false, "conflict": e.to_string() })),
+            Err(e) => {
+                let (labels, explanation) = session.conflict_details(&active.spec, &e);
+                return Ok(refused(e.to_string(), labels, explanation));
+            }
         };
         let edit = active.edit.edit();
         let moved: Vec<Value> = edit
@@ -299,8 +420,14 @@ fn drag_frame(
         let Some(active) = drag.take() else {
             return Err("no drag under way".into());
         };
+        // Source names are letters, digits, '_' and '-' (the run file's rule): `{:?}` is their
+        // RON string.
+        let entry = format!(
+            "Source(source: {:?}, operation: {operation})",
+            request.source
+        );
         session
-            .apply(&active.edit, &result)
+            .apply(&active.edit, &result, entry)
             .map_err(|e| e.to_string())?;
         answer["committed"] = json!(true);
         answer["violated_rows"] = json!(session.system().violations(session.values()).len());

@@ -11,8 +11,10 @@
 //! The session itself runs on a thread of its own ([`actor`]); handlers only forward.
 
 mod actor;
+mod save;
 
 pub use actor::DragRequest;
+pub use save::{autosave_path, default_save_name, VALUES_FILE};
 
 use crate::error::RunError;
 use axum::extract::{Request, State};
@@ -39,6 +41,9 @@ pub struct EditorOptions {
     pub port: u16,
     /// Require a random token in every request (off only for scripted use).
     pub token: bool,
+    /// Keep an autosave of the session beside the run file (see [`autosave_path`]) and offer
+    /// to resume one found at start.
+    pub autosave: bool,
 }
 
 /// What the handlers share: the way to the session and what requests must carry.
@@ -70,12 +75,13 @@ pub fn serve(
     let (commands, inbox) = mpsc::channel();
     let (built, build_result) = mpsc::channel();
     let run_path = run.to_path_buf();
+    let autosave = options.autosave;
     std::thread::Builder::new()
         .name("ecles-session".into())
         .spawn(move || match actor::build(&run_path, max_input_bytes) {
             Ok(session) => {
                 let _ = built.send(Ok(()));
-                actor::run(session, inbox);
+                actor::Editor::new(session, autosave, max_input_bytes).run(inbox);
             }
             Err(e) => {
                 let _ = built.send(Err(e));
@@ -134,6 +140,8 @@ fn router(shared: Arc<Shared>) -> Router {
         .route("/api/drag", post(drag))
         .route("/api/undo", post(undo))
         .route("/api/redo", post(redo))
+        .route("/api/save", post(save_session))
+        .route("/api/resume", post(resume))
         .layer(middleware::from_fn_with_state(shared.clone(), guard))
         .with_state(shared)
 }
@@ -240,4 +248,47 @@ async fn undo(State(shared): State<Arc<Shared>>) -> Response {
 
 async fn redo(State(shared): State<Arc<Shared>>) -> Response {
     history(shared, false).await
+}
+
+/// What `/api/save` takes: the file name (`null`: the default, see [`default_save_name`]).
+#[derive(Debug, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SaveRequest {
+    name: Option<String>,
+}
+
+/// What `/api/resume` takes: resume the autosave offered, or decline it.
+#[derive(Debug, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ResumeRequest {
+    resume: bool,
+}
+
+/// An answer that may be refused: 200 with the answer, or 422 with the message.
+fn answered(answer: Result<Result<Value, String>, Response>) -> Response {
+    match answer {
+        Ok(Ok(value)) => Json(value).into_response(),
+        Ok(Err(message)) => (
+            StatusCode::UNPROCESSABLE_ENTITY,
+            Json(serde_json::json!({ "error": message })),
+        )
+            .into_response(),
+        Err(response) => response,
+    }
+}
+
+async fn save_session(
+    State(shared): State<Arc<Shared>>,
+    Json(request): Json<SaveRequest>,
+) -> Response {
+    answered(ask(&shared, |reply| actor::Command::Save(request.name, reply)).await)
+}
+
+async fn resume(State(shared): State<Arc<Shared>>, Json(request): Json<ResumeRequest>) -> Response {
+    answered(
+        ask(&shared, |reply| {
+            actor::Command::Resume(request.resume, reply)
+        })
+        .await,
+    )
 }

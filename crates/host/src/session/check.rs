@@ -23,16 +23,18 @@ pub struct OutputsPlan {
 }
 
 impl Session {
-    /// Checks every edit and every output before the first edit runs: generic edits here
-    /// (names, dimensions, weights, overlaps), source operations and outputs by their sources
-    /// (schemas, names, numbers and limits; outputs read and validate their models). Returns
-    /// what the outputs will write and read.
-    pub fn check(&self) -> Result<OutputsPlan, RunError> {
-        for (i, edit) in self.run.edits.iter().enumerate() {
+    /// Checks `edits`, read from `file` (named in messages), against this run's parameters and
+    /// sources: generic edits here, source operations by their sources.
+    pub(super) fn check_edits(
+        &self,
+        file: &str,
+        edits: &[runfile::EditEntry],
+    ) -> Result<(), RunError> {
+        for (i, edit) in edits.iter().enumerate() {
             match &edit.kind {
-                EditKind::Ecles(generic) => self
-                    .check_generic(generic)
-                    .map_err(|message| self.at(edit.at, format!("edit {i}: {message}")))?,
+                EditKind::Ecles(generic) => self.check_generic(generic).map_err(|message| {
+                    RunError::input(format!("{file}:{}: edit {i}: {message}", edit.at))
+                })?,
                 EditKind::Source { source, operation } => {
                     let loaded = self.loaded(source)?;
                     loaded
@@ -42,15 +44,25 @@ impl Session {
                             operation: operation.text().to_string(),
                         })
                         .map_err(|e| {
-                            self.source_error(
+                            RunError::input(runfile::located_source_error(
+                                file,
                                 operation,
                                 &format!("edit {i} (source {source:?})"),
                                 &e,
-                            )
+                            ))
                         })?;
                 }
             }
         }
+        Ok(())
+    }
+
+    /// Checks every edit and every output before the first edit runs: generic edits here
+    /// (names, dimensions, weights, overlaps), source operations and outputs by their sources
+    /// (schemas, names, numbers and limits; outputs read and validate their models). Returns
+    /// what the outputs will write and read.
+    pub fn check(&self) -> Result<OutputsPlan, RunError> {
+        self.check_edits(&self.run_name(), &self.run.edits)?;
         let mut plan = OutputsPlan {
             files: Vec::new(),
             inputs: self.inputs.clone(),

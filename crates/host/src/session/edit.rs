@@ -1,11 +1,11 @@
 //! Running an edit: planned by the run file or a source, executed on the exact backend and
 //! cross-checked on the float one.
 
-use super::Session;
+use super::{Session, Step};
 use crate::analysis::{label, max_residual};
 use crate::error::RunError;
 use crate::report::{EditReport, SnapReport, ValueReport};
-use crate::runfile::{CommitPolicy, EditKind, GenericEdit};
+use crate::runfile::{CommitPolicy, EditEntry, EditKind, GenericEdit};
 use api::{
     format_rational, ConstraintSystem, Factorization, Highlight, LinearBackend, ParamId,
     PlanRequest, PlannedStep, Rational, Value, Values,
@@ -27,11 +27,25 @@ impl Session {
             .edits
             .get(index)
             .ok_or_else(|| RunError::input(format!("the run has no edit {index}")))?;
+        self.plan_entry(&self.run_name(), entry, index)
+    }
+
+    /// Plans `entry`, edit `index` of run file `file` (this run's, or a session being
+    /// resumed; named in messages).
+    fn plan_entry(
+        &self,
+        file: &str,
+        entry: &EditEntry,
+        index: usize,
+    ) -> Result<Planning, RunError> {
+        let at = |position, message: String| {
+            RunError::input(format!("{file}:{position}: edit {index}: {message}"))
+        };
         match &entry.kind {
             EditKind::Ecles(generic) => {
                 let (spec, steps) = self
                     .generic_plan(generic)
-                    .map_err(|e| self.at(entry.at, format!("edit {index}: {e}")))?;
+                    .map_err(|e| at(entry.at, e.to_string()))?;
                 Ok(Planning::Planned(PlannedEdit {
                     spec,
                     steps,
@@ -42,9 +56,7 @@ impl Session {
             EditKind::Source { source, operation } => self
                 .plan_operation(source, operation.text())
                 .map_err(|e| match e {
-                    RunError::Input(message) => {
-                        self.at(operation.start(), format!("edit {index}: {message}"))
-                    }
+                    RunError::Input(message) => at(operation.start(), message),
                     other => other,
                 }),
         }
@@ -103,10 +115,13 @@ impl Session {
     /// Commits an update of `edit` (from [`ActiveEdit::update`]): the anchors and derived
     /// parameters take its values, the previous values can be restored with
     /// [`Session::undo`]. Refused when the values changed since the edit was initialised.
+    /// `entry` is the edit as a run-file entry (`Source(source: ..., operation: ...)` with
+    /// the operation of this result), kept for [`Session::committed_edits`].
     pub fn apply(
         &mut self,
         edit: &ActiveEdit,
         result: &UpdateResult<Rational>,
+        entry: String,
     ) -> Result<(), RunError> {
         if edit.generation != self.generation {
             return Err(RunError::input(
@@ -127,8 +142,23 @@ impl Session {
                 },
             )
         });
-        self.commit(result, highlight);
+        self.commit(result, highlight, entry);
         Ok(())
+    }
+
+    /// The update a commit of `edit` takes for `step`, under the run's commit policy (the
+    /// optimum, or a snapped point): what [`Session::run_edit`] commits for the same step.
+    pub fn committed_update(
+        &self,
+        edit: &ActiveEdit,
+        step: &PlannedStep,
+    ) -> Result<UpdateResult<Rational>, EditError<Rational>> {
+        match self.run.commit {
+            CommitPolicy::Optimum => edit.update(step),
+            CommitPolicy::Snapped { grid_bits } => edit
+                .update_snapped(step, grid_bits)
+                .map(|(result, _)| result),
+        }
     }
 
     /// Restores the values before the last committed edit (exactly: the state itself was
@@ -157,30 +187,41 @@ impl Session {
         )
     }
 
-    /// Undo and redo: the state on top of `from` becomes current, the current one goes on `to`.
+    /// Undo and redo: the state on top of `from` becomes current, the current one goes on `to`
+    /// with the same edit.
     fn step_back(
-        from: &mut Vec<(Values, BTreeMap<String, Highlight>)>,
-        to: &mut Vec<(Values, BTreeMap<String, Highlight>)>,
+        from: &mut Vec<Step>,
+        to: &mut Vec<Step>,
         values: &mut Values,
         highlight: &mut BTreeMap<String, Highlight>,
         generation: &mut u64,
     ) -> bool {
-        let Some((restored, shown)) = from.pop() else {
+        let Some(step) = from.pop() else {
             return false;
         };
-        to.push((
-            std::mem::replace(values, restored),
-            std::mem::replace(highlight, shown),
-        ));
+        to.push(Step {
+            values: std::mem::replace(values, step.values),
+            highlight: std::mem::replace(highlight, step.highlight),
+            entry: step.entry,
+        });
         *generation += 1;
         true
     }
 
-    /// Writes a result into the values, keeping the previous state for [`Session::undo`].
-    fn commit(&mut self, result: &UpdateResult<Rational>, highlight: Option<(String, Highlight)>) {
+    /// Writes a result into the values, keeping the previous state and the edit (`entry`, its
+    /// run-file text) for [`Session::undo`] and [`Session::committed_edits`].
+    fn commit(
+        &mut self,
+        result: &UpdateResult<Rational>,
+        highlight: Option<(String, Highlight)>,
+        entry: String,
+    ) {
         self.undone.clear();
-        self.history
-            .push((self.values.clone(), self.last_highlight.clone()));
+        self.history.push(Step {
+            values: self.values.clone(),
+            highlight: self.last_highlight.clone(),
+            entry,
+        });
         result.write_into(&mut self.values);
         if let Some((source, highlight)) = highlight {
             self.last_highlight.insert(source, highlight);
@@ -188,15 +229,36 @@ impl Session {
         self.generation += 1;
     }
 
+    /// The committed edits in force (undone ones excluded), in order, as run-file entries.
+    pub fn committed_edits(&self) -> impl Iterator<Item = &str> {
+        self.history.iter().map(|step| step.entry.as_str())
+    }
+
     /// Runs edit `index`; the report says whether it was solvable. Values change only when
     /// every step succeeded.
     pub fn run_edit(&mut self, index: usize) -> Result<EditReport, RunError> {
+        let entry = self
+            .run
+            .edits
+            .get(index)
+            .ok_or_else(|| RunError::input(format!("the run has no edit {index}")))?
+            .clone();
+        self.run_entry(&self.run_name(), &entry, index)
+    }
+
+    /// Runs `entry` as edit `index` of run file `file` (see [`Session::run_edit`]).
+    pub(super) fn run_entry(
+        &mut self,
+        file: &str,
+        entry: &EditEntry,
+        index: usize,
+    ) -> Result<EditReport, RunError> {
         let mut report = EditReport {
             index,
             ..EditReport::default()
         };
-        let planned = self.plan_edit(index)?;
-        report.kind = match &self.run.edits[index].kind {
+        let planned = self.plan_entry(file, entry, index)?;
+        report.kind = match &entry.kind {
             EditKind::Ecles(_) => "ecles".into(),
             EditKind::Source { source, .. } => {
                 report.source = Some(source.clone());
@@ -283,7 +345,7 @@ impl Session {
                             },
                         )
                     });
-                    self.commit(last, highlight);
+                    self.commit(last, highlight, entry.text.clone());
                 }
             }
             Err(e) => {
@@ -295,6 +357,19 @@ impl Session {
         }
         report.max_residual = max_residual(&self.system, &self.values);
         Ok(report)
+    }
+
+    /// A refused edit of `spec` for a person: the labels of the conflicting rows (empty when
+    /// the refusal has no certificate) and the explanation in lines of text.
+    pub fn conflict_details(
+        &self,
+        spec: &EditSpec,
+        e: &EditError<Rational>,
+    ) -> (Vec<String>, Vec<String>) {
+        (
+            conflict_labels(&self.system, e).unwrap_or_default(),
+            self.explain_conflict(spec, e),
+        )
     }
 
     /// Which anchors and constraints clash in a refused edit, in words: the conflicting rows,
@@ -689,11 +764,12 @@ mod tests {
         let last = edit
             .update(plan.steps.last().expect("steps"))
             .expect("solvable");
-        session.apply(&edit, &last).expect("applies");
+        let entry = "Source(source: \"worm\", operation: ())".to_string();
+        session.apply(&edit, &last, entry.clone()).expect("applies");
         assert!(session.system.violations(&session.values).is_empty());
         assert_ne!(session.values, before);
         // The edit is stale now: applying it again is refused.
-        assert!(session.apply(&edit, &last).is_err());
+        assert!(session.apply(&edit, &last, entry.clone()).is_err());
         let after = session.values.clone();
         assert!(session.undo());
         assert_eq!(session.values, before);
@@ -706,7 +782,7 @@ mod tests {
         assert!(session.undo());
         let again = session.initialize(&plan).expect("initialises");
         let first = again.update(&plan.steps[0]).expect("solvable");
-        session.apply(&again, &first).expect("applies");
+        session.apply(&again, &first, entry).expect("applies");
         assert_eq!(session.can_undo_redo(), (true, false));
     }
 

@@ -18,6 +18,7 @@ use std::path::{Path, PathBuf};
 mod check;
 mod edit;
 mod float_twin;
+mod record;
 mod render;
 
 pub use check::OutputsPlan;
@@ -70,6 +71,15 @@ struct Loaded {
     report: SourceReport,
 }
 
+/// A committed edit on the undo or redo stack: the state on the other side of it, and the edit
+/// as a run-file entry.
+struct Step {
+    values: Values,
+    highlight: BTreeMap<String, Highlight>,
+    /// `Ecles(...)` or `Source(...)`, RON text that repeats the edit in a run file.
+    entry: String,
+}
+
 /// The state of a run.
 pub struct Session {
     /// Run file path as given.
@@ -88,10 +98,11 @@ pub struct Session {
     /// The whole system's graph and Dulmage–Mendelsohn decomposition, computed once (the
     /// system does not change after the sources are built).
     graph: std::cell::OnceCell<crate::structural::SystemGraph>,
-    /// Values and highlights before each committed edit, for undo.
-    history: Vec<(Values, BTreeMap<String, Highlight>)>,
-    /// Values and highlights undone since the last commit, for redo (a commit clears it).
-    undone: Vec<(Values, BTreeMap<String, Highlight>)>,
+    /// Each committed edit, with the values and highlights before it, for undo.
+    history: Vec<Step>,
+    /// Edits undone since the last commit, with the values and highlights they gave, for redo
+    /// (a commit clears it).
+    undone: Vec<Step>,
     /// Counts commits and undos: an edit initialised at another generation is stale.
     generation: u64,
     last_highlight: BTreeMap<String, Highlight>,

@@ -20,14 +20,20 @@ pub fn examples() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../examples")
 }
 
-/// Serves `examples/{run}` on a free port (the server lives until the test process ends).
+/// Serves `examples/{run}` on a free port, without autosave (the server lives until the test
+/// process ends).
 pub fn start(run: &str) -> Editor {
+    start_at(examples().join(run), false)
+}
+
+/// Serves the run file `path` on a free port, with or without autosave.
+pub fn start_at(path: PathBuf, autosave: bool) -> Editor {
     let (tx, rx) = mpsc::channel();
-    let path = examples().join(run);
     std::thread::spawn(move || {
         let options = EditorOptions {
             port: 0,
             token: true,
+            autosave,
         };
         let result = serve(
             &path,
@@ -110,4 +116,54 @@ pub fn exact(state: &Value, name: &str) -> Vec<String> {
         .find(|p| p["name"] == name)
         .unwrap_or_else(|| panic!("{name} in the state"));
     serde_json::from_value(point["exact"].clone()).expect("exact strings")
+}
+
+/// A copy of the worm example (run file, mesh and model) in a fresh directory, where saves and
+/// autosaves may be written; the run file's path.
+pub fn worm_copy() -> (tempfile::TempDir, PathBuf) {
+    let dir = tempfile::tempdir().expect("a temporary directory");
+    for file in ["worm.ron", "meshes/worm.obj", "models/worm-model.obj"] {
+        let target = dir.path().join(file);
+        std::fs::create_dir_all(target.parent().expect("a parent")).expect("mkdir");
+        std::fs::copy(examples().join(file), &target).expect("copy");
+    }
+    let run = dir.path().join("worm.ron");
+    (dir, run)
+}
+
+/// A drag of `anchors` of the worm by (dx, dy), committed; the answer.
+pub fn commit_drag(
+    editor: &Editor,
+    anchors: &[&str],
+    neighborhood: u32,
+    dx: &str,
+    dy: &str,
+) -> Value {
+    let (status, answer) = call(
+        editor,
+        "POST",
+        "/api/drag",
+        &serde_json::json!({"source": "worm", "anchors": anchors, "neighborhood": neighborhood,
+            "dx": dx, "dy": dy, "commit": true}),
+    );
+    assert_eq!(status, 200, "{answer}");
+    assert_eq!(answer["committed"], true, "{answer}");
+    answer
+}
+
+/// Builds the `align` plugin library where `examples/align.ron` loads it
+/// (`target/release`), once per test binary.
+pub fn build_align_plugin() {
+    static BUILT: std::sync::OnceLock<()> = std::sync::OnceLock::new();
+    BUILT.get_or_init(|| {
+        let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+        let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..");
+        let status = std::process::Command::new(cargo)
+            .current_dir(&root)
+            .args(["build", "--release", "-p", "plugins-align", "--target-dir"])
+            .arg(root.join("target"))
+            .status()
+            .expect("cargo runs");
+        assert!(status.success(), "building the align plugin failed");
+    });
 }
