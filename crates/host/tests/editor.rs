@@ -37,7 +37,7 @@ fn only_this_origin_with_the_token_may_talk_to_the_editor() {
         403
     );
     let origin = "Origin: http://attacker.example".to_string();
-    let drag = json!({"source": "worm", "anchors": ["v3"], "neighborhood": 3, "dx": "0", "dy": "1", "commit": true});
+    let drag = json!({"selection": {"source": "worm", "anchors": ["v3"], "neighborhood": 3}, "motion": {"translate": {"dx": "0", "dy": "1"}}, "commit": true});
     let (status, _) = request(
         &editor,
         "POST",
@@ -74,7 +74,7 @@ fn a_drag_commits_exact_values_and_undo_and_redo_restore_them() {
     assert_eq!(view["degree"], 5);
     assert_eq!(exact(&before, "worm.v3"), ["36", "17"]);
     // Frames of one drag: the edit is initialised once, then updated.
-    let frame = |dy: &str, commit: bool| json!({"source": "worm", "anchors": ["v3"], "neighborhood": 3, "dx": "0", "dy": dy, "commit": commit});
+    let frame = |dy: &str, commit: bool| json!({"selection": {"source": "worm", "anchors": ["v3"], "neighborhood": 3}, "motion": {"translate": {"dx": "0", "dy": dy}}, "commit": commit});
     let (status, first) = call(&editor, "POST", "/api/drag", &frame("1.25", false));
     assert_eq!(status, 200, "{first}");
     assert_eq!(
@@ -116,7 +116,7 @@ fn refused_moves_and_bad_requests_change_nothing() {
         &editor,
         "POST",
         "/api/drag",
-        &json!({"source": "worm", "anchors": ["v99"], "neighborhood": 3, "dx": "1", "dy": "0", "commit": true}),
+        &json!({"selection": {"source": "worm", "anchors": ["v99"], "neighborhood": 3}, "motion": {"translate": {"dx": "1", "dy": "0"}}, "commit": true}),
     );
     assert_eq!(status, 200);
     assert_eq!(refused["ok"], false, "{refused}");
@@ -128,23 +128,23 @@ fn refused_moves_and_bad_requests_change_nothing() {
     );
     for (bad, why) in [
         (
-            json!({"source": "nope", "anchors": ["v3"], "neighborhood": 3, "dx": "0", "dy": "1", "commit": true}),
+            json!({"selection": {"source": "nope", "anchors": ["v3"], "neighborhood": 3}, "motion": {"translate": {"dx": "0", "dy": "1"}}, "commit": true}),
             "unknown source",
         ),
         (
-            json!({"source": "worm", "anchors": ["v3\"]"], "neighborhood": 3, "dx": "0", "dy": "1", "commit": true}),
+            json!({"selection": {"source": "worm", "anchors": ["v3\"]"], "neighborhood": 3}, "motion": {"translate": {"dx": "0", "dy": "1"}}, "commit": true}),
             "not a control point name",
         ),
         (
-            json!({"source": "worm", "anchors": ["v3"], "neighborhood": 3, "dx": "0.1x", "dy": "1", "commit": true}),
+            json!({"selection": {"source": "worm", "anchors": ["v3"], "neighborhood": 3}, "motion": {"translate": {"dx": "0.1x", "dy": "1"}}, "commit": true}),
             "dx",
         ),
         (
-            json!({"source": "worm", "anchors": ["v3"], "neighborhood": 3, "dx": "0", "dy": "1".repeat(65), "commit": true}),
+            json!({"selection": {"source": "worm", "anchors": ["v3"], "neighborhood": 3}, "motion": {"translate": {"dx": "0", "dy": "1".repeat(65)}}, "commit": true}),
             "dy has 65 characters",
         ),
         (
-            json!({"source": "worm", "anchors": [], "neighborhood": 3, "dx": "0", "dy": "1", "commit": true}),
+            json!({"selection": {"source": "worm", "anchors": [], "neighborhood": 3}, "motion": {"translate": {"dx": "0", "dy": "1"}}, "commit": true}),
             "between 1 and",
         ),
     ] {
@@ -267,7 +267,7 @@ fn a_pinned_point_is_refused_with_the_constraints_in_the_way() {
             &editor,
             "POST",
             "/api/drag",
-            &json!({"source": "worm", "anchors": ["v1"], "neighborhood": 3, "dx": "2", "dy": "0", "commit": commit}),
+            &json!({"selection": {"source": "worm", "anchors": ["v1"], "neighborhood": 3}, "motion": {"translate": {"dx": "2", "dy": "0"}}, "commit": commit}),
         );
         assert_eq!(status, 200, "{refused}");
         assert_eq!(refused["ok"], false, "{refused}");
@@ -290,4 +290,77 @@ fn a_pinned_point_is_refused_with_the_constraints_in_the_way() {
     let after = state(&editor);
     assert_eq!(after["points"], before["points"]);
     assert_eq!(after["can_undo"], false);
+}
+
+/// Rotations and scalings about a centre are exact; the derived set of a selection is known
+/// before a drag and grows with δ_max; the state carries the constraints on the control
+/// points (the C1 quadrilaterals) and a drag the relevant rows it keeps.
+#[test]
+fn rotations_scalings_and_the_derived_set_before_a_drag() {
+    let editor = start("worm.ron");
+    let before = state(&editor);
+    let c1: Vec<&Value> = before["constraints"]
+        .as_array()
+        .expect("constraints")
+        .iter()
+        .filter(|c| c["label"].as_str().is_some_and(|l| l.contains("C1")))
+        .collect();
+    assert!(!c1.is_empty());
+    assert!(c1
+        .iter()
+        .all(|c| c["points"].as_array().map(Vec::len) == Some(4)));
+    let derived = |neighborhood: u32| {
+        let (status, selected) = call(
+            &editor,
+            "POST",
+            "/api/select",
+            &json!({"source": "worm", "anchors": ["v3"], "neighborhood": neighborhood}),
+        );
+        assert_eq!(status, 200, "{selected}");
+        assert_eq!(selected["anchors"].as_array().map(Vec::len), Some(1));
+        selected["derived"]
+            .as_array()
+            .map(Vec::len)
+            .expect("derived")
+    };
+    let (near, far) = (derived(1), derived(3));
+    assert!(0 < near && near < far, "{near} {far}");
+
+    let int = |text: &str| text.parse::<i64>().expect("an integer coordinate");
+    let v7: Vec<i64> = exact(&before, "worm.v7").iter().map(|t| int(t)).collect();
+    let (status, rotated) = call(
+        &editor,
+        "POST",
+        "/api/drag",
+        &json!({"selection": {"source": "worm", "anchors": ["v7"], "neighborhood": 4},
+            "motion": {"rotate": {"center": ["60", "11"], "degrees": "90"}}, "commit": true}),
+    );
+    assert_eq!(rotated["committed"], true, "{status} {rotated}");
+    assert!(rotated["relevant"]
+        .as_array()
+        .is_some_and(|r| !r.is_empty()));
+    // A quarter turn about (60, 11) is exact.
+    let turned = [60 - (v7[1] - 11), 11 + (v7[0] - 60)].map(|c| c.to_string());
+    assert_eq!(exact(&state(&editor), "worm.v7"), turned);
+
+    let corner = exact(&before, "worm.e0-1:2");
+    let (_, scaled) = call(
+        &editor,
+        "POST",
+        "/api/drag",
+        &json!({"selection": {"source": "worm", "anchors": ["e0-1:2"], "neighborhood": 2},
+            "motion": {"scale": {"center": ["0", "0"], "factor": "1.5"}}, "commit": true}),
+    );
+    assert_eq!(scaled["committed"], true, "{scaled}");
+    let after = state(&editor);
+    let times = |t: &str| {
+        let r: api::Rational =
+            api::parse_rational(t).expect("exact") * api::parse_rational("3/2").expect("exact");
+        api::format_rational(&r)
+    };
+    assert_eq!(
+        exact(&after, "worm.e0-1:2"),
+        corner.iter().map(|t| times(t)).collect::<Vec<_>>()
+    );
+    assert_eq!(after["violated_rows"], 0);
 }

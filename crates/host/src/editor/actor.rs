@@ -9,23 +9,16 @@
 //! moved points for drawing: the exact verdict with the values rounded (`preview`, which skips
 //! reducing fractions); the last request commits the exact update.
 
+use super::motion::{DragRequest, Selection};
 use super::save;
 use crate::error::RunError;
 use crate::session::{ActiveEdit, Planning, Session};
-use api::{format_rational, parse_rational, ParamId, Rational, Values};
-use serde::{Deserialize, Serialize};
+use api::{format_rational, ParamId, Rational, Values};
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
 use std::sync::mpsc;
 use std::time::Instant;
 use tokio::sync::oneshot;
-
-/// The largest number of anchors one drag may name.
-const MAX_ANCHORS: usize = 1_000;
-
-/// The longest text of a displacement (a mouse move needs a few digits; this bounds the
-/// exact numbers a request can make the session compute with).
-const MAX_NUMBER_TEXT: usize = 64;
 
 /// A request of the page, with the channel for its answer.
 pub(crate) enum Command {
@@ -39,31 +32,13 @@ pub(crate) enum Command {
     Save(Option<String>, oneshot::Sender<Result<Value, String>>),
     /// Resume the autosave offered at start (`true`), or decline it (`false`).
     Resume(bool, oneshot::Sender<Result<Value, String>>),
-}
-
-/// One frame of a drag: the anchors (control point names of `source`, without the source's
-/// prefix), the neighbourhood (`None`: every point), the displacement since the drag began
-/// as exact decimal text, and whether this is the release.
-#[derive(Debug, Clone, PartialEq, Eq, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
-pub struct DragRequest {
-    /// The source whose points move.
-    pub source: String,
-    /// Point names (`v3`, `e3-7:2`, `t5:2,2,1`).
-    pub anchors: Vec<String>,
-    /// `δ_max` on the control net; `None` for every point.
-    pub neighborhood: Option<u32>,
-    /// Displacement in x and y since the drag began (decimal or fraction text, exact).
-    pub dx: String,
-    /// See `dx`.
-    pub dy: String,
-    /// Commit the exact result (the mouse was released).
-    pub commit: bool,
+    /// The points a selection would move (2DSD Select and ExpandDerived, nothing initialised).
+    Select(Selection, oneshot::Sender<Result<Value, String>>),
 }
 
 /// The drag under way: what it was planned for and its initialised edit.
 struct ActiveDrag {
-    key: (String, Vec<String>, Option<u32>),
+    key: Selection,
     spec: ecles::EditSpec,
     edit: ActiveEdit,
     /// Rank of `R_ED` and its redundant rows (from the edit's report, made once).
@@ -135,6 +110,9 @@ impl Editor {
                 }
                 Command::Resume(resume, reply) => {
                     let _ = reply.send(self.resume(resume));
+                }
+                Command::Select(selection, reply) => {
+                    let _ = reply.send(select(&self.session, &selection));
                 }
             }
         }
@@ -236,7 +214,9 @@ fn session_state(session: &Session) -> Value {
         })
         .collect();
     let (can_undo, can_redo) = session.can_undo_redo();
+    let rows = (0..system.rows().len()).map(|r| api::RowId(r as u32));
     json!({
+        "constraints": drawable_rows(system, rows),
         "run": session.run_path.display().to_string(),
         "sources": sources,
         "points": points,
@@ -265,6 +245,47 @@ fn drawable_view(view: api::SourceView) -> Value {
     }
 }
 
+/// The anchors and derived points of `selection` (the initial derived set S the page shows as
+/// soon as the selection or `δ_max` changes), planned for a translation by zero.
+fn select(session: &Session, selection: &Selection) -> Result<Value, String> {
+    if !session.source_names().any(|s| s == selection.source) {
+        return Err(format!("unknown source {:?}", selection.source));
+    }
+    let still = super::Motion::Translate {
+        dx: "0".into(),
+        dy: "0".into(),
+    };
+    let operation = selection.operation(&still)?;
+    match session
+        .plan_operation(&selection.source, &operation)
+        .map_err(|e| e.to_string())?
+    {
+        Planning::Planned(plan) => Ok(json!({
+            "ok": true,
+            "anchors": plan.spec.anchors.iter().map(|p| p.0).collect::<Vec<_>>(),
+            "derived": plan.spec.derived.iter().map(|p| p.0).collect::<Vec<_>>(),
+        })),
+        Planning::Refused(message) => Ok(refused(message, Vec::new(), Vec::new())),
+    }
+}
+
+/// Rows as the page draws them: the label and the points (parameters of dimension 2) in each
+/// row, for rows made of points only.
+fn drawable_rows(
+    system: &api::ConstraintSystem,
+    rows: impl Iterator<Item = api::RowId>,
+) -> Vec<Value> {
+    rows.filter_map(|r| {
+        let row = &system.rows()[r.index()];
+        let params = row.body.params();
+        let points = params.iter().all(|p| system.params()[p.index()].dim == 2);
+        (points && params.len() >= 2).then(|| {
+            json!({ "label": row.label, "points": params.iter().map(|p| p.0).collect::<Vec<_>>() })
+        })
+    })
+    .collect()
+}
+
 /// The answer to a move that cannot be made: the message, the labels of the constraints in
 /// the way and the explanation (the state is unchanged).
 fn refused(message: String, labels: Vec<String>, explanation: Vec<String>) -> Value {
@@ -274,65 +295,25 @@ fn refused(message: String, labels: Vec<String>, explanation: Vec<String>) -> Va
     })
 }
 
-/// Checks a point name before it goes into the source's operation text.
-fn check_point_name(name: &str) -> Result<(), String> {
-    let allowed = |c: char| c.is_ascii_alphanumeric() || "-_:,.".contains(c);
-    if name.is_empty() || name.len() > 64 || !name.chars().all(allowed) {
-        return Err(format!("{name:?} is not a control point name"));
-    }
-    Ok(())
-}
-
 fn drag_frame(
     session: &mut Session,
     drag: &mut Option<ActiveDrag>,
     request: &DragRequest,
 ) -> Result<Value, String> {
     let started = Instant::now();
-    if request.anchors.is_empty() || request.anchors.len() > MAX_ANCHORS {
-        return Err(format!(
-            "a drag needs between 1 and {MAX_ANCHORS} anchors, not {}",
-            request.anchors.len()
-        ));
+    let selection = &request.selection;
+    if !session.source_names().any(|s| s == selection.source) {
+        return Err(format!("unknown source {:?}", selection.source));
     }
-    for name in &request.anchors {
-        check_point_name(name)?;
-    }
-    if !session.source_names().any(|s| s == request.source) {
-        return Err(format!("unknown source {:?}", request.source));
-    }
-    let exact = |what: &str, text: &str| -> Result<Rational, String> {
-        if text.len() > MAX_NUMBER_TEXT {
-            return Err(format!(
-                "{what} has {} characters, more than {MAX_NUMBER_TEXT}",
-                text.len()
-            ));
-        }
-        parse_rational(text).map_err(|e| format!("{what} {text:?}: {e}"))
-    };
-    let (dx, dy) = (exact("dx", &request.dx)?, exact("dy", &request.dy)?);
-    let neighborhood = request
-        .neighborhood
-        .map_or_else(|| "\"all\"".to_string(), |n| n.to_string());
-    let anchors: Vec<String> = request.anchors.iter().map(|a| format!("{a:?}")).collect();
-    let operation = format!(
-        "(anchors: [{}], neighborhood: {neighborhood}, translate: ({:?}, {:?}), steps: 1)",
-        anchors.join(", "),
-        format_rational(&dx),
-        format_rational(&dy),
-    );
+    let operation = selection.operation(&request.motion)?;
     let plan = match session
-        .plan_operation(&request.source, &operation)
+        .plan_operation(&selection.source, &operation)
         .map_err(|e| e.to_string())?
     {
         Planning::Planned(plan) => plan,
         Planning::Refused(message) => return Ok(refused(message, Vec::new(), Vec::new())),
     };
-    let key = (
-        request.source.clone(),
-        request.anchors.clone(),
-        request.neighborhood,
-    );
+    let key = selection.clone();
     let reuse = drag
         .as_ref()
         .is_some_and(|d| d.key == key && d.spec == plan.spec);
@@ -416,6 +397,22 @@ fn drag_frame(
         "redundant": active.redundant,
         "initialized": !reuse,
     });
+    if !reuse {
+        // Once per drag: which points are derived, and the non-redundant relevant constraints
+        // (the rows the edit keeps), for drawing.
+        let mut independent: Vec<api::RowId> = active
+            .edit
+            .edit()
+            .report()
+            .independent
+            .iter()
+            .map(|r| r.row)
+            .collect();
+        independent.sort();
+        independent.dedup();
+        answer["derived_ids"] = json!(active.spec.derived.iter().map(|p| p.0).collect::<Vec<_>>());
+        answer["relevant"] = json!(drawable_rows(session.system(), independent.into_iter()));
+    }
     if let Some(result) = committed {
         let Some(active) = drag.take() else {
             return Err("no drag under way".into());
@@ -424,7 +421,7 @@ fn drag_frame(
         // RON string.
         let entry = format!(
             "Source(source: {:?}, operation: {operation})",
-            request.source
+            selection.source
         );
         session
             .apply(&active.edit, &result, entry)

@@ -11,9 +11,10 @@
 //! The session itself runs on a thread of its own ([`actor`]); handlers only forward.
 
 mod actor;
+mod motion;
 mod save;
 
-pub use actor::DragRequest;
+pub use motion::{DragRequest, Motion, Selection};
 pub use save::{autosave_path, default_save_name, VALUES_FILE};
 
 use crate::error::RunError;
@@ -31,6 +32,7 @@ use tokio::sync::oneshot;
 
 /// The page, its script and its style, assembled into one response.
 const PAGE_HTML: &str = include_str!("page/index.html");
+const PAGE_GEOMETRY_JS: &str = include_str!("page/geometry.js");
 const PAGE_JS: &str = include_str!("page/editor.js");
 const PAGE_CSS: &str = include_str!("page/editor.css");
 
@@ -142,6 +144,7 @@ fn router(shared: Arc<Shared>) -> Router {
         .route("/api/redo", post(redo))
         .route("/api/save", post(save_session))
         .route("/api/resume", post(resume))
+        .route("/api/select", post(select))
         .layer(middleware::from_fn_with_state(shared.clone(), guard))
         .with_state(shared)
 }
@@ -185,7 +188,7 @@ async fn guard(State(shared): State<Arc<Shared>>, request: Request, next: Next) 
 async fn page() -> impl IntoResponse {
     let html = PAGE_HTML
         .replace("/*STYLE*/", PAGE_CSS)
-        .replace("/*SCRIPT*/", PAGE_JS);
+        .replace("/*SCRIPT*/", &format!("{PAGE_GEOMETRY_JS}\n{PAGE_JS}"));
     let mut headers = HeaderMap::new();
     headers.insert(
         header::CONTENT_SECURITY_POLICY,
@@ -291,4 +294,8 @@ async fn resume(State(shared): State<Arc<Shared>>, Json(request): Json<ResumeReq
         })
         .await,
     )
+}
+
+async fn select(State(shared): State<Arc<Shared>>, Json(selection): Json<Selection>) -> Response {
+    answered(ask(&shared, |reply| actor::Command::Select(selection, reply)).await)
 }

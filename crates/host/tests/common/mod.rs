@@ -143,8 +143,8 @@ pub fn commit_drag(
         editor,
         "POST",
         "/api/drag",
-        &serde_json::json!({"source": "worm", "anchors": anchors, "neighborhood": neighborhood,
-            "dx": dx, "dy": dy, "commit": true}),
+        &serde_json::json!({"selection": {"source": "worm", "anchors": anchors, "neighborhood": neighborhood},
+            "motion": {"translate": {"dx": dx, "dy": dy}}, "commit": true}),
     );
     assert_eq!(status, 200, "{answer}");
     assert_eq!(answer["committed"], true, "{answer}");

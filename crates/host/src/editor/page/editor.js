@@ -1,76 +1,91 @@
 "use strict";
 // The page of `ecles edit`: draws each source's view from the current values and drags
 // control points. The server keeps the exact state; everything here is for drawing.
+// Depends on geometry.js (assembled before this file).
 
 const token = new URLSearchParams(location.search).get("token");
 const canvas = document.getElementById("view");
 const ctx = canvas.getContext("2d");
 const statusBar = document.getElementById("status");
 const conflictPanel = document.getElementById("conflict");
+const element = (id) => document.getElementById(id);
+const shown = (id) => element(id).checked;
 
 let state = null;          // the server's state
-let points = new Map();    // parameter id -> {name, value: [x, y], source}
+let points = new Map();    // parameter id -> {name, value: [x, y], exact, source}
+let models = [];           // DeformedModel per model of every view
 let anchors = [];          // selected anchor ids
-let derived = new Set();   // ids moved by the last drag
+let derived = new Set();   // the derived set of the selection or of the drag
+let relevant = [];         // rows the current edit keeps: {label, points}
 let blocked = null;        // id of an anchor whose move was refused
+let center = null;         // centre of rotation and scaling (world), set by right-click
 let view = { scale: 1, x: 0, y: 0 };  // world -> screen: (x * scale + view.x, -y * scale + view.y)
-let drag = null;           // {start: [x, y], last: [dx, dy], base: Map, inFlight, pending}
+let drag = null;           // the drag under way, see startDrag
 let pan = null;
+let image = null;          // the target image: an HTMLImageElement
+let last = { frame: null, server: null, draw: null, deviation: null, counts: null };
+// Frame times (ms from the mouse event to the painted frame), for the status bar and tests.
+const frames = [];
 
+// --- talking to the server -------------------------------------------------------------
+
+let busy = 0;
 async function api(path, body) {
   const headers = { "content-type": "application/json" };
   if (token) headers["x-ecles-token"] = token;
-  const response = await fetch(path, {
-    method: body === undefined ? "GET" : "POST",
-    headers,
-    body: body === undefined ? undefined : JSON.stringify(body),
-  });
-  const answer = await response.json().catch(() => ({ error: response.statusText }));
-  if (!response.ok) throw new Error(answer.error || response.statusText);
-  return answer;
+  busy++;
+  // Anything over 200 ms shows the progress indicator.
+  const timer = setTimeout(() => { element("progress").hidden = busy === 0; }, 200);
+  try {
+    const response = await fetch(path, {
+      method: body === undefined ? "GET" : "POST",
+      headers,
+      body: body === undefined ? undefined : JSON.stringify(body),
+    });
+    const answer = await response.json().catch(() => ({ error: response.statusText }));
+    if (!response.ok) throw new Error(answer.error || response.statusText);
+    return answer;
+  } finally {
+    clearTimeout(timer);
+    busy--;
+    if (busy === 0) element("progress").hidden = true;
+  }
 }
 
 function setState(next) {
   state = next;
   points = new Map();
   const sourceOf = new Map();
+  models = [];
   for (const source of state.sources) {
-    if (source.view && source.view.patches) {
-      for (const patch of source.view.patches) for (const id of patch) sourceOf.set(id, source.name);
-    }
+    const v = source.view;
+    if (!v || !v.patches) continue;
+    for (const patch of v.patches) for (const id of patch) sourceOf.set(id, source.name);
+    for (const model of v.models || []) models.push(new DeformedModel(v, model));
   }
   for (const p of state.points) {
     points.set(p.id, { name: p.name, value: p.value, exact: p.exact, source: sourceOf.get(p.id) });
   }
-  undoButton().disabled = !state.can_undo;
-  redoButton().disabled = !state.can_redo;
+  for (const model of models) model.update(at, null);
+  anchors = anchors.filter((id) => points.has(id) && points.get(id).source !== undefined);
+  element("undo").disabled = !state.can_undo;
+  element("redo").disabled = !state.can_redo;
+  element("sources").textContent = state.sources
+    .filter((s) => s.view && s.view.kind)
+    .map((s) => `${s.name}: degree ${s.view.degree}, C${s.view.smoothness}`)
+    .join("\n") || "no spline";
+  showOffer();
 }
 
-const undoButton = () => document.getElementById("undo");
-const redoButton = () => document.getElementById("redo");
+const at = (id) => points.get(id).value;
 
-// Multi-indices (i, j, k), i + j + k = d, lexicographically descending (the view's order).
-function multiIndices(d) {
-  const out = [];
-  for (let i = d; i >= 0; i--) for (let j = d - i; j >= 0; j--) out.push([i, j, d - i - j]);
-  return out;
-}
-
-function bezierCurve(ctrl, t) {
-  const pts = ctrl.map((p) => p.slice());
-  for (let r = 1; r < pts.length; r++) {
-    for (let i = 0; i < pts.length - r; i++) {
-      pts[i] = [pts[i][0] * (1 - t) + pts[i + 1][0] * t, pts[i][1] * (1 - t) + pts[i + 1][1] * t];
-    }
-  }
-  return pts[0];
-}
+// --- drawing ---------------------------------------------------------------------------
 
 const toScreen = ([x, y]) => [x * view.scale + view.x, -y * view.scale + view.y];
 const toWorld = ([sx, sy]) => [(sx - view.x) / view.scale, -(sy - view.y) / view.scale];
 
 function fit() {
-  const all = [...points.values()].map((p) => p.value);
+  const all = [...points.values()].filter((p) => p.source !== undefined).map((p) => p.value);
   if (all.length === 0) return;
   const xs = all.map((p) => p[0]), ys = all.map((p) => p[1]);
   const [x0, x1, y0, y1] = [Math.min(...xs), Math.max(...xs), Math.min(...ys), Math.max(...ys)];
@@ -86,82 +101,274 @@ function line(a, b) {
   ctx.lineTo(q[0], q[1]);
 }
 
+function polygon(corners) {
+  corners.forEach((c, n) => {
+    const [x, y] = toScreen(c);
+    if (n === 0) ctx.moveTo(x, y); else ctx.lineTo(x, y);
+  });
+  ctx.closePath();
+}
+
+function drawImage() {
+  if (!image || !shown("show-image")) return;
+  // The image's top-left corner at (x, y) in the world, `units per pixel` world units wide.
+  const unit = Number(element("image-scale").value) || 1;
+  const [sx, sy] = toScreen([Number(element("image-x").value) || 0, Number(element("image-y").value) || 0]);
+  ctx.globalAlpha = Number(element("image-opacity").value);
+  ctx.drawImage(image, sx, sy, image.width * unit * view.scale, image.height * unit * view.scale);
+  ctx.globalAlpha = 1;
+}
+
+function drawRows(rows, stroke, fill) {
+  ctx.beginPath();
+  for (const row of rows) {
+    if (!row.points.every((id) => points.has(id))) continue;
+    polygon(convexHull(row.points.map(at)));
+  }
+  ctx.fillStyle = fill;
+  ctx.fill();
+  ctx.strokeStyle = stroke;
+  ctx.lineWidth = 1;
+  ctx.stroke();
+}
+
+function drawView(v) {
+  const indices = multiIndices(v.degree);
+  const slot = new Map(indices.map((m, k) => [m.join(","), k]));
+  if (shown("show-reference")) {
+    ctx.beginPath();
+    ctx.strokeStyle = "#c8c8c8";
+    ctx.lineWidth = 1;
+    for (const [a, b, c] of v.triangles) {
+      line(v.vertices[a], v.vertices[b]); line(v.vertices[b], v.vertices[c]); line(v.vertices[c], v.vertices[a]);
+    }
+    ctx.stroke();
+  }
+  if (shown("show-net")) {
+    ctx.beginPath();
+    ctx.strokeStyle = "#9a9a9a";
+    ctx.setLineDash([3, 3]);
+    for (const patch of v.patches) {
+      for (const [i, j, k] of indices) {
+        const here = at(patch[slot.get([i, j, k].join(","))]);
+        if (i > 0) {
+          line(here, at(patch[slot.get([i - 1, j + 1, k].join(","))]));
+          line(here, at(patch[slot.get([i - 1, j, k + 1].join(","))]));
+        }
+        if (j > 0) line(here, at(patch[slot.get([i, j - 1, k + 1].join(","))]));
+      }
+    }
+    ctx.stroke();
+    ctx.setLineDash([]);
+  }
+  // The deformed mesh: each patch's three boundary curves.
+  ctx.beginPath();
+  ctx.strokeStyle = "#202020";
+  ctx.lineWidth = 1.5;
+  const d = v.degree;
+  for (const patch of v.patches) {
+    for (const edge of [[0, 1], [1, 2], [2, 0]]) {
+      const ctrl = [];
+      for (let s = 0; s <= d; s++) {
+        const m = [0, 0, 0];
+        m[edge[0]] = d - s;
+        m[edge[1]] = s;
+        ctrl.push(at(patch[slot.get(m.join(","))]));
+      }
+      const samples = Math.max(2, 4 * d);
+      const first = toScreen(ctrl[0]);
+      ctx.moveTo(first[0], first[1]);
+      for (let n = 1; n <= samples; n++) {
+        const p = toScreen(bezierCurve(ctrl, n / samples));
+        ctx.lineTo(p[0], p[1]);
+      }
+    }
+  }
+  ctx.stroke();
+}
+
+function drawModels() {
+  if (!shown("show-model")) return;
+  ctx.beginPath();
+  ctx.strokeStyle = "rgba(0, 120, 60, 0.55)";
+  ctx.lineWidth = 0.75;
+  for (const model of models) {
+    const p = model.positions;
+    for (const face of model.faces) {
+      const [x0, y0] = toScreen(p[face[0]]);
+      ctx.moveTo(x0, y0);
+      for (let n = 1; n < face.length; n++) {
+        const [x, y] = toScreen(p[face[n]]);
+        ctx.lineTo(x, y);
+      }
+      ctx.lineTo(x0, y0);
+    }
+  }
+  ctx.stroke();
+}
+
+function drawPoints() {
+  if (!shown("show-points")) return;
+  for (const [id, p] of points) {
+    if (p.source === undefined) continue;
+    const anchor = anchors.includes(id);
+    const isDerived = derived.has(id) && shown("show-derived");
+    const [x, y] = toScreen(p.value);
+    ctx.fillStyle = id === blocked ? "#d00000" : anchor ? "#e07000" : isDerived ? "#2060c0" : "#404040";
+    ctx.beginPath();
+    ctx.arc(x, y, anchor || id === blocked ? 5 : isDerived ? 3.5 : 2.5, 0, 2 * Math.PI);
+    ctx.fill();
+  }
+}
+
+function drawCenter() {
+  if (!center || operation() === "translate") return;
+  const [cx, cy] = toScreen(center);
+  ctx.strokeStyle = "#8000a0";
+  ctx.lineWidth = 1.5;
+  ctx.beginPath();
+  ctx.moveTo(cx - 7, cy); ctx.lineTo(cx + 7, cy); ctx.moveTo(cx, cy - 7); ctx.lineTo(cx, cy + 7);
+  ctx.stroke();
+  if (drag && drag.mouse) {
+    // The guide line from the centre to the mouse (thesis 18.5.2–3).
+    const [mx, my] = toScreen(drag.mouse);
+    ctx.setLineDash([6, 4]);
+    ctx.beginPath();
+    ctx.moveTo(cx, cy); ctx.lineTo(mx, my);
+    ctx.stroke();
+    ctx.setLineDash([]);
+  }
+}
+
 function draw() {
+  const began = performance.now();
   const ratio = window.devicePixelRatio || 1;
   canvas.width = canvas.clientWidth * ratio;
   canvas.height = canvas.clientHeight * ratio;
   ctx.setTransform(ratio, 0, 0, ratio, 0, 0);
   ctx.clearRect(0, 0, canvas.clientWidth, canvas.clientHeight);
   if (!state) return;
-  const at = (id) => points.get(id).value;
+  drawImage();
+  if (shown("show-constraints")) drawRows(state.constraints, "rgba(150, 110, 0, 0.5)", "rgba(230, 190, 60, 0.12)");
+  if (shown("show-relevant") && relevant.length > 0) drawRows(relevant, "rgba(200, 60, 0, 0.7)", "rgba(255, 120, 40, 0.15)");
   for (const source of state.sources) {
-    const v = source.view;
-    if (!v || v.kind !== "bezier_triangles") continue;
-    const indices = multiIndices(v.degree);
-    const slot = new Map(indices.map((m, k) => [m.join(","), k]));
-    if (document.getElementById("show-reference").checked) {
-      ctx.beginPath();
-      ctx.strokeStyle = "#c8c8c8";
-      ctx.lineWidth = 1;
-      for (const [a, b, c] of v.triangles) {
-        line(v.vertices[a], v.vertices[b]); line(v.vertices[b], v.vertices[c]); line(v.vertices[c], v.vertices[a]);
-      }
-      ctx.stroke();
-    }
-    if (document.getElementById("show-net").checked) {
-      ctx.beginPath();
-      ctx.strokeStyle = "#9a9a9a";
-      ctx.setLineDash([3, 3]);
-      for (const patch of v.patches) {
-        for (const [i, j, k] of indices) {
-          const here = at(patch[slot.get([i, j, k].join(","))]);
-          if (i > 0) {
-            line(here, at(patch[slot.get([i - 1, j + 1, k].join(","))]));
-            line(here, at(patch[slot.get([i - 1, j, k + 1].join(","))]));
-          }
-          if (j > 0) line(here, at(patch[slot.get([i, j - 1, k + 1].join(","))]));
-        }
-      }
-      ctx.stroke();
-      ctx.setLineDash([]);
-    }
-    // The deformed mesh: each patch's three boundary curves.
-    ctx.beginPath();
-    ctx.strokeStyle = "#202020";
-    ctx.lineWidth = 1.5;
-    const d = v.degree;
-    for (const patch of v.patches) {
-      for (const edge of [[0, 1], [1, 2], [2, 0]]) {
-        const ctrl = [];
-        for (let s = 0; s <= d; s++) {
-          const m = [0, 0, 0];
-          m[edge[0]] = d - s;
-          m[edge[1]] = s;
-          ctrl.push(at(patch[slot.get(m.join(","))]));
-        }
-        const samples = Math.max(2, 4 * d);
-        let prev = toScreen(ctrl[0]);
-        ctx.moveTo(prev[0], prev[1]);
-        for (let n = 1; n <= samples; n++) {
-          const p = toScreen(bezierCurve(ctrl, n / samples));
-          ctx.lineTo(p[0], p[1]);
-        }
-      }
-    }
-    ctx.stroke();
+    if (source.view && source.view.kind === "bezier_triangles") drawView(source.view);
   }
-  if (document.getElementById("show-points").checked) {
-    for (const [id, p] of points) {
-      if (p.source === undefined) continue;
-      const [x, y] = toScreen(p.value);
-      const anchor = anchors.includes(id);
-      ctx.fillStyle = id === blocked ? "#d00000" : anchor ? "#e07000" : derived.has(id) ? "#2060c0" : "#404040";
-      ctx.beginPath();
-      ctx.arc(x, y, anchor ? 5 : 3, 0, 2 * Math.PI);
-      ctx.fill();
+  drawModels();
+  drawPoints();
+  drawCenter();
+  last.draw = performance.now() - began;
+}
+
+// --- status, conflicts, offers, help ---------------------------------------------------
+
+function report() {
+  if (!state) return;
+  const s = state;
+  const parts = [
+    `${s.run}`,
+    `${s.points.length} points`,
+    `${s.rows} rows`,
+    s.violated_rows === 0 ? "exact residual 0 (violated rows 0)" : `violated rows ${s.violated_rows}`,
+    `${s.committed} edits`,
+  ];
+  if (last.counts) {
+    const c = last.counts;
+    parts.push(`|A| ${c.anchors} · |D| ${c.derived} · rank ${c.rank} · redundant ${c.redundant}`);
+  } else if (anchors.length > 0) {
+    parts.push(`|A| ${anchors.length} · |D| ${derived.size}`);
+  }
+  if (last.frame !== null) {
+    parts.push(`frame ${last.frame.toFixed(1)} ms (server ${last.server.toFixed(1)}, drawing ${last.draw.toFixed(1)})`);
+  }
+  if (last.deviation !== null) parts.push(`float deviation ${last.deviation.toExponential(1)}`);
+  if (s.autosave && s.autosave.error) parts.push(`AUTOSAVE FAILED: ${s.autosave.error}`);
+  statusBar.textContent = parts.join(" · ");
+}
+
+function showMessage(text) {
+  conflictPanel.hidden = text === null;
+  conflictPanel.textContent = text || "";
+}
+
+// The conflict panel: the message, the constraints in the way, the explanation.
+function showConflict(conflict) {
+  conflictPanel.hidden = false;
+  conflictPanel.textContent = "";
+  const title = document.createElement("h3");
+  title.textContent = "This move is impossible; nothing changed";
+  const message = document.createElement("div");
+  message.textContent = conflict.message;
+  conflictPanel.append(title, message);
+  for (const [heading, lines] of [["Constraints in the way", conflict.labels], ["Why", conflict.explanation]]) {
+    if (!lines || lines.length === 0) continue;
+    const h = document.createElement("h3");
+    h.textContent = heading;
+    const list = document.createElement("ul");
+    for (const l of lines) {
+      const item = document.createElement("li");
+      item.textContent = l;
+      list.append(item);
     }
+    conflictPanel.append(h, list);
   }
 }
+
+function showOffer() {
+  const banner = element("banner");
+  const offer = state && state.autosave && state.autosave.offer;
+  banner.hidden = !offer;
+  if (!offer) return;
+  banner.textContent = `An autosaved session with ${offer.edits} edits was found (${offer.path}). `;
+  const resume = document.createElement("button");
+  resume.id = "resume";
+  resume.textContent = "Resume it";
+  resume.addEventListener("click", () => decide(true));
+  const fresh = document.createElement("button");
+  fresh.textContent = "Start fresh (the first new edit replaces it)";
+  fresh.addEventListener("click", () => decide(false));
+  banner.append(resume, fresh);
+}
+
+async function decide(resume) {
+  try {
+    setState(await api("/api/resume", { resume }));
+    showMessage(null);
+  } catch (e) { showMessage(String(e.message || e)); }
+  report();
+  draw();
+}
+
+const shortcuts = [
+  ["drag a point", "move it (the selection's anchors) with the operation chosen"],
+  ["click", "make a point the only anchor"],
+  ["Shift+click, or the Anchors box", "add or remove an anchor"],
+  ["right-click", "centre of rotation and scaling"],
+  ["drag on empty space / wheel", "pan / zoom"],
+  ["T, R, S", "translate, rotate, scale"],
+  ["+ / −, A", "δmax up / down, all points"],
+  ["F", "fit to view"],
+  ["Ctrl+Z / Ctrl+Y", "undo / redo a committed edit"],
+  ["Ctrl+S", "save the session (run file, outputs, exact values)"],
+  ["Esc", "cancel the drag under way"],
+  ["?", "this help"],
+];
+
+function toggleHelp() {
+  const help = element("help");
+  if (help.childElementCount === 0) {
+    const table = document.createElement("table");
+    for (const [key, what] of shortcuts) {
+      const row = table.insertRow();
+      row.insertCell().textContent = key;
+      row.insertCell().textContent = what;
+    }
+    help.append(table);
+  }
+  help.hidden = !help.hidden;
+}
+
+// --- selection and drags ---------------------------------------------------------------
 
 function pointAt(sx, sy) {
   let best = null, bestDistance = 8;
@@ -174,78 +381,169 @@ function pointAt(sx, sy) {
   return best;
 }
 
-function report(text) { statusBar.textContent = text; }
+const operation = () => document.querySelector("input[name=operation]:checked").value;
 
-function describe(extra) {
-  const s = state;
-  return `${s.run} · ${s.points.length} points · ${s.rows} rows · violated rows ${s.violated_rows}` +
-    (extra ? ` · ${extra}` : "");
-}
-
-function showConflict(message) {
-  conflictPanel.hidden = message === null;
-  conflictPanel.textContent = message || "";
-}
-
-// Exact decimal text for a displacement (the server reads it exactly).
-const decimal = (v) => (Math.round(v * 1e6) / 1e6).toFixed(6);
-
-async function sendFrame(commit) {
-  if (!drag) return;
-  if (drag.inFlight) { drag.pending = true; if (commit) drag.commitPending = true; return; }
-  drag.inFlight = true;
-  const [dx, dy] = drag.last;
+function selection() {
   const source = points.get(anchors[0]).source;
   const prefix = source + ".";
-  const all = document.getElementById("all").checked;
-  const body = {
+  return {
     source,
     anchors: anchors.map((id) => points.get(id).name.slice(prefix.length)),
-    neighborhood: all ? null : Number(document.getElementById("neighborhood").value),
-    dx: decimal(dx),
-    dy: decimal(dy),
-    commit,
+    neighborhood: shown("all") ? null : Number(element("neighborhood").value),
   };
-  const began = performance.now();
+}
+
+// Shows the initial derived set S of the selection (thesis 18.4) without starting an edit.
+async function showSelection() {
+  last.counts = null;
+  relevant = [];
+  if (anchors.length === 0) { derived = new Set(); report(); draw(); return; }
   try {
-    const answer = await api("/api/drag", body);
+    const answer = await api("/api/select", selection());
+    derived = answer.ok ? new Set(answer.derived) : new Set();
+    if (!answer.ok) showConflict(answer.conflict);
+  } catch (e) { showMessage(String(e.message || e)); }
+  report();
+  draw();
+}
+
+// Exact decimal text of a float (the server reads it exactly).
+const decimal = (v, places) => (Math.round(v * 10 ** places) / 10 ** places).toFixed(places);
+
+// The motion of the drag so far, as the server takes it.
+function motion(d) {
+  const [x, y] = d.mouse;
+  if (d.operation === "translate") {
+    return { translate: { dx: decimal(x - d.start[0], 6), dy: decimal(y - d.start[1], 6) } };
+  }
+  const c = d.center;
+  const centerText = [decimal(c[0], 6), decimal(c[1], 6)];
+  if (d.operation === "rotate") {
+    const angle = Math.atan2(y - c[1], x - c[0]) - Math.atan2(d.start[1] - c[1], d.start[0] - c[0]);
+    let degrees = (angle * 180) / Math.PI;
+    if (degrees > 180) degrees -= 360;
+    if (degrees < -180) degrees += 360;
+    return { rotate: { center: centerText, degrees: decimal(degrees, 3) } };
+  }
+  const from = Math.hypot(d.start[0] - c[0], d.start[1] - c[1]);
+  const to = Math.hypot(x - c[0], y - c[1]);
+  const factor = Math.max(to / Math.max(from, 1e-12), 1e-4);
+  return { scale: { center: centerText, factor: decimal(factor, 4) } };
+}
+
+const isStill = (m) =>
+  (m.translate && Number(m.translate.dx) === 0 && Number(m.translate.dy) === 0) ||
+  (m.rotate && Number(m.rotate.degrees) === 0) ||
+  (m.scale && Number(m.scale.factor) === 1);
+
+// Applies the moved points of an answer to the drawing; returns their ids.
+function applyMoved(moved) {
+  for (const m of moved) points.get(m.id).value = m.value;
+  const ids = moved.map((m) => m.id);
+  for (const model of models) model.update(at, ids);
+  return ids;
+}
+
+async function sendFrame(commit) {
+  const d = drag;
+  if (!d) return;
+  if (d.inFlight) { d.pending = true; return; }
+  // A release commits the last move the server accepted: the drag stops at the last valid
+  // position when later moves were refused.
+  const m = commit ? d.lastValid : motion(d);
+  if (commit && (m === null || isStill(m))) { endDrag(); return; }
+  d.inFlight = true;
+  const began = d.eventTime || performance.now();
+  try {
+    const answer = await api("/api/drag", { selection: d.selection, motion: m, commit });
     if (answer.ok) {
       blocked = null;
-      showConflict(null);
-      derived = new Set();
-      for (const m of answer.moved) {
-        points.get(m.id).value = m.value;
-        if (!anchors.includes(m.id)) derived.add(m.id);
+      showMessage(null);
+      if (answer.derived_ids) derived = new Set(answer.derived_ids);
+      if (answer.relevant) relevant = answer.relevant;
+      last.counts = answer;
+      const before = commit ? new Map(answer.moved.map((x) => [x.id, points.get(x.id).value.slice()])) : null;
+      applyMoved(answer.moved);
+      if (!commit) d.lastValid = m;
+      if (commit) {
+        // How far the last drawn frame was from the committed exact values (rounded).
+        last.deviation = Math.max(0, ...answer.moved.map((x) => {
+          const was = before.get(x.id);
+          return Math.max(...x.value.map((v, k) => Math.abs(v - was[k])));
+        }));
+        setState(await api("/api/state"));
       }
-      const frame = (performance.now() - began).toFixed(1);
-      report(describe(`|D| ${answer.derived} · rank ${answer.rank} · redundant ${answer.redundant} · ` +
-        `server ${answer.server_ms.toFixed(1)} ms · frame ${frame} ms`));
-      if (answer.committed) setState(await api("/api/state"));
+      last.server = answer.server_ms;
     } else {
       blocked = anchors[0];
       showConflict(answer.conflict);
-      if (commit) setState(await api("/api/state"));
     }
   } catch (e) {
-    showConflict(String(e.message || e));
+    showMessage(String(e.message || e));
   }
   draw();
-  if (!drag) return;
-  drag.inFlight = false;
-  if (drag.commitPending) { drag.commitPending = false; drag.pending = false; await sendFrame(true); drag = null; return; }
-  if (drag.pending) { drag.pending = false; await sendFrame(false); }
+  if (!commit) {
+    last.frame = performance.now() - began;
+    frames.push(last.frame);
+    if (frames.length > 1000) frames.shift();
+  }
+  report();
+  d.inFlight = false;
+  if (commit) { endDrag(); return; }
+  // Moves that came while this frame was computed: the latest is drawn before a release
+  // commits it.
+  if (d.pending) { d.pending = false; d.eventTime = performance.now(); await sendFrame(false); return; }
+  if (d.released) await sendFrame(true);
 }
 
+function endDrag() { drag = null; draw(); }
+
+function startDrag(id, e) {
+  const world = toWorld([e.offsetX, e.offsetY]);
+  const op = operation();
+  if (op !== "translate" && center === null) {
+    showMessage("Right-click to set the centre of rotation and scaling first.");
+    return;
+  }
+  drag = {
+    selection: selection(),
+    operation: op,
+    center,
+    start: points.get(id).value.slice(),
+    grab: world,
+    mouse: points.get(id).value.slice(),
+    lastValid: null,
+    inFlight: false,
+    pending: false,
+    released: false,
+  };
+}
+
+canvas.addEventListener("contextmenu", (e) => {
+  e.preventDefault();
+  center = toWorld([e.offsetX, e.offsetY]);
+  draw();
+});
+
 canvas.addEventListener("mousedown", (e) => {
+  if (e.button !== 0) return;
   const id = pointAt(e.offsetX, e.offsetY);
   if (id === null) { pan = { x: e.offsetX, y: e.offsetY }; return; }
-  if (e.shiftKey) {
-    if (!anchors.includes(id) && points.get(id).source === points.get(anchors[0] ?? id).source) anchors.push(id);
+  const adding = e.shiftKey || shown("add-anchors");
+  const sameSource = anchors.length === 0 || points.get(id).source === points.get(anchors[0]).source;
+  let changed = false;
+  if (adding && sameSource) {
+    if (anchors.includes(id)) {
+      if (anchors.length > 1) { anchors = anchors.filter((a) => a !== id); changed = true; showSelection(); return; }
+    } else { anchors.push(id); changed = true; }
   } else if (!anchors.includes(id)) {
     anchors = [id];
+    changed = true;
   }
-  derived = new Set();
-  drag = { start: toWorld([e.offsetX, e.offsetY]), last: [0, 0], inFlight: false, pending: false };
+  blocked = null;
+  showMessage(null);
+  if (changed) showSelection();
+  startDrag(id, e);
   draw();
 });
 
@@ -257,19 +555,19 @@ canvas.addEventListener("mousemove", (e) => {
     return;
   }
   if (!drag) return;
-  const [x, y] = toWorld([e.offsetX, e.offsetY]);
-  drag.last = [x - drag.start[0], y - drag.start[1]];
+  performance.mark("ecles-move");
+  const world = toWorld([e.offsetX, e.offsetY]);
+  // The grabbed point follows the mouse: its start plus the mouse's displacement.
+  drag.mouse = [drag.start[0] + world[0] - drag.grab[0], drag.start[1] + world[1] - drag.grab[1]];
+  drag.eventTime = performance.now();
   sendFrame(false);
 });
 
-window.addEventListener("mouseup", async () => {
+window.addEventListener("mouseup", () => {
   pan = null;
   if (!drag) return;
-  const d = drag;
-  if (d.last[0] === 0 && d.last[1] === 0) { drag = null; return; }
-  if (d.inFlight) { d.commitPending = true; return; }
-  await sendFrame(true);
-  drag = null;
+  drag.released = true;
+  if (!drag.inFlight) sendFrame(true);
 });
 
 canvas.addEventListener("wheel", (e) => {
@@ -282,26 +580,81 @@ canvas.addEventListener("wheel", (e) => {
   draw();
 }, { passive: false });
 
+// --- history, saving, settings ---------------------------------------------------------
+
 async function history(path) {
   try {
     setState(await api(path, {}));
-    derived = new Set(); blocked = null; showConflict(null);
-    report(describe());
-  } catch (e) { showConflict(String(e.message || e)); }
+    derived = new Set(); relevant = []; blocked = null; last.counts = null; showMessage(null);
+  } catch (e) { showMessage(String(e.message || e)); }
+  report();
   draw();
 }
 
-undoButton().addEventListener("click", () => history("/api/undo"));
-redoButton().addEventListener("click", () => history("/api/redo"));
-document.getElementById("fit").addEventListener("click", () => { fit(); draw(); });
-for (const id of ["show-net", "show-reference", "show-points"]) {
-  document.getElementById(id).addEventListener("change", draw);
+// Back to the server's state (a drag cancelled: nothing was committed).
+async function reload() {
+  try {
+    setState(await api("/api/state"));
+    blocked = null; showMessage(null);
+  } catch (e) { showMessage(String(e.message || e)); }
+  report();
+  draw();
 }
+
+async function save() {
+  const name = element("save-name").value.trim();
+  try {
+    const saved = await api("/api/save", { name: name === "" ? null : name });
+    showMessage(`Saved ${saved.edits} edits as ${saved.run}; ${saved.files.join(", ")} and report.json in ${saved.out}.`);
+  } catch (e) { showMessage(`Not saved: ${e.message || e}`); }
+}
+
+element("undo").addEventListener("click", () => history("/api/undo"));
+element("redo").addEventListener("click", () => history("/api/redo"));
+element("fit").addEventListener("click", () => { fit(); draw(); });
+element("save").addEventListener("click", save);
+element("help-button").addEventListener("click", toggleHelp);
+for (const id of ["show-net", "show-reference", "show-points", "show-model", "show-image", "show-derived",
+  "show-constraints", "show-relevant", "image-opacity", "image-x", "image-y", "image-scale"]) {
+  element(id).addEventListener("input", draw);
+}
+for (const input of document.querySelectorAll("input[name=operation]")) input.addEventListener("change", draw);
+for (const id of ["neighborhood", "all"]) element(id).addEventListener("change", showSelection);
+element("image-file").addEventListener("change", () => {
+  const file = element("image-file").files[0];
+  if (!file) return;
+  const loaded = new Image();
+  loaded.onload = () => { image = loaded; draw(); };
+  loaded.onerror = () => showMessage(`${file.name} is not an image this browser can read`);
+  loaded.src = URL.createObjectURL(file);
+});
+
+function setOperation(value) {
+  document.querySelector(`input[name=operation][value=${value}]`).checked = true;
+  draw();
+}
+
 window.addEventListener("keydown", (e) => {
-  if (e.target.tagName === "INPUT" && e.target.type === "number") return;
-  if ((e.ctrlKey || e.metaKey) && e.key === "z") history("/api/undo");
-  else if ((e.ctrlKey || e.metaKey) && e.key === "y") history("/api/redo");
+  if (e.target.tagName === "INPUT" && (e.target.type === "number" || e.target.type === "text")) return;
+  const ctrl = e.ctrlKey || e.metaKey;
+  if (ctrl && e.key === "z") { e.preventDefault(); history("/api/undo"); }
+  else if (ctrl && e.key === "y") { e.preventDefault(); history("/api/redo"); }
+  else if (ctrl && e.key === "s") { e.preventDefault(); save(); }
+  else if (ctrl) return;
   else if (e.key === "f") { fit(); draw(); }
+  else if (e.key === "t") setOperation("translate");
+  else if (e.key === "r") setOperation("rotate");
+  else if (e.key === "s") setOperation("scale");
+  else if (e.key === "a") { element("all").checked = !element("all").checked; showSelection(); }
+  else if (e.key === "+" || e.key === "-") {
+    const input = element("neighborhood");
+    input.value = Math.max(0, Number(input.value) + (e.key === "+" ? 1 : -1));
+    showSelection();
+  } else if (e.key === "?") toggleHelp();
+  else if (e.key === "Escape") {
+    if (drag) { drag = null; reload(); }
+    element("help").hidden = true;
+  }
 });
 window.addEventListener("resize", draw);
 
@@ -309,9 +662,9 @@ window.addEventListener("resize", draw);
   try {
     setState(await api("/api/state"));
     fit();
-    report(describe());
+    report();
   } catch (e) {
-    report(`cannot load the state: ${e.message || e}`);
+    statusBar.textContent = `cannot load the state: ${e.message || e}`;
   }
   draw();
 })();

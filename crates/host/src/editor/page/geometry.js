@@ -1,0 +1,109 @@
+"use strict";
+// Geometry of the page, pure functions on floats (drawing only: the server keeps the exact
+// state). Bézier triangles as the view describes them: control points of degree d in the
+// order of the multi-indices (i, j, k), i + j + k = d, lexicographically descending.
+
+// The multi-indices of degree d in the view's order.
+function multiIndices(d) {
+  const out = [];
+  for (let i = d; i >= 0; i--) for (let j = d - i; j >= 0; j--) out.push([i, j, d - i - j]);
+  return out;
+}
+
+// d! / (i! j! k!) for every multi-index of degree d, in the view's order.
+function trinomials(d) {
+  const factorial = [1];
+  for (let n = 1; n <= d; n++) factorial.push(factorial[n - 1] * n);
+  return multiIndices(d).map(([i, j, k]) => factorial[d] / (factorial[i] * factorial[j] * factorial[k]));
+}
+
+// The Bernstein weights of the point with barycentric coordinates (u, v, w): the image of the
+// point is Σ weights[n] · control[n].
+function bernsteinWeights(d, [u, v, w]) {
+  const coefficients = trinomials(d);
+  return multiIndices(d).map(([i, j, k], n) => coefficients[n] * u ** i * v ** j * w ** k);
+}
+
+// A point of a Bézier curve (de Casteljau).
+function bezierCurve(ctrl, t) {
+  const pts = ctrl.map((p) => p.slice());
+  for (let r = 1; r < pts.length; r++) {
+    for (let i = 0; i < pts.length - r; i++) {
+      pts[i] = [pts[i][0] * (1 - t) + pts[i + 1][0] * t, pts[i][1] * (1 - t) + pts[i + 1][1] * t];
+    }
+  }
+  return pts[0];
+}
+
+// The convex hull of points (Andrew's monotone chain), counter-clockwise: how the page draws a
+// constraint among several points (a C1 condition's quadrilateral).
+function convexHull(points) {
+  const sorted = points.slice().sort((a, b) => a[0] - b[0] || a[1] - b[1]);
+  if (sorted.length < 3) return sorted;
+  const cross = (o, a, b) => (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
+  const lower = [], upper = [];
+  for (const p of sorted) {
+    while (lower.length >= 2 && cross(lower[lower.length - 2], lower[lower.length - 1], p) <= 0) lower.pop();
+    lower.push(p);
+  }
+  for (const p of sorted.slice().reverse()) {
+    while (upper.length >= 2 && cross(upper[upper.length - 2], upper[upper.length - 1], p) <= 0) upper.pop();
+    upper.push(p);
+  }
+  return lower.slice(0, -1).concat(upper.slice(0, -1));
+}
+
+// A model embedded in a Bézier-triangle view, deformed from the control points' values:
+// each vertex's Bernstein weights are computed once; a frame recomputes only the vertices in
+// triangles whose control points moved.
+class DeformedModel {
+  constructor(view, model) {
+    this.name = model.name;
+    this.faces = model.faces;
+    this.reference = model.vertices;
+    this.positions = model.vertices.map((p) => [p[0], p[1], p[2]]);
+    this.patches = view.patches;
+    this.byTriangle = view.patches.map(() => []);
+    this.weights = new Array(model.vertices.length).fill(null);
+    model.embedding.forEach((place, vertex) => {
+      if (place === null) return;
+      const [triangle, barycentric] = place;
+      this.byTriangle[triangle].push(vertex);
+      this.weights[vertex] = bernsteinWeights(view.degree, barycentric);
+    });
+    // Which triangles use each control point.
+    this.trianglesOf = new Map();
+    view.patches.forEach((patch, t) => {
+      for (const id of patch) {
+        if (!this.trianglesOf.has(id)) this.trianglesOf.set(id, new Set());
+        this.trianglesOf.get(id).add(t);
+      }
+    });
+  }
+
+  // Recomputes the vertices in the triangles of `movedIds` (every triangle when null) from
+  // `at(id)`, the current value of a control point; returns the number of vertices moved.
+  update(at, movedIds) {
+    let triangles;
+    if (movedIds === null) {
+      triangles = this.patches.map((_, t) => t);
+    } else {
+      const set = new Set();
+      for (const id of movedIds) for (const t of this.trianglesOf.get(id) || []) set.add(t);
+      triangles = [...set];
+    }
+    let count = 0;
+    for (const t of triangles) {
+      const ctrl = this.patches[t].map(at);
+      for (const vertex of this.byTriangle[t]) {
+        const w = this.weights[vertex];
+        let x = 0, y = 0;
+        for (let n = 0; n < w.length; n++) { x += w[n] * ctrl[n][0]; y += w[n] * ctrl[n][1]; }
+        const p = this.positions[vertex];
+        p[0] = x; p[1] = y;
+        count++;
+      }
+    }
+    return count;
+  }
+}
