@@ -1,7 +1,10 @@
 //! The editor in a real headless Chromium, with real mouse events: the page loads the worm,
 //! a control point dragged with the mouse commits exact values (every row holding), the
 //! picture changes near the point and not far from it, undo from the page restores the exact
-//! state, and the page is refused without the token.
+//! state, and the page is refused without the token; a pinned point's drag shows the
+//! constraints in the way and changes nothing; a rotation about a right-clicked centre is
+//! exact; the session saved from the page reruns to the same values and an autosave is resumed
+//! from the page's banner.
 //!
 //! Needs Chromium (`$CHROMIUM`, else `/usr/bin/chromium`); `.ci/run` installs it and runs
 //! these with `--ignored`.
@@ -12,7 +15,7 @@ mod common;
 
 use api::parse_rational;
 use cdp::Browser;
-use common::{exact, start, state};
+use common::{build_align_plugin, exact, start, start_at, state, worm_copy};
 use std::time::{Duration, Instant};
 
 /// The viewport position of point `name` as the page draws it.
@@ -78,7 +81,9 @@ fn dragging_a_control_point_with_the_mouse_commits_exact_values_and_undo_restore
     );
     assert_eq!(after["violated_rows"], 0);
     // The picture changed near the point and not at the other end of the worm.
-    browser.wait_for("document.getElementById('status').textContent.includes('violated rows 0')");
+    browser.wait_for(
+        "drag === null && document.getElementById('status').textContent.includes('1 edits')",
+    );
     let moved_at = screen_position(&mut browser, "worm.v3");
     assert!(
         (moved_at.1 - (v3.1 - 60.0)).abs() < 2.0,
@@ -88,19 +93,15 @@ fn dragging_a_control_point_with_the_mouse_commits_exact_values_and_undo_restore
     assert_eq!(ink(&mut browser, far), far_ink);
 
     // Undo from the page: the exact state before the drag.
-    let button = browser.eval(
-        "(() => { const r = document.getElementById('undo').getBoundingClientRect(); \
-         return [r.left + r.width / 2, r.top + r.height / 2]; })()",
-    );
-    let (bx, by) = (
-        button[0].as_f64().expect("x"),
-        button[1].as_f64().expect("y"),
-    );
-    browser.mouse("mousePressed", bx, by);
-    browser.mouse("mouseReleased", bx, by);
+    browser.wait_for("drag === null && !document.getElementById('undo').disabled");
+    browser.click_element("undo");
     let deadline = Instant::now() + Duration::from_secs(20);
     while state(&editor)["can_undo"] == true {
-        assert!(Instant::now() < deadline, "undo did not happen");
+        assert!(
+            Instant::now() < deadline,
+            "undo did not happen: {}",
+            browser.eval("[document.getElementById('undo').disabled, document.getElementById('status').textContent, document.getElementById('conflict').textContent, String(drag)]")
+        );
         std::thread::sleep(Duration::from_millis(50));
     }
     assert_eq!(state(&editor)["points"], before["points"]);
@@ -113,4 +114,152 @@ fn dragging_a_control_point_with_the_mouse_commits_exact_values_and_undo_restore
             .is_some_and(|b| b.contains("missing or wrong token")),
         "{body}"
     );
+}
+
+/// Waits until the server's state satisfies `done`.
+fn wait_for_state(
+    editor: &common::Editor,
+    what: &str,
+    done: impl Fn(&serde_json::Value) -> bool,
+) -> serde_json::Value {
+    let deadline = Instant::now() + Duration::from_secs(20);
+    loop {
+        let s = state(editor);
+        if done(&s) {
+            return s;
+        }
+        assert!(Instant::now() < deadline, "timed out waiting for {what}");
+        std::thread::sleep(Duration::from_millis(50));
+    }
+}
+
+fn open(editor: &common::Editor) -> Browser {
+    let url = format!("http://127.0.0.1:{}/?token={}", editor.port, editor.token);
+    let mut browser = Browser::launch(&url);
+    browser.wait_for("document.getElementById('status').textContent.includes('points')");
+    browser
+}
+
+/// Drags from `from` by `(dx, dy)` pixels in six moves, then releases.
+fn mouse_drag(browser: &mut Browser, from: (f64, f64), (dx, dy): (f64, f64)) {
+    browser.mouse("mousePressed", from.0, from.1);
+    for step in 1..=6 {
+        let t = f64::from(step) / 6.0;
+        browser.mouse("mouseMoved", from.0 + t * dx, from.1 + t * dy);
+    }
+    browser.mouse("mouseReleased", from.0 + dx, from.1 + dy);
+}
+
+#[test]
+#[ignore = "needs Chromium: .ci/run installs it and runs this with --ignored"]
+fn dragging_a_pinned_point_shows_the_constraints_in_the_way_and_changes_nothing() {
+    build_align_plugin();
+    let editor = start("align.ron");
+    let mut browser = open(&editor);
+    let before = state(&editor);
+    let v1 = screen_position(&mut browser, "worm.v1");
+    mouse_drag(&mut browser, v1, (40.0, 0.0));
+    browser.wait_for(
+        "!document.getElementById('conflict').hidden && \
+         document.getElementById('conflict').textContent.includes('align row 5: worm.v1 x = 12')",
+    );
+    let panel = browser.eval("document.getElementById('conflict').textContent");
+    assert!(
+        panel
+            .as_str()
+            .is_some_and(|t| t.contains("structurally over-determined")),
+        "{panel}"
+    );
+    // The anchor is drawn red; the state did not change.
+    assert_eq!(browser.eval("points.get(blocked).name"), "worm.v1");
+    browser.wait_for("drag === null");
+    let after = state(&editor);
+    assert_eq!(after["points"], before["points"]);
+    assert_eq!(after["can_undo"], false);
+}
+
+#[test]
+#[ignore = "needs Chromium: .ci/run installs it and runs this with --ignored"]
+fn a_rotation_about_a_right_clicked_centre_is_exact() {
+    let editor = start("worm.ron");
+    let mut browser = open(&editor);
+    let before = state(&editor);
+    browser.eval("setOperation('rotate')");
+    let v5 = screen_position(&mut browser, "worm.v5");
+    let v7 = screen_position(&mut browser, "worm.v7");
+    browser.right_click(v5.0, v5.1);
+    browser.wait_for("center !== null");
+    // A quarter turn of v7 about v5 (screen y points down: counter-clockwise is up).
+    let (rx, ry) = (v7.0 - v5.0, v7.1 - v5.1);
+    browser.mouse("mousePressed", v7.0, v7.1);
+    for step in 1..=9 {
+        let angle = f64::from(step) * std::f64::consts::FRAC_PI_2 / 9.0;
+        let (c, s) = (angle.cos(), angle.sin());
+        browser.mouse("mouseMoved", v5.0 + c * rx + s * ry, v5.1 - s * rx + c * ry);
+    }
+    browser.mouse("mouseReleased", v5.0 + ry, v5.1 - rx);
+    let after = wait_for_state(&editor, "the rotation's commit", |s| s["can_undo"] == true);
+    assert_eq!(after["violated_rows"], 0);
+    // Exact: distances to the centre are kept exactly by the rational rotation.
+    let q = |name: &str, s: &serde_json::Value| -> Vec<api::Rational> {
+        exact(s, name)
+            .iter()
+            .map(|t| parse_rational(t).expect("exact"))
+            .collect()
+    };
+    let centre = browser.eval("center.map(String)");
+    let c: Vec<api::Rational> = centre
+        .as_array()
+        .expect("centre")
+        .iter()
+        .map(|t| {
+            // The page sends the centre rounded to six decimals.
+            let x: f64 = t.as_str().expect("text").parse().expect("a number");
+            parse_rational(&format!("{x:.6}")).expect("exact")
+        })
+        .collect();
+    let distance = |p: &[api::Rational]| {
+        let (dx, dy) = (&p[0] - &c[0], &p[1] - &c[1]);
+        &dx * &dx + &dy * &dy
+    };
+    assert_eq!(
+        distance(&q("worm.v7", &after)),
+        distance(&q("worm.v7", &before))
+    );
+    assert_ne!(q("worm.v7", &after), q("worm.v7", &before));
+}
+
+#[test]
+#[ignore = "needs Chromium: .ci/run installs it and runs this with --ignored"]
+fn a_session_saved_from_the_page_reruns_and_its_autosave_resumes_from_the_banner() {
+    let (dir, run) = worm_copy();
+    let editor = start_at(run.clone(), true);
+    let mut browser = open(&editor);
+    let v3 = screen_position(&mut browser, "worm.v3");
+    mouse_drag(&mut browser, v3, (0.0, -50.0));
+    let edited = wait_for_state(&editor, "the drag's commit", |s| s["can_undo"] == true);
+    browser.wait_for("drag === null");
+    browser.eval("document.getElementById('save-name').value = 'mine.ron'");
+    browser.click_element("save");
+    browser.wait_for("document.getElementById('conflict').textContent.startsWith('Saved 1 edits')");
+    let status = std::process::Command::new(env!("CARGO_BIN_EXE_ecles"))
+        .args(["run", "--quiet", "--out"])
+        .arg(dir.path().join("again"))
+        .arg(dir.path().join("mine.ron"))
+        .status()
+        .expect("ecles runs");
+    assert!(status.success());
+    assert_eq!(
+        std::fs::read(dir.path().join("mine.out/report.json")).expect("saved"),
+        std::fs::read(dir.path().join("again/report.json")).expect("rerun")
+    );
+
+    // A second editor on the run offers the autosave; the banner's button resumes it.
+    let second = start_at(run, true);
+    let mut page = open(&second);
+    page.wait_for("!document.getElementById('banner').hidden");
+    page.click_element("resume");
+    let resumed = wait_for_state(&second, "the resume", |s| s["committed"] == 1);
+    assert_eq!(resumed["points"], edited["points"]);
+    page.wait_for("document.getElementById('banner').hidden");
 }

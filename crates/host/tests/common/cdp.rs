@@ -181,6 +181,28 @@ impl Browser {
         );
     }
 
+    /// A right click at viewport point `(x, y)` (press and release; the page gets
+    /// `contextmenu`).
+    pub fn right_click(&mut self, x: f64, y: f64) {
+        for kind in ["mousePressed", "mouseReleased"] {
+            self.call(
+                "Input.dispatchMouseEvent",
+                json!({ "type": kind, "x": x, "y": y, "button": "right", "buttons": 2, "clickCount": 1 }),
+            );
+        }
+    }
+
+    /// A left click on the element `id` of the page, at its centre.
+    pub fn click_element(&mut self, id: &str) {
+        let at = self.eval(&format!(
+            "(() => {{ const r = document.getElementById({id:?}).getBoundingClientRect(); \
+             return [r.left + r.width / 2, r.top + r.height / 2]; }})()"
+        ));
+        let (x, y) = (at[0].as_f64().expect("x"), at[1].as_f64().expect("y"));
+        self.mouse("mousePressed", x, y);
+        self.mouse("mouseReleased", x, y);
+    }
+
     /// Loads `url` and waits until the document is complete.
     pub fn navigate(&mut self, url: &str) {
         self.call("Page.navigate", json!({ "url": url }));

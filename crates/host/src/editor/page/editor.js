@@ -278,7 +278,7 @@ function report() {
   } else if (anchors.length > 0) {
     parts.push(`|A| ${anchors.length} · |D| ${derived.size}`);
   }
-  if (last.frame !== null) {
+  if (last.frame !== null && last.server !== null) {
     parts.push(`frame ${last.frame.toFixed(1)} ms (server ${last.server.toFixed(1)}, drawing ${last.draw.toFixed(1)})`);
   }
   if (last.deviation !== null) parts.push(`float deviation ${last.deviation.toExponential(1)}`);
