@@ -206,11 +206,13 @@ fn a_missing_plugin_library_is_named() {
     );
 }
 
-/// The editor's view of the worm (method 6 of the plugin ABI) is the same from the spline2d
-/// plugin library as from the built-in source, and passes the host's check.
+/// The editor's view of the worm (method 6 of the plugin ABI), with the model the output of
+/// examples/worm.ron deforms, is the same from the spline2d plugin library as from the
+/// built-in source, and passes the conformance check of views (no models without outputs,
+/// outputs change only the models, the host's validation).
 #[test]
 fn the_spline_view_crosses_the_plugin_boundary_unchanged() {
-    use api::{ConstraintSource, ConstraintSystem, SourceView, Values, ViewRequest};
+    use api::{ConstraintSource, ConstraintSystem, SourceView, Values};
     let request = api::BuildRequest {
         schema: api::SCHEMA_VERSION,
         input_limit: api::input::DEFAULT_MAX_INPUT_BYTES,
@@ -221,6 +223,11 @@ fn the_spline_view_crosses_the_plugin_boundary_unchanged() {
         values: Values::default(),
         sources: Vec::new(),
     };
+    // The output of examples/worm.ron, as written there.
+    let run = std::fs::read_to_string(root().join("examples/worm.ron")).expect("worm.ron");
+    let output = r#"(picture: "worm.svg", model: "models/worm-model.obj")"#;
+    assert!(run.contains(output), "examples/worm.ron names its model");
+    let outputs = vec![output.to_string()];
     let plugin = plugin_abi::load(&library("plugins_spline2d_dylib")).expect("loads");
     let mut dynamic = plugin.instantiate();
     let mut fixed = plugins_spline2d::plugin::Spline2dSource::default();
@@ -231,14 +238,20 @@ fn the_spline_view_crosses_the_plugin_boundary_unchanged() {
     contribution
         .apply_to(&mut system, &mut values)
         .expect("applies");
-    let ask = ViewRequest {
-        schema: api::SCHEMA_VERSION,
-    };
-    let view = dynamic.view(&ask).expect("view").expect("spline2d draws");
-    assert_eq!(Some(view.clone()), fixed.view(&ask).expect("static view"));
-    view.validate(&system).expect("a valid view");
+    let view = conformance::check_view(&dynamic, "worm", &system, &outputs)
+        .expect("a conforming view")
+        .expect("spline2d draws");
+    assert_eq!(
+        Some(view.clone()),
+        conformance::check_view(&fixed, "worm", &system, &outputs).expect("static view")
+    );
     let SourceView::BezierTriangles(view) = view;
-    // The worm: 6 triangles, degree 5 (21 control points each).
+    // The worm: 6 triangles, degree 5 (21 control points each), and its model.
     assert_eq!((view.triangles.len(), view.degree), (6, 5));
     assert!(view.patches.iter().all(|p| p.len() == 21));
+    assert_eq!(view.models.len(), 1);
+    let model = &view.models[0];
+    assert_eq!(model.name, "models/worm-model.obj");
+    assert_eq!((model.vertices.len(), model.faces.len()), (341, 600));
+    assert!(model.embedding.iter().filter(|e| e.is_some()).count() > 300);
 }

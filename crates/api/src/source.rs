@@ -21,7 +21,9 @@ use std::path::PathBuf;
 /// and across the plugin ABI. It changes whenever a request or answer type changes its
 /// serialised form (the golden fixtures of `plugin-abi` fail until it does); plugins refuse
 /// requests of a newer schema than they know, naming both. History: 1, the first payloads;
-/// 2, input limits, the checks before the first edit, error positions, source inputs.
+/// 2, input limits, the checks before the first edit, error positions, source inputs. Fields
+/// added since with serde defaults, which older plugins ignore and whose absence newer ones
+/// read as the default, keep 2: the view's outputs and models ([`crate::view`]).
 pub const SCHEMA_VERSION: u32 = 2;
 
 fn schema_v1() -> u32 {
@@ -450,7 +452,8 @@ pub trait ConstraintSource {
     /// needs, and says which files it will write. Sources without outputs refuse every request.
     fn check_output(&self, request: &OutputCheckRequest) -> Result<OutputCheck, SourceError>;
     /// The source's geometry for an interactive editor ([`crate::view`]), asked once after
-    /// [`ConstraintSource::build`]; `None` when the source has nothing to draw (the default).
+    /// [`ConstraintSource::build`], with the models the request's outputs deform; `None` when
+    /// the source has nothing to draw (the default).
     fn view(&self, request: &ViewRequest) -> Result<Option<SourceView>, SourceError> {
         let _ = request;
         Ok(None)

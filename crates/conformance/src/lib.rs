@@ -372,32 +372,92 @@ pub fn check_build(
     Ok(contribution)
 }
 
-/// Asks a built source for its editor view (no panic, no refusal) and checks a view it gives
-/// against the system it was built into ([`api::SourceView::validate`]). Sources without a
-/// view pass.
+/// Asks a built source for its editor view twice, with no outputs and with `outputs` (output
+/// texts the source's `check_output` accepted, as a host sends them), and checks the answers:
+/// no panic and no refusal; a view asked without outputs has no models (models come only from
+/// outputs); the outputs change nothing but the models; the view passes
+/// [`api::SourceView::validate`] on the system the source was built into (models included).
+/// Sources without a view pass. Returns the view with `outputs`, so that a plugin loaded
+/// through the ABI can be compared with the same source linked statically.
 pub fn check_view(
     source: &dyn ConstraintSource,
     name: &str,
     system: &api::ConstraintSystem,
-) -> Result<(), ConformanceError> {
-    let request = api::ViewRequest {
-        schema: api::SCHEMA_VERSION,
+    outputs: &[String],
+) -> Result<Option<api::SourceView>, ConformanceError> {
+    let bad = |problem: String| ConformanceError::BadView {
+        name: name.to_string(),
+        problem,
     };
-    let view = no_panic(format!("view of {name:?}"), || source.view(&request))?.map_err(|e| {
-        ConformanceError::BadView {
-            name: name.to_string(),
-            problem: format!("refused: {}", e.message),
+    let ask = |outputs: &[String]| {
+        let request = api::ViewRequest {
+            schema: api::SCHEMA_VERSION,
+            outputs: outputs.to_vec(),
+        };
+        no_panic(format!("view of {name:?}"), || source.view(&request))?
+            .map_err(|e| bad(format!("refused: {}", e.message)))
+    };
+    let plain = ask(&[])?;
+    let with_outputs = ask(outputs)?;
+    match (plain, &with_outputs) {
+        (None, None) => return Ok(None),
+        (
+            Some(api::SourceView::BezierTriangles(plain)),
+            Some(api::SourceView::BezierTriangles(view)),
+        ) => {
+            if !plain.models.is_empty() {
+                return Err(bad(format!(
+                    "it has models ({}) although the request names no outputs",
+                    plain.models.len()
+                )));
+            }
+            let mut rest = view.clone();
+            rest.models.clear();
+            if rest != plain {
+                return Err(bad(format!(
+                    "the outputs {outputs:?} change more than its models"
+                )));
+            }
         }
-    })?;
-    match view {
-        Some(view) => view
-            .validate(system)
-            .map_err(|problem| ConformanceError::BadView {
-                name: name.to_string(),
-                problem,
-            }),
-        None => Ok(()),
+        (Some(_), None) => {
+            return Err(bad(format!(
+                "it has a view without outputs but none with the outputs {outputs:?}"
+            )))
+        }
+        (None, Some(_)) => {
+            return Err(bad(format!(
+                "it has a view with the outputs {outputs:?} but none without"
+            )))
+        }
     }
+    if let Some(view) = &with_outputs {
+        view.validate(system).map_err(bad)?;
+    }
+    Ok(with_outputs)
+}
+
+/// The outputs of `outputs` that `source` accepts in its check (`check_output` answers with
+/// files), checked with the build request's base directory and input limit, as a host checks
+/// the outputs it later names in a view request.
+fn accepted_outputs(
+    source: &dyn ConstraintSource,
+    request: &BuildRequest,
+    outputs: &[String],
+) -> Result<Vec<String>, ConformanceError> {
+    let mut accepted = Vec::new();
+    for output in outputs {
+        let check = OutputCheckRequest {
+            schema: api::SCHEMA_VERSION,
+            output: output.clone(),
+            base_dir: request.base_dir.clone(),
+            input_limit: request.input_limit,
+        };
+        let call = format!("check of {:?} for the output {output:?}", request.name);
+        if no_panic(call, || source.check_output(&check))?.is_ok() {
+            accepted.push(output.clone());
+        }
+    }
+    Ok(accepted)
 }
 
 /// Builds `request` on two fresh instances and checks both contributions
@@ -577,7 +637,8 @@ fn check_plan(
 /// * kind and version are non-empty and the same for every instance;
 /// * each good request builds identically on two instances ([`check_deterministic`]), and the
 ///   first instance then plans [`Samples::operations`] and renders [`Samples::outputs`]
-///   ([`check_plan_and_render`]) and gives a view that can be drawn, if any ([`check_view`]);
+///   ([`check_plan_and_render`]) and gives a view that can be drawn, if any, asked without
+///   outputs and with the sample outputs its `check_output` accepts ([`check_view`]);
 /// * each bad request is refused ([`check_refuses`]).
 ///
 /// Returns the contributions of the good requests, in order. For a dynamic plugin, `make` is
@@ -634,7 +695,8 @@ pub fn check_source(
             &samples.operations,
             &samples.outputs,
         )?;
-        check_view(first.as_ref(), &request.name, &system)?;
+        let outputs = accepted_outputs(first.as_ref(), request, &samples.outputs)?;
+        check_view(first.as_ref(), &request.name, &system, &outputs)?;
         contributions.push(contribution);
     }
     for request in &samples.bad {
@@ -655,8 +717,10 @@ mod tests {
     #[derive(Default)]
     struct Fixture {
         calls: usize,
-        /// Built with `"view"`: gives a view whose point is the scalar `f.x`.
-        scalar_view: bool,
+        /// Built with `"view"`: gives a view whose point is the scalar `f.x`; with `"stray"`
+        /// that view has a model even when no outputs are named; with `"shifty"` its
+        /// smoothness depends on the outputs.
+        view: String,
     }
 
     impl ConstraintSource for Fixture {
@@ -693,9 +757,9 @@ mod tests {
                 }],
                 ..Contribution::default()
             };
-            self.scalar_view = request.config == "view";
+            self.view = request.config.clone();
             match request.config.as_str() {
-                "good" | "view" => Ok(good),
+                "good" | "view" | "stray" | "shifty" => Ok(good),
                 "panic" => panic!("fixture panics"),
                 "refuse" => Err(SourceError::new(format!("{name}: refused"))),
                 "mute" => Err(SourceError::new("")),
@@ -769,17 +833,32 @@ mod tests {
         fn check_output(&self, _: &OutputCheckRequest) -> Result<OutputCheck, SourceError> {
             Ok(OutputCheck::new(vec!["x.svg".into()], vec![]))
         }
-        fn view(&self, _: &api::ViewRequest) -> Result<Option<api::SourceView>, SourceError> {
+        fn view(&self, request: &api::ViewRequest) -> Result<Option<api::SourceView>, SourceError> {
             let q = |n: i64| api::Rational::from_integer(n.into());
-            Ok(self.scalar_view.then(|| {
-                api::SourceView::BezierTriangles(api::BezierTriangles {
+            let mode = self.view.as_str();
+            if !["view", "stray", "shifty"].contains(&mode) {
+                return Ok(None);
+            }
+            let models = if mode == "stray" || !request.outputs.is_empty() {
+                vec![api::ViewModel {
+                    name: "m.obj".into(),
+                    vertices: vec![[0.0; 3]],
+                    faces: Vec::new(),
+                    embedding: vec![None],
+                }]
+            } else {
+                Vec::new()
+            };
+            Ok(Some(api::SourceView::BezierTriangles(
+                api::BezierTriangles {
                     degree: 1,
-                    smoothness: 0,
+                    smoothness: usize::from(mode == "shifty" && !request.outputs.is_empty()),
                     vertices: vec![[q(0), q(0)], [q(1), q(0)], [q(0), q(1)]],
                     triangles: vec![[0, 1, 2]],
                     patches: vec![vec![ParamId(0); 3]],
-                })
-            }))
+                    models,
+                },
+            )))
         }
     }
 
@@ -813,6 +892,16 @@ mod tests {
                 &["view"],
                 &[],
                 "view of \"f\" cannot be drawn: the view's patch 0 names \"f.x\" of dimension 1",
+            ),
+            (
+                &["stray"],
+                &[],
+                "view of \"f\" cannot be drawn: it has models (1) although the request names no outputs",
+            ),
+            (
+                &["shifty"],
+                &[],
+                "view of \"f\" cannot be drawn: the outputs [\"(picture: \\\"x.svg\\\")\"] change more than its models",
             ),
             (&[], &["panic"], "panicked"),
             (&["refuse"], &[], "refused a good configuration"),

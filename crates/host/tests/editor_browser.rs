@@ -91,6 +91,16 @@ fn dragging_a_control_point_with_the_mouse_commits_exact_values_and_undo_restore
     );
     assert_ne!(ink(&mut browser, v3), near_ink);
     assert_eq!(ink(&mut browser, far), far_ink);
+    // The model is drawn deformed: vertices near v3 moved, the others are where the file has
+    // them.
+    let model = browser.eval(
+        "(() => { const m = models[0]; let moved = 0; \
+         m.positions.forEach((p, i) => { if (Math.hypot(p[0] - m.reference[i][0], p[1] - m.reference[i][1]) > 1e-9) moved++; }); \
+         return [m.name, moved, m.positions.length]; })()",
+    );
+    assert_eq!(model[0], "models/worm-model.obj");
+    let (moved, all) = (model[1].as_u64().expect("n"), model[2].as_u64().expect("n"));
+    assert!(0 < moved && moved < all, "{moved} of {all} model vertices moved");
 
     // Undo from the page: the exact state before the drag.
     browser.wait_for("drag === null && !document.getElementById('undo').disabled");

@@ -49,10 +49,12 @@ pub const METHOD_CHECK_OPERATION: u32 = 4;
 /// Added within ABI version 1, like [`METHOD_CHECK_OPERATION`].
 pub const METHOD_CHECK_OUTPUT: u32 = 5;
 /// [`PluginVTable::call`] method: the source's view for an interactive editor. Input is a JSON
-/// `api::ViewRequest`, output on success a JSON `api::SourceView` or `null` (nothing to draw).
+/// `api::ViewRequest` (with the run file's outputs of the source), output on success a JSON
+/// `api::SourceView` (with the models those outputs deform) or `null` (nothing to draw).
 ///
 /// Added within ABI version 1, like [`METHOD_CHECK_OPERATION`]: "unknown method 6" from an
-/// older plugin means "no view".
+/// older plugin means "no view". The request's outputs and the view's models came later with
+/// serde defaults: an older plugin ignores the outputs and answers without models.
 pub const METHOD_VIEW: u32 = 6;
 
 /// [`PluginVTable::call`] status: success; the output holds the JSON answer.

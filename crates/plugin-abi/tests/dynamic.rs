@@ -197,6 +197,7 @@ fn dynamic_and_static_builds_agree() {
         // The example draws nothing: its view (method 6) is `None` across the boundary too.
         let view = api::ViewRequest {
             schema: api::SCHEMA_VERSION,
+            outputs: vec!["(picture: \"ex.svg\")".into()],
         };
         assert_eq!(dynamic.view(&view), Ok(None));
         assert_eq!(fixed.view(&view), Ok(None));

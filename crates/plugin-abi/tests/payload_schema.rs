@@ -5,7 +5,7 @@
 //! silently. Fixtures also read back into the same values.
 
 use api::config::TextPosition;
-use api::{BezierTriangles, SourceView, ViewRequest};
+use api::{BezierTriangles, SourceView, ViewModel, ViewRequest};
 use api::{
     BuildRequest, ConstraintRow, ConstraintSystem, Contribution, Coord, Highlight, NewParameter,
     OperationCheckRequest, OperationPlan, Origin, OutputCheck, OutputCheckRequest, OutputFile,
@@ -216,6 +216,10 @@ fn every_request_and_answer_matches_its_fixture() {
         "view_request",
         &ViewRequest {
             schema: api::SCHEMA_VERSION,
+            outputs: vec![
+                "(picture: \"m.svg\", model: \"m.obj\")".into(),
+                "(picture: \"n.svg\")".into(),
+            ],
         },
     );
     golden(
@@ -226,6 +230,16 @@ fn every_request_and_answer_matches_its_fixture() {
             vertices: vec![[q(0, 1), q(0, 1)], [q(1, 2), q(0, 1)], [q(0, 1), q(3, 1)]],
             triangles: vec![[0, 1, 2]],
             patches: vec![vec![ParamId(0), ParamId(0), ParamId(0)]],
+            models: vec![ViewModel {
+                name: "m.obj".into(),
+                vertices: vec![[0.0, 0.0, 0.0], [0.25, 0.5, 1.0], [9.0, 9.0, -1.5]],
+                faces: vec![vec![0, 1, 2]],
+                embedding: vec![
+                    Some((0, [1.0, 0.0, 0.0])),
+                    Some((0, [0.5, 0.25, 0.25])),
+                    None,
+                ],
+            }],
         })),
     );
 }
@@ -238,6 +252,19 @@ fn older_payloads_still_read_and_newer_requests_are_refused() {
     assert_eq!(old.schema, 1);
     let error: SourceError = serde_json::from_str(r#"{"message": "m"}"#).expect("schema 1 error");
     assert_eq!(error.at, None);
+    // View requests and views from before the view's models (added with serde defaults within
+    // schema 2) read with none.
+    let request: ViewRequest = serde_json::from_str(r#"{"schema": 2}"#).expect("old request");
+    assert!(request.outputs.is_empty());
+    let view: Option<SourceView> = serde_json::from_str(
+        r#"{"kind": "bezier_triangles", "degree": 1, "smoothness": 0, "vertices": [],
+            "triangles": [], "patches": []}"#,
+    )
+    .expect("old view");
+    let Some(SourceView::BezierTriangles(view)) = view else {
+        panic!("a view")
+    };
+    assert!(view.models.is_empty());
     // A plugin refuses a request of a newer schema, naming both versions.
     let mut source = plugin_example::ExampleSource::default();
     let newer = format!(
@@ -255,5 +282,34 @@ fn older_payloads_still_read_and_newer_requests_are_refused() {
         text.contains(&format!("payload schema {}", api::SCHEMA_VERSION + 1))
             && text.contains(&format!("this plugin's {}", api::SCHEMA_VERSION)),
         "{text}"
+    );
+}
+
+/// Floats cross the boundary bit for bit (the view's models are `f64`): the JSON of any finite
+/// `f64` reads back as the same `f64` (serde_json's `float_roundtrip`, which plugin-abi turns
+/// on; the default parser may be an ulp off for 17-digit numbers).
+#[test]
+fn floats_cross_the_boundary_unchanged() {
+    let mut state = 0x9e37_79b9_7f4a_7c15_u64;
+    let values: Vec<f64> = std::iter::from_fn(|| {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        Some(f64::from_bits(state))
+    })
+    .filter(|x| x.is_finite())
+    .take(20_000)
+    .chain([
+        0.1 + 0.2,
+        4.554761126667309e-17,
+        -0.0,
+        f64::MIN_POSITIVE / 3.0,
+    ])
+    .collect();
+    let json = serde_json::to_string(&values).expect("serialise");
+    let back: Vec<f64> = serde_json::from_str(&json).expect("parse");
+    assert_eq!(
+        back.iter().map(|x| x.to_bits()).collect::<Vec<_>>(),
+        values.iter().map(|x| x.to_bits()).collect::<Vec<_>>()
     );
 }

@@ -14,11 +14,12 @@
 use crate::plugin::Built;
 use crate::svg::{before_after, Picture};
 use api::config::{check_output_file_name, from_ron};
-use api::{OutputFile, RenderRequest, SourceError};
+use api::{OutputFile, RenderRequest, SourceError, ViewModel, MAX_VIEW_MODEL_VERTICES};
 use serde::Deserialize;
 use spline2d::eval::{FloatSpline, Locator};
 use spline2d::model::{
-    deform_model, deformed_name, left_in_place_note, load_model, write_obj, Deformed, Model,
+    deform_model, deformed_name, left_in_place_note, load_model, locate_vertices, write_obj,
+    Deformed, Model,
 };
 use std::path::{Path, PathBuf};
 
@@ -148,6 +149,64 @@ pub(crate) fn render(
         )));
     }
     Ok(files)
+}
+
+/// The models that `outputs` (output texts of `built`, in run-file order) deform, for an
+/// editor's view: each read and checked exactly as render reads it ([`check_output`]: the same
+/// reader and limits; paths against the build's base directory, which is the run file's, as
+/// render's), with its vertices, its triangles, and where render's deformation evaluates each
+/// vertex ([`locate_vertices`] with the locator render builds). Outputs without a model add
+/// nothing. At most [`MAX_VIEW_MODEL_VERTICES`] vertices in all, counted before each model is
+/// placed; errors name the model file.
+pub(crate) fn view_models(
+    built: &Built,
+    outputs: &[String],
+) -> Result<Vec<ViewModel>, SourceError> {
+    let mut models = Vec::new();
+    let mut locator = None;
+    let mut total = 0usize;
+    for text in outputs {
+        let (checked, model) = check_output(built, text, &built.base_dir, built.input_limit)?;
+        let (Some(name), Some(model)) = (checked.config.model, model) else {
+            continue;
+        };
+        let error = |message: String| {
+            SourceError::new(format!("{} view: model {name:?}: {message}", built.name))
+        };
+        total = total
+            .checked_add(model.positions.len())
+            .filter(|&total| total <= MAX_VIEW_MODEL_VERTICES)
+            .ok_or_else(|| {
+                error(format!(
+                    "{} vertices bring the view's models above {MAX_VIEW_MODEL_VERTICES} vertices, the most an editor draws",
+                    model.positions.len()
+                ))
+            })?;
+        let locator = locator.get_or_insert_with(|| Locator::new(built.spline.mesh()));
+        let index = |i: usize, what: &str| {
+            u32::try_from(i).map_err(|_| error(format!("{what} {i} does not fit a view's index")))
+        };
+        let faces = model
+            .triangles
+            .iter()
+            .map(|t| t.iter().map(|&v| index(v, "vertex")).collect())
+            .collect::<Result<_, _>>()?;
+        let embedding = locate_vertices(&model, locator)
+            .into_iter()
+            .map(|place| {
+                place
+                    .map(|(t, beta)| Ok((index(t, "triangle")?, beta)))
+                    .transpose()
+            })
+            .collect::<Result<_, _>>()?;
+        models.push(ViewModel {
+            name: name.clone(),
+            vertices: model.positions,
+            faces,
+            embedding,
+        });
+    }
+    Ok(models)
 }
 
 /// The deformed model as an OBJ file named `name`: a first line listing the vertices left in

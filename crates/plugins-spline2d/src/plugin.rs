@@ -83,6 +83,11 @@ pub(crate) struct Built {
     pub(crate) params: SplineParams,
     /// Id of the row of the first condition (conditions are consecutive rows).
     first_row: usize,
+    /// The build request's base directory: what the view resolves its outputs' model paths
+    /// against (a view request carries none; render's base directory is the same run file's).
+    pub(crate) base_dir: std::path::PathBuf,
+    /// The build request's input limit, which the view's model reads keep too.
+    pub(crate) input_limit: u64,
 }
 
 impl Built {
@@ -186,6 +191,8 @@ impl ConstraintSource for Spline2dSource {
             net: std::sync::OnceLock::new(),
             params,
             first_row: request.system.rows().len(),
+            base_dir: request.base_dir.clone(),
+            input_limit: request.input_limit,
         });
         Ok(contribution)
     }
@@ -234,8 +241,9 @@ impl ConstraintSource for Spline2dSource {
         output::render(self.built()?, request)
     }
 
-    /// The Bézier patches over the reference mesh, each control point as its parameter.
-    fn view(&self, _: &ViewRequest) -> Result<Option<SourceView>, SourceError> {
+    /// The Bézier patches over the reference mesh, each control point as its parameter, and
+    /// the models the request's outputs deform, placed in the mesh (`output::view_models`).
+    fn view(&self, request: &ViewRequest) -> Result<Option<SourceView>, SourceError> {
         let built = self.built()?;
         let spline = &built.spline;
         let mesh = spline.mesh();
@@ -253,6 +261,7 @@ impl ConstraintSource for Spline2dSource {
                         .collect()
                 })
                 .collect(),
+            models: output::view_models(built, &request.outputs)?,
         })))
     }
 }
@@ -318,12 +327,15 @@ mod tests {
         let view = source
             .view(&ViewRequest {
                 schema: api::SCHEMA_VERSION,
+                outputs: Vec::new(),
             })
             .expect("view")
             .expect("spline2d has a view");
         view.validate(&system).expect("valid");
         let SourceView::BezierTriangles(view) = view;
         assert_eq!((view.degree, view.smoothness), (5, 1));
+        // A request that names no outputs gets no models.
+        assert!(view.models.is_empty());
         assert_eq!(view.triangles.len(), 4);
         let d = view.degree;
         let q = |n: usize| api::Rational::from_integer(n.into());

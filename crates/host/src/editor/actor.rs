@@ -241,6 +241,8 @@ fn drawable_view(view: api::SourceView) -> Value {
             ]).collect::<Vec<_>>(),
             "triangles": v.triangles,
             "patches": v.patches.iter().map(|p| p.iter().map(|id| id.0).collect::<Vec<_>>()).collect::<Vec<_>>(),
+            // Drawn deformed by the page from the control points (floats: drawing only).
+            "models": v.models,
         }),
     }
 }

@@ -18,6 +18,7 @@ pub use motion::{DragRequest, Motion, Selection};
 pub use save::{autosave_path, default_save_name, VALUES_FILE};
 
 use crate::error::RunError;
+use axum::extract::ws::{Message, WebSocket, WebSocketUpgrade};
 use axum::extract::{Request, State};
 use axum::http::{header, HeaderMap, HeaderValue, StatusCode};
 use axum::middleware::{self, Next};
@@ -140,6 +141,7 @@ fn router(shared: Arc<Shared>) -> Router {
         .route("/", get(page))
         .route("/api/state", get(state))
         .route("/api/drag", post(drag))
+        .route("/api/frames", get(frames))
         .route("/api/undo", post(undo))
         .route("/api/redo", post(redo))
         .route("/api/save", post(save_session))
@@ -235,6 +237,43 @@ async fn drag(State(shared): State<Arc<Shared>>, Json(request): Json<DragRequest
         )
             .into_response(),
         Err(response) => response,
+    }
+}
+
+/// Drag frames over a WebSocket: each text message is a [`DragRequest`], answered in order
+/// with the answer `/api/drag` gives (a bad request: `{"error": message}`). One connection
+/// carries a whole drag without a request's overhead per frame.
+async fn frames(State(shared): State<Arc<Shared>>, upgrade: WebSocketUpgrade) -> Response {
+    upgrade
+        .max_message_size(MAX_FRAME_MESSAGE)
+        .on_upgrade(move |socket| drag_frames(shared, socket))
+}
+
+/// The largest message a frame socket takes: a drag request of 1 000 anchors is far below.
+const MAX_FRAME_MESSAGE: usize = 256 * 1024;
+
+async fn drag_frames(shared: Arc<Shared>, mut socket: WebSocket) {
+    while let Some(Ok(message)) = socket.recv().await {
+        let text = match message {
+            Message::Text(text) => text,
+            Message::Close(_) => break,
+            _ => continue,
+        };
+        let answer = match serde_json::from_str::<DragRequest>(text.as_str()) {
+            Ok(request) => match ask(&shared, |reply| actor::Command::Drag(request, reply)).await {
+                Ok(Ok(answer)) => answer,
+                Ok(Err(message)) => serde_json::json!({ "error": message }),
+                Err(_) => break,
+            },
+            Err(e) => serde_json::json!({ "error": format!("not a drag request: {e}") }),
+        };
+        if socket
+            .send(Message::Text(answer.to_string().into()))
+            .await
+            .is_err()
+        {
+            break;
+        }
     }
 }
 

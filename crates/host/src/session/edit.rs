@@ -734,6 +734,35 @@ mod tests {
         assert_eq!(session.view("eq").expect("no view"), None);
         let unknown = session.view("nope").expect_err("unknown source");
         assert!(unknown.to_string().contains("\"nope\""), "{unknown}");
+        // Without outputs, the view has no models.
+        assert!(view.models.is_empty());
+    }
+
+    /// The view carries the models of the run file's outputs of that source, in run-file
+    /// order (another source's outputs are not its own), placed in the reference mesh.
+    #[test]
+    fn the_view_carries_the_models_of_the_sources_outputs() {
+        let run = r#"(sources: [
+            (name: "worm", plugin: "spline2d", config: (mesh: "meshes/worm.obj", degree: 3)),
+            (name: "star", plugin: "spline2d", config: (mesh: "meshes/starfish.obj", degree: 2)),
+        ], outputs: [
+            (source: "star", output: (model: "models/starfish-model.obj")),
+            (source: "worm", output: (picture: "worm.svg")),
+            (source: "worm", output: (picture: "w.svg", model: "models/worm-model.obj")),
+        ])"#;
+        let (_dir, session) = session(run);
+        for (name, degree, model) in [("worm", 3, "worm"), ("star", 2, "starfish")] {
+            let Some(api::SourceView::BezierTriangles(view)) = session.view(name).expect("view")
+            else {
+                panic!("spline2d draws Bézier triangles");
+            };
+            assert_eq!(view.degree, degree);
+            assert_eq!(view.models.len(), 1, "{name}");
+            let placed = &view.models[0];
+            assert_eq!(placed.embedding.len(), placed.vertices.len());
+            assert!(placed.embedding.iter().any(Option::is_some));
+            assert_eq!(placed.name, format!("models/{model}-model.obj"));
+        }
     }
 
     #[test]

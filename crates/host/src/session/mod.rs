@@ -360,13 +360,22 @@ impl Session {
 
     /// The view of source `name` for an interactive editor ([`api::view`]), checked against
     /// the system before it is returned (a plugin's answer is outside data); `None` when the
-    /// source draws nothing.
+    /// source draws nothing. The request names the run file's outputs for this source (their
+    /// `output` text, in run-file order), so the view carries the models they deform.
     pub fn view(&self, name: &str) -> Result<Option<api::SourceView>, RunError> {
         let loaded = self.loaded(name)?;
+        let outputs = self
+            .run
+            .outputs
+            .iter()
+            .filter(|entry| entry.source == name)
+            .map(|entry| entry.output.text().to_string())
+            .collect();
         let view = loaded
             .source
             .view(&api::ViewRequest {
                 schema: api::SCHEMA_VERSION,
+                outputs,
             })
             .map_err(|e| RunError::input(format!("source {name:?} refused its view: {e}")))?;
         if let Some(view) = &view {

@@ -51,6 +51,21 @@ pub fn deform_model(
     })
 }
 
+/// Where [`deform_model`] evaluates each vertex of `model`: the triangle of the reference mesh
+/// (as seen by `locator`, built from the spline's mesh) and the vertex's barycentric
+/// coordinates there, or `None` for a vertex outside the mesh, which the deformation leaves in
+/// place. It is the location [`FloatSpline::evaluate_point_into`] makes (one
+/// [`Locator::locate`] of `(x, y)`), so an editor that evaluates the patches at these
+/// coordinates draws the model the output renders (up to rounding: the deformation takes the
+/// identity part from the vertex itself, `Σ βk·vk` gives it back within a few ulps).
+pub fn locate_vertices(model: &Model, locator: &Locator) -> Vec<Option<(usize, [f64; 3])>> {
+    model
+        .positions
+        .iter()
+        .map(|p| locator.locate([p[0], p[1]]))
+        .collect()
+}
+
 /// How many vertex numbers [`left_in_place_note`] lists before it summarises the rest.
 const NOTE_LISTS: usize = 20;
 
@@ -136,6 +151,9 @@ mod tests {
             }
         }
         assert_eq!(deformed.model.positions[1], model.positions[1]);
+        let places = locate_vertices(&model, &locator);
+        assert_eq!(places.iter().filter(|p| p.is_none()).count(), 1);
+        assert!(places[1].is_none());
         let scalar = FloatSpline::new(
             &spline,
             &vec![vec![Rational::from_integer(1.into())]; spline.points().len()],
@@ -267,5 +285,53 @@ mod tests {
         }
         assert!(far > 100 && near > 100, "{far} far, {near} near");
         eprintln!("{near} moved vertices, largest error / bound {worst:.3}");
+    }
+
+    /// [`locate_vertices`] places exactly the vertices [`deform_model`] moves, and the patch
+    /// value at each place is the deformed vertex (after an edit that moves every triangle).
+    #[test]
+    fn located_vertices_are_where_the_deformation_evaluates() {
+        let spline = Spline::new(grid(3, true), 4, 1).expect("spline");
+        let locator = Locator::new(spline.mesh());
+        let moved: Vec<Vec<Rational>> = spline
+            .nominals()
+            .iter()
+            .enumerate()
+            .map(|(i, [x, y])| {
+                let i = i as i64;
+                vec![
+                    x + Rational::new((i % 7 - 3).into(), 5.into()),
+                    y + Rational::new((i % 5 - 2).into(), 3.into()),
+                ]
+            })
+            .collect();
+        let float = FloatSpline::new(&spline, &moved).expect("float");
+        let mut positions = vec![[31.0, 1.0, 0.0], [-1.0, 2.0, 0.5]];
+        for a in 0..=40 {
+            for b in 0..=40 {
+                positions.push([f64::from(a) * 0.75, f64::from(b) * 0.75, f64::from(a - b)]);
+            }
+        }
+        let model = Model {
+            positions,
+            triangles: vec![[0, 1, 2]],
+        };
+        let deformed = deform_model(&model, &float, &locator).expect("deform");
+        let places = locate_vertices(&model, &locator);
+        assert_eq!(places.len(), model.positions.len());
+        let outside: Vec<usize> = (0..places.len()).filter(|&v| places[v].is_none()).collect();
+        assert_eq!(outside, deformed.outside);
+        assert_eq!(outside, vec![0, 1]);
+        for (v, place) in places.iter().enumerate() {
+            let Some((t, beta)) = *place else { continue };
+            let value = float.evaluate(t, beta).expect("a triangle");
+            let image = deformed.model.positions[v];
+            for c in 0..2 {
+                assert!(
+                    (value[c] - image[c]).abs() <= 1e-9 * (1.0 + image[c].abs()),
+                    "vertex {v}: {value:?} against {image:?}"
+                );
+            }
+        }
     }
 }

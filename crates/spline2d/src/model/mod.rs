@@ -16,7 +16,7 @@ mod deform;
 mod read;
 mod write;
 
-pub use deform::{deform_model, left_in_place_note};
+pub use deform::{deform_model, left_in_place_note, locate_vertices};
 pub use read::{load_model, parse_model};
 pub use write::{deformed_name, write_obj};
 

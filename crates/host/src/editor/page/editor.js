@@ -24,8 +24,14 @@ let drag = null;           // the drag under way, see startDrag
 let pan = null;
 let image = null;          // the target image: an HTMLImageElement
 let last = { frame: null, server: null, draw: null, deviation: null, counts: null };
-// Frame times (ms from the mouse event to the painted frame), for the status bar and tests.
+// The last 1000 drag frames' times in ms, for the status bar and measurements: `total` from
+// the mouse event to the painted frame, `request` the round trip of its request, `server`
+// the server's part of it, `deform` the model's deformation, `draw` the drawing, `ready` from
+// the event to the frame drawn into the canvas (before the browser's next paint); `first` marks the mouse-down frame (2DSD
+// Select, ExpandDerived and ECLES Initialize), `moved` counts the model vertices recomputed.
 const frames = [];
+// Times from the mouse release to the committed state drawn, in ms.
+const commits = [];
 
 // --- talking to the server -------------------------------------------------------------
 
@@ -44,6 +50,42 @@ async function api(path, body) {
     });
     const answer = await response.json().catch(() => ({ error: response.statusText }));
     if (!response.ok) throw new Error(answer.error || response.statusText);
+    return answer;
+  } finally {
+    clearTimeout(timer);
+    busy--;
+    if (busy === 0) element("progress").hidden = true;
+  }
+}
+
+// Drag frames travel over one WebSocket (no request overhead per frame); answers come in
+// order. Before it is open, or once it is closed, frames go by HTTP.
+let socket = null;
+const waiting = [];
+function openSocket() {
+  const query = token ? `?token=${encodeURIComponent(token)}` : "";
+  const ws = new WebSocket(`ws://${location.host}/api/frames${query}`);
+  ws.onopen = () => { socket = ws; };
+  ws.onmessage = (event) => {
+    const next = waiting.shift();
+    if (next) next(JSON.parse(event.data));
+  };
+  ws.onclose = () => {
+    socket = null;
+    while (waiting.length > 0) waiting.shift()({ error: "the frame connection closed" });
+  };
+}
+
+async function dragRequest(body) {
+  if (socket === null || socket.readyState !== WebSocket.OPEN) return api("/api/drag", body);
+  busy++;
+  const timer = setTimeout(() => { element("progress").hidden = busy === 0; }, 200);
+  try {
+    const answer = await new Promise((resolve) => {
+      waiting.push(resolve);
+      socket.send(JSON.stringify(body));
+    });
+    if (answer.error) throw new Error(answer.error);
     return answer;
   } finally {
     clearTimeout(timer);
@@ -440,8 +482,9 @@ const isStill = (m) =>
 function applyMoved(moved) {
   for (const m of moved) points.get(m.id).value = m.value;
   const ids = moved.map((m) => m.id);
-  for (const model of models) model.update(at, ids);
-  return ids;
+  let vertices = 0;
+  for (const model of models) vertices += model.update(at, ids);
+  return vertices;
 }
 
 async function sendFrame(commit) {
@@ -453,9 +496,14 @@ async function sendFrame(commit) {
   const m = commit ? d.lastValid : motion(d);
   if (commit && (m === null || isStill(m))) { endDrag(); return; }
   d.inFlight = true;
-  const began = d.eventTime || performance.now();
+  const began = commit ? d.releaseTime : d.eventTime;
+  const first = d.sent === 0;
+  d.sent++;
+  let record = null;
   try {
-    const answer = await api("/api/drag", { selection: d.selection, motion: m, commit });
+    const requested = performance.now();
+    const answer = await dragRequest({ selection: d.selection, motion: m, commit });
+    const request = performance.now() - requested;
     if (answer.ok) {
       blocked = null;
       showMessage(null);
@@ -463,8 +511,11 @@ async function sendFrame(commit) {
       if (answer.relevant) relevant = answer.relevant;
       last.counts = answer;
       const before = commit ? new Map(answer.moved.map((x) => [x.id, points.get(x.id).value.slice()])) : null;
-      applyMoved(answer.moved);
+      const deforming = performance.now();
+      const moved = applyMoved(answer.moved);
+      const deform = performance.now() - deforming;
       if (!commit) d.lastValid = m;
+      record = { first, request, server: answer.server_ms, deform, moved };
       if (commit) {
         // How far the last drawn frame was from the committed exact values (rounded).
         last.deviation = Math.max(0, ...answer.moved.map((x) => {
@@ -472,6 +523,7 @@ async function sendFrame(commit) {
           return Math.max(...x.value.map((v, k) => Math.abs(v - was[k])));
         }));
         setState(await api("/api/state"));
+        commits.push(performance.now() - began);
       }
       last.server = answer.server_ms;
     } else {
@@ -482,10 +534,17 @@ async function sendFrame(commit) {
     showMessage(String(e.message || e));
   }
   draw();
-  if (!commit) {
-    last.frame = performance.now() - began;
-    frames.push(last.frame);
-    if (frames.length > 1000) frames.shift();
+  if (!commit && record !== null) {
+    record.draw = last.draw;
+    record.ready = performance.now() - began;
+    // Painted: the next animation frame runs after this one is on the screen.
+    requestAnimationFrame(() => {
+      record.total = performance.now() - began;
+      last.frame = record.total;
+      frames.push(record);
+      if (frames.length > 1000) frames.shift();
+      report();
+    });
   }
   report();
   d.inFlight = false;
@@ -513,6 +572,8 @@ function startDrag(id, e) {
     grab: world,
     mouse: points.get(id).value.slice(),
     lastValid: null,
+    sent: 0,
+    eventTime: performance.now(),
     inFlight: false,
     pending: false,
     released: false,
@@ -545,6 +606,9 @@ canvas.addEventListener("mousedown", (e) => {
   if (changed) showSelection();
   startDrag(id, e);
   draw();
+  // Mouse-down: the edit is planned and initialised at once (a still frame), so the first
+  // move only updates.
+  if (drag) sendFrame(false);
 });
 
 canvas.addEventListener("mousemove", (e) => {
@@ -567,6 +631,7 @@ window.addEventListener("mouseup", () => {
   pan = null;
   if (!drag) return;
   drag.released = true;
+  drag.releaseTime = performance.now();
   if (!drag.inFlight) sendFrame(true);
 });
 
@@ -659,6 +724,7 @@ window.addEventListener("keydown", (e) => {
 window.addEventListener("resize", draw);
 
 (async () => {
+  openSocket();
   try {
     setState(await api("/api/state"));
     fit();
