@@ -1,6 +1,7 @@
 //! New constraint types as external plugins, end to end: the bundled `c2` and `align` example
 //! runs through the real binary with the plugins loaded from their dynamic libraries, and a
-//! plugin of another ABI version refused with both versions named.
+//! plugin of another ABI version refused with both versions named; the editor's views of the
+//! spline2d and terrain plugin libraries equal the built-in sources' ones.
 
 mod common;
 
@@ -245,7 +246,9 @@ fn the_spline_view_crosses_the_plugin_boundary_unchanged() {
         Some(view.clone()),
         conformance::check_view(&fixed, "worm", &system, &outputs).expect("static view")
     );
-    let SourceView::BezierTriangles(view) = view;
+    let SourceView::BezierTriangles(view) = view else {
+        panic!("spline2d draws Bézier triangles")
+    };
     // The worm: 6 triangles, degree 5 (21 control points each), and its model.
     assert_eq!((view.triangles.len(), view.degree), (6, 5));
     assert!(view.patches.iter().all(|p| p.len() == 21));
@@ -254,4 +257,78 @@ fn the_spline_view_crosses_the_plugin_boundary_unchanged() {
     assert_eq!(model.name, "models/worm-model.obj");
     assert_eq!((model.vertices.len(), model.faces.len()), (341, 600));
     assert!(model.embedding.iter().filter(|e| e.is_some()).count() > 300);
+}
+
+/// The editor's view of the terrain (a prism view), with the models the outputs of
+/// examples/terrain.ron deform, is the same from the terrain plugin library as from the
+/// built-in source, and passes the conformance check of views.
+#[test]
+fn the_terrain_view_crosses_the_plugin_boundary_unchanged() {
+    use api::{ConstraintSource, ConstraintSystem, SourceView, Values};
+    // The source and outputs of examples/terrain.ron, as written there.
+    let run = std::fs::read_to_string(root().join("examples/terrain.ron")).expect("terrain.ron");
+    let outputs: Vec<String> = [
+        r#"(model: "terrains/hills.asc", picture: "hills.png")"#,
+        r#"(model: "terrains/tower.obj")"#,
+    ]
+    .map(String::from)
+    .to_vec();
+    for output in &outputs {
+        assert!(
+            run.contains(output.as_str()),
+            "examples/terrain.ron has {output}"
+        );
+    }
+    assert!(run.contains(r#"spline: (mesh: "terrains/reference.obj", degree: 5, smoothness: 1),"#));
+    let request = api::BuildRequest {
+        schema: api::SCHEMA_VERSION,
+        input_limit: api::input::DEFAULT_MAX_INPUT_BYTES,
+        name: "terrain".into(),
+        config: r#"(spline: (mesh: "terrains/reference.obj", degree: 5, smoothness: 1),
+            top: "20", xy: true)"#
+            .into(),
+        base_dir: root().join("examples"),
+        system: ConstraintSystem::new(),
+        values: Values::default(),
+        sources: Vec::new(),
+    };
+    let plugin = plugin_abi::load(&library("plugins_terrain_dylib")).expect("loads");
+    let mut dynamic = plugin.instantiate();
+    let mut fixed = plugins_terrain::plugin::TerrainSource::default();
+    let contribution = dynamic.build(&request).expect("dynamic build");
+    fixed.build(&request).expect("static build");
+    let mut system = ConstraintSystem::new();
+    let mut values = Values::default();
+    contribution
+        .apply_to(&mut system, &mut values)
+        .expect("applies");
+    let view = conformance::check_view(&dynamic, "terrain", &system, &outputs)
+        .expect("a conforming view")
+        .expect("the terrain draws");
+    // Equal, floats included: they cross the boundary bit for bit.
+    assert_eq!(
+        Some(view.clone()),
+        conformance::check_view(&fixed, "terrain", &system, &outputs).expect("static view")
+    );
+    let SourceView::Prisms(view) = view else {
+        panic!("the terrain draws prisms")
+    };
+    // The reference mesh of 8 triangles, degree 5 (21 control points per patch and surface),
+    // φ edited, the layer between -20 and 20, and the two models.
+    assert_eq!((view.triangles.len(), view.degree), (8, 5));
+    let xy = view.xy.as_ref().expect("xy: true");
+    assert!([&view.bottom, &view.top, xy]
+        .iter()
+        .all(|surface| surface.len() == 8 && surface.iter().all(|p| p.len() == 21)));
+    let q = |n: i64| api::Rational::from_integer(n.into());
+    assert_eq!((view.reference_bottom, view.reference_top), (q(-20), q(20)));
+    let names: Vec<&str> = view.models.iter().map(|m| m.name.as_str()).collect();
+    assert_eq!(names, ["terrains/hills.asc", "terrains/tower.obj"]);
+    let hills = &view.models[0];
+    assert_eq!(
+        (hills.vertices.len(), hills.faces.len()),
+        (33 * 33, 2 * 32 * 32)
+    );
+    assert_eq!(hills.relative_height.len(), hills.vertices.len());
+    assert!(hills.embedding.iter().all(Option::is_some));
 }

@@ -45,4 +45,6 @@ pub use system::{
     ConstraintRow, ConstraintSystem, Coord, Origin, ParamId, Parameter, RowBody, RowId,
     ScalarEquation, SystemError, Values,
 };
-pub use view::{BezierTriangles, SourceView, ViewModel, ViewRequest, MAX_VIEW_MODEL_VERTICES};
+pub use view::{
+    BezierTriangles, Prisms, SourceView, ViewModel, ViewRequest, MAX_VIEW_MODEL_VERTICES,
+};

@@ -23,7 +23,13 @@ use std::path::PathBuf;
 /// requests of a newer schema than they know, naming both. History: 1, the first payloads;
 /// 2, input limits, the checks before the first edit, error positions, source inputs. Fields
 /// added since with serde defaults, which older plugins ignore and whose absence newer ones
-/// read as the default, keep 2: the view's outputs and models ([`crate::view`]).
+/// read as the default, keep 2: the view's outputs and models ([`crate::view`]), and the
+/// models' relative heights (absent from the JSON when empty, so planar views serialise as
+/// before). The `prisms` view kind came within 2 too: it is an answer only the terrain source
+/// gives, so no request changes and every earlier view reads as before; a host built before
+/// it cannot decode a prism view and reports that one answer as malformed, naming the plugin
+/// (its editor shows that error in place of the view and draws nothing of the source), while
+/// every other payload is unchanged.
 pub const SCHEMA_VERSION: u32 = 2;
 
 fn schema_v1() -> u32 {

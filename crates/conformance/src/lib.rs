@@ -375,9 +375,10 @@ pub fn check_build(
 /// Asks a built source for its editor view twice, with no outputs and with `outputs` (output
 /// texts the source's `check_output` accepted, as a host sends them), and checks the answers:
 /// no panic and no refusal; a view asked without outputs has no models (models come only from
-/// outputs); the outputs change nothing but the models; the view passes
+/// outputs); the outputs change nothing but the models (not the kind either); the view passes
 /// [`api::SourceView::validate`] on the system the source was built into (models included).
-/// Sources without a view pass. Returns the view with `outputs`, so that a plugin loaded
+/// Views of every kind are checked alike ([`api::SourceView::models`]: Bézier triangles,
+/// prisms). Sources without a view pass. Returns the view with `outputs`, so that a plugin loaded
 /// through the ABI can be compared with the same source linked statically.
 pub fn check_view(
     source: &dyn ConstraintSource,
@@ -401,18 +402,17 @@ pub fn check_view(
     let with_outputs = ask(outputs)?;
     match (plain, &with_outputs) {
         (None, None) => return Ok(None),
-        (
-            Some(api::SourceView::BezierTriangles(plain)),
-            Some(api::SourceView::BezierTriangles(view)),
-        ) => {
-            if !plain.models.is_empty() {
+        // Any kind (Bézier triangles, prisms): models only from outputs, and the rest of the
+        // view (its kind included) the same with and without them.
+        (Some(plain), Some(view)) => {
+            if !plain.models().is_empty() {
                 return Err(bad(format!(
                     "it has models ({}) although the request names no outputs",
-                    plain.models.len()
+                    plain.models().len()
                 )));
             }
             let mut rest = view.clone();
-            rest.models.clear();
+            rest.models_mut().clear();
             if rest != plain {
                 return Err(bad(format!(
                     "the outputs {outputs:?} change more than its models"
@@ -719,7 +719,9 @@ mod tests {
         calls: usize,
         /// Built with `"view"`: gives a view whose point is the scalar `f.x`; with `"stray"`
         /// that view has a model even when no outputs are named; with `"shifty"` its
-        /// smoothness depends on the outputs.
+        /// smoothness depends on the outputs. With `"prisms"`: a valid prism view whose
+        /// heights are `f.x`; `"upside"` the same with its layer upside down; `"switch"` a
+        /// Bézier view without outputs and a prism view with them.
         view: String,
     }
 
@@ -759,7 +761,7 @@ mod tests {
             };
             self.view = request.config.clone();
             match request.config.as_str() {
-                "good" | "view" | "stray" | "shifty" => Ok(good),
+                "good" | "view" | "stray" | "shifty" | "prisms" | "upside" | "switch" => Ok(good),
                 "panic" => panic!("fixture panics"),
                 "refuse" => Err(SourceError::new(format!("{name}: refused"))),
                 "mute" => Err(SourceError::new("")),
@@ -836,19 +838,37 @@ mod tests {
         fn view(&self, request: &api::ViewRequest) -> Result<Option<api::SourceView>, SourceError> {
             let q = |n: i64| api::Rational::from_integer(n.into());
             let mode = self.view.as_str();
-            if !["view", "stray", "shifty"].contains(&mode) {
+            if !["view", "stray", "shifty", "prisms", "upside", "switch"].contains(&mode) {
                 return Ok(None);
             }
+            let prisms = matches!(mode, "prisms" | "upside")
+                || (mode == "switch" && !request.outputs.is_empty());
             let models = if mode == "stray" || !request.outputs.is_empty() {
                 vec![api::ViewModel {
                     name: "m.obj".into(),
                     vertices: vec![[0.0; 3]],
                     faces: Vec::new(),
                     embedding: vec![None],
+                    relative_height: if prisms { vec![0.5] } else { Vec::new() },
                 }]
             } else {
                 Vec::new()
             };
+            if prisms {
+                let (bottom, top) = if mode == "upside" { (1, -1) } else { (-1, 1) };
+                return Ok(Some(api::SourceView::Prisms(api::Prisms {
+                    degree: 1,
+                    smoothness: 0,
+                    vertices: vec![[q(0), q(0)], [q(1), q(0)], [q(0), q(1)]],
+                    triangles: vec![[0, 1, 2]],
+                    bottom: vec![vec![ParamId(0); 3]],
+                    top: vec![vec![ParamId(0); 3]],
+                    xy: None,
+                    reference_bottom: q(bottom),
+                    reference_top: q(top),
+                    models,
+                })));
+            }
             Ok(Some(api::SourceView::BezierTriangles(
                 api::BezierTriangles {
                     degree: 1,
@@ -878,6 +898,11 @@ mod tests {
     }
 
     #[test]
+    fn a_conforming_prism_view_passes() {
+        check(&["prisms"], &[]).expect("a prism view of heights conforms");
+    }
+
+    #[test]
     fn a_conforming_source_passes() {
         let contributions = check(&["good"], &["refuse", "whatever"]).expect("conforms");
         assert_eq!(contributions.len(), 1);
@@ -902,6 +927,16 @@ mod tests {
                 &["shifty"],
                 &[],
                 "view of \"f\" cannot be drawn: the outputs [\"(picture: \\\"x.svg\\\")\"] change more than its models",
+            ),
+            (
+                &["switch"],
+                &[],
+                "view of \"f\" cannot be drawn: the outputs [\"(picture: \\\"x.svg\\\")\"] change more than its models",
+            ),
+            (
+                &["upside"],
+                &[],
+                "view of \"f\" cannot be drawn: the view's reference layer is empty: its bottom 1 is not below its top -1",
             ),
             (&[], &["panic"], "panicked"),
             (&["refuse"], &[], "refused a good configuration"),

@@ -84,6 +84,15 @@ fn a_drag_commits_exact_values_and_undo_and_redo_restore_them() {
     assert!(first["derived"].as_u64().expect("|D|") > 0);
     let (_, second) = call(&editor, "POST", "/api/drag", &frame("2.5", false));
     assert_eq!(second["initialized"], false, "{second}");
+    // A translation is planned once: later frames' steps are affine in the displacement; a
+    // small edit draws the exact optimum.
+    assert!(
+        second["planned"]
+            .as_str()
+            .is_some_and(|p| p.starts_with("once")),
+        "{second}"
+    );
+    assert_eq!(second["frames"], "optimum");
     // Frames change nothing on the server.
     assert_eq!(state(&editor)["points"], before["points"]);
     let (_, drawn) = call(&editor, "POST", "/api/drag", &frame("6", false));

@@ -100,7 +100,10 @@ fn dragging_a_control_point_with_the_mouse_commits_exact_values_and_undo_restore
     );
     assert_eq!(model[0], "models/worm-model.obj");
     let (moved, all) = (model[1].as_u64().expect("n"), model[2].as_u64().expect("n"));
-    assert!(0 < moved && moved < all, "{moved} of {all} model vertices moved");
+    assert!(
+        0 < moved && moved < all,
+        "{moved} of {all} model vertices moved"
+    );
 
     // Undo from the page: the exact state before the drag.
     browser.wait_for("drag === null && !document.getElementById('undo').disabled");

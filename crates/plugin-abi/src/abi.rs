@@ -54,7 +54,9 @@ pub const METHOD_CHECK_OUTPUT: u32 = 5;
 ///
 /// Added within ABI version 1, like [`METHOD_CHECK_OPERATION`]: "unknown method 6" from an
 /// older plugin means "no view". The request's outputs and the view's models came later with
-/// serde defaults: an older plugin ignores the outputs and answers without models.
+/// serde defaults: an older plugin ignores the outputs and answers without models. The
+/// `prisms` kind (the terrain source) came later still, within the same schema; a host built
+/// before it reports a prism view as a malformed answer.
 pub const METHOD_VIEW: u32 = 6;
 
 /// [`PluginVTable::call`] status: success; the output holds the JSON answer.

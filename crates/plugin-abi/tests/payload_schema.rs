@@ -5,7 +5,7 @@
 //! silently. Fixtures also read back into the same values.
 
 use api::config::TextPosition;
-use api::{BezierTriangles, SourceView, ViewModel, ViewRequest};
+use api::{BezierTriangles, Prisms, SourceView, ViewModel, ViewRequest};
 use api::{
     BuildRequest, ConstraintRow, ConstraintSystem, Contribution, Coord, Highlight, NewParameter,
     OperationCheckRequest, OperationPlan, Origin, OutputCheck, OutputCheckRequest, OutputFile,
@@ -239,9 +239,37 @@ fn every_request_and_answer_matches_its_fixture() {
                     Some((0, [0.5, 0.25, 0.25])),
                     None,
                 ],
+                relative_height: Vec::new(),
             }],
         })),
     );
+    // A terrain's view: heights `s.a` for both surfaces, `φ` of the point `s.p`, the layer
+    // between -20 and 41/2, and a model with its relative heights (the third vertex above the
+    // top, left in place).
+    let prisms = SourceView::Prisms(Prisms {
+        degree: 1,
+        smoothness: 0,
+        vertices: vec![[q(0, 1), q(0, 1)], [q(1, 2), q(0, 1)], [q(0, 1), q(3, 1)]],
+        triangles: vec![[0, 1, 2]],
+        bottom: vec![vec![ParamId(1), ParamId(1), ParamId(1)]],
+        top: vec![vec![ParamId(1), ParamId(1), ParamId(1)]],
+        xy: Some(vec![vec![ParamId(0), ParamId(0), ParamId(0)]]),
+        reference_bottom: q(-20, 1),
+        reference_top: q(41, 2),
+        models: vec![ViewModel {
+            name: "hills.asc".into(),
+            vertices: vec![[0.0, 0.0, -20.0], [0.25, 0.5, 0.25], [9.0, 9.0, 30.0]],
+            faces: vec![vec![0, 1, 2]],
+            embedding: vec![
+                Some((0, [1.0, 0.0, 0.0])),
+                Some((0, [0.5, 0.25, 0.25])),
+                None,
+            ],
+            relative_height: vec![0.0, 0.5, 1.2345679012345678],
+        }],
+    });
+    assert_eq!(prisms.validate(&system), Ok(()), "a view a host accepts");
+    golden("source_view_prisms", &Some(prisms));
 }
 
 #[test]

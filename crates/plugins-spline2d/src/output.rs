@@ -204,6 +204,8 @@ pub(crate) fn view_models(
             vertices: model.positions,
             faces,
             embedding,
+            // A plane deformation has no layer.
+            relative_height: Vec::new(),
         });
     }
     Ok(models)

@@ -332,7 +332,9 @@ mod tests {
             .expect("view")
             .expect("spline2d has a view");
         view.validate(&system).expect("valid");
-        let SourceView::BezierTriangles(view) = view;
+        let SourceView::BezierTriangles(view) = view else {
+            panic!("spline2d draws Bézier triangles")
+        };
         assert_eq!((view.degree, view.smoothness), (5, 1));
         // A request that names no outputs gets no models.
         assert!(view.models.is_empty());

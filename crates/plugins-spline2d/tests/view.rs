@@ -83,7 +83,9 @@ fn the_worm_view_places_its_model_where_the_identity_patches_give_it_back() {
     let (source, system, values) = worm();
     let view = view_of(&source, &[WORM_OUTPUT]).expect("the view");
     view.validate(&system).expect("a view the host accepts");
-    let SourceView::BezierTriangles(view) = view;
+    let SourceView::BezierTriangles(view) = view else {
+        panic!("spline2d draws Bézier triangles")
+    };
     assert_eq!(view.models.len(), 1);
     let model: &ViewModel = &view.models[0];
     assert_eq!(model.name, "models/worm-model.obj");
@@ -171,13 +173,17 @@ fn a_view_without_outputs_or_models_has_no_models() {
     for outputs in [&[][..], &[r#"(picture: "worm.svg")"#][..]] {
         let view = view_of(&source, outputs).expect("the view");
         view.validate(&system).expect("valid");
-        let SourceView::BezierTriangles(view) = view;
+        let SourceView::BezierTriangles(view) = view else {
+            panic!("spline2d draws Bézier triangles")
+        };
         assert!(view.models.is_empty(), "{outputs:?}");
         assert_eq!(view.triangles.len(), 6);
     }
     // Two outputs naming models give two, in the outputs' order; the rest of the view is the
     // same as without outputs.
-    let SourceView::BezierTriangles(plain) = view_of(&source, &[]).expect("plain");
+    let SourceView::BezierTriangles(plain) = view_of(&source, &[]).expect("plain") else {
+        panic!("spline2d draws Bézier triangles")
+    };
     let SourceView::BezierTriangles(mut both) = view_of(
         &source,
         &[
@@ -186,7 +192,9 @@ fn a_view_without_outputs_or_models_has_no_models() {
             r#"(model: "models/worm-model.obj")"#,
         ],
     )
-    .expect("two models");
+    .expect("two models") else {
+        panic!("spline2d draws Bézier triangles")
+    };
     assert_eq!(both.models.len(), 2);
     assert_eq!(both.models[0], both.models[1]);
     both.models.clear();

@@ -15,12 +15,15 @@
 //! their position and are listed ([`DeformedModel`]); the topology is kept.
 //!
 //! [`Psi::jacobian_in`] gives `ψ` and its derivatives on one prism, for normals and for
-//! checking smoothness across the walls of neighbouring prisms.
+//! checking smoothness across the walls of neighbouring prisms. The location alone (triangle,
+//! `β`, `α`, or why a point is outside) is [`PrismLocator`], which the source's view shares so
+//! an editor evaluates `ψ` where the render does.
 
 use crate::prism::{PrismLayer, Surfaces};
 use api::exact::rational_to_f64_nearest;
 use api::Rational;
 use spline2d::eval::{check_positions, EvalError, FloatSpline, Locator, Reference};
+use spline2d::mesh::Mesh;
 use spline2d::model::Model;
 use spline2d::spline::Spline;
 
@@ -86,15 +89,58 @@ impl DeformedModel {
     }
 }
 
+/// Where points lie in the prism layer, in floating point: the location [`Psi::map`] makes
+/// before it evaluates, on its own so that an editor's view places a model's vertices exactly
+/// where the render deforms them (the terrain source's view uses it), without the splines.
+#[derive(Debug, Clone)]
+pub struct PrismLocator {
+    locator: Locator,
+    /// `a` and `b`, the nearest `f64`s.
+    bottom: f64,
+    top: f64,
+}
+
+impl PrismLocator {
+    /// The locator of the prisms of `layer` over `mesh`.
+    pub fn new(mesh: &Mesh, layer: &PrismLayer) -> PrismLocator {
+        PrismLocator {
+            locator: Locator::new(mesh),
+            bottom: rational_to_f64_nearest(layer.bottom()),
+            top: rational_to_f64_nearest(layer.top()),
+        }
+    }
+
+    /// The prism of `p`: triangle, barycentric coordinates `β` of `(x, y)` (one
+    /// [`Locator::locate`]) and vertical coordinates `[α0, α1]` (from `z`, each computed from
+    /// `z` itself, not one from the other), or why `p` is outside the prisms: `(x, y)` outside
+    /// the mesh, or `z` more than [`LAYER_TOLERANCE`]`·(b − a)` below the bottom or above the
+    /// top.
+    pub fn locate(&self, p: [f64; 3]) -> Result<(usize, [f64; 3], [f64; 2]), Outside> {
+        let (t, beta) = self.locator.locate([p[0], p[1]]).ok_or(Outside::Mesh)?;
+        let height = self.top - self.bottom;
+        let slack = LAYER_TOLERANCE * height;
+        let z = p[2];
+        if !(z >= self.bottom - slack && z <= self.top + slack) {
+            return Err(Outside::PrismLayer);
+        }
+        Ok((t, beta, [(self.top - z) / height, self.relative_height(z)]))
+    }
+
+    /// The relative height `α1 = (z − a)/(b − a)` of height `z` in the layer, as
+    /// [`PrismLocator::locate`] computes it (outside `[0, 1]` for `z` outside the layer).
+    pub fn relative_height(&self, z: f64) -> f64 {
+        (z - self.bottom) / (self.top - self.bottom)
+    }
+}
+
 /// `ψ` ready to map points.
 #[derive(Debug, Clone)]
 pub struct Psi {
-    locator: Locator,
+    /// The location of points in the prisms, with `a` and `b` in `f64`.
+    prisms: PrismLocator,
     /// Values `(σ0, σ1)` or `(φx, φy, σ0, σ1)`, measured from `(a, b)` or `(x, y, a, b)`.
     spline: FloatSpline,
     xy: bool,
-    bottom: f64,
-    top: f64,
     /// Per triangle, its corners.
     corners: Vec<[[f64; 2]; 3]>,
     /// Per triangle, `∂βk/∂x` and `∂βk/∂y`.
@@ -177,11 +223,9 @@ impl Psi {
             })
             .collect();
         Ok(Psi {
-            locator: Locator::new(spline.mesh()),
+            prisms: PrismLocator::new(spline.mesh(), layer),
             spline: float,
             xy: surfaces.phi.is_some(),
-            bottom: rational_to_f64_nearest(layer.bottom()),
-            top: rational_to_f64_nearest(layer.top()),
             corners,
             gradients,
         })
@@ -192,20 +236,10 @@ impl Psi {
         self.xy
     }
 
-    /// The prism of `p`: triangle, barycentric coordinates `β` and vertical coordinates `α`.
+    /// The prism of `p`: triangle, barycentric coordinates `β` and vertical coordinates `α`
+    /// ([`PrismLocator::locate`]).
     pub fn locate(&self, p: [f64; 3]) -> Result<(usize, [f64; 3], [f64; 2]), Outside> {
-        let (t, beta) = self.locator.locate([p[0], p[1]]).ok_or(Outside::Mesh)?;
-        let height = self.top - self.bottom;
-        let slack = LAYER_TOLERANCE * height;
-        let z = p[2];
-        if !(z >= self.bottom - slack && z <= self.top + slack) {
-            return Err(Outside::PrismLayer);
-        }
-        Ok((
-            t,
-            beta,
-            [(self.top - z) / height, (z - self.bottom) / height],
-        ))
+        self.prisms.locate(p)
     }
 
     /// Whether some control value of the prism over triangle `t` differs from the undeformed
@@ -273,14 +307,15 @@ impl Psi {
     /// `I` plus their derivatives: `∂x'/∂x = 1 + ∂Dx/∂x`, `∂z'/∂x = α0·∂D0/∂x + α1·∂D1/∂x`,
     /// `∂z'/∂z = 1 + (D1 − D0)/(b − a)`. The value is [`Psi::map`]'s on `t`.
     pub fn jacobian_in(&self, t: usize, p: [f64; 3]) -> Option<([f64; 3], [[f64; 3]; 3])> {
-        let beta = self.locator.barycentric(t, [p[0], p[1]])?;
+        let beta = self.prisms.locator.barycentric(t, [p[0], p[1]])?;
         let g = self.gradients.get(t)?;
         let (d, partials) = self.spline.displacement_with_derivatives(t, beta)?;
         // Derivative of displacement coordinate `c` along x (axis 0) or y (axis 1).
         let along =
             |c: usize, axis: usize| -> f64 { (0..3).map(|k| partials[k][c] * g[k][axis]).sum() };
-        let height = self.top - self.bottom;
-        let (a0, a1) = ((self.top - p[2]) / height, (p[2] - self.bottom) / height);
+        let (bottom, top) = (self.prisms.bottom, self.prisms.top);
+        let height = top - bottom;
+        let (a0, a1) = ((top - p[2]) / height, (p[2] - bottom) / height);
         let s = if self.xy { 2 } else { 0 };
         let (d0, d1) = (d[s], d[s + 1]);
         let z = p[2] + (a0 * d0 + a1 * d1);

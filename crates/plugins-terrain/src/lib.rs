@@ -14,7 +14,7 @@
 //! * [`deform`]: `ψ` in floating point for large models, with derivatives.
 //! * [`relief`]: shaded-relief PNG pictures.
 //! * [`plugin`]: the [`api::ConstraintSource`] (configuration, build, the z0/z1/xy modes,
-//!   rendered outputs).
+//!   rendered outputs, the editor's view of the prisms).
 
 pub mod deform;
 pub mod heightfield;

@@ -9,15 +9,15 @@
 //! moved points for drawing: the exact verdict with the values rounded (`preview`, which skips
 //! reducing fractions); the last request commits the exact update.
 
+use super::frames::{drag_frame, drawable_rows, refused, ActiveDrag};
 use super::motion::{DragRequest, Selection};
 use super::save;
 use crate::error::RunError;
-use crate::session::{ActiveEdit, Planning, Session};
-use api::{format_rational, ParamId, Rational, Values};
+use crate::session::{Planning, Session};
+use api::{format_rational, ParamId, Values};
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
 use std::sync::mpsc;
-use std::time::Instant;
 use tokio::sync::oneshot;
 
 /// A request of the page, with the channel for its answer.
@@ -34,16 +34,6 @@ pub(crate) enum Command {
     Resume(bool, oneshot::Sender<Result<Value, String>>),
     /// The points a selection would move (2DSD Select and ExpandDerived, nothing initialised).
     Select(Selection, oneshot::Sender<Result<Value, String>>),
-}
-
-/// The drag under way: what it was planned for and its initialised edit.
-struct ActiveDrag {
-    key: Selection,
-    spec: ecles::EditSpec,
-    edit: ActiveEdit,
-    /// Rank of `R_ED` and its redundant rows (from the edit's report, made once).
-    rank: usize,
-    redundant: usize,
 }
 
 /// The editor's side of the session: the session, the drag under way and the autosave.
@@ -202,7 +192,8 @@ fn session_state(session: &Session) -> Value {
         .params()
         .iter()
         .enumerate()
-        .filter(|(_, p)| p.dim == 2)
+        // Points (dimension 2) and heights (dimension 1, a terrain's surfaces).
+        .filter(|(_, p)| p.dim <= 2)
         .map(|(i, p)| {
             let id = ParamId(i as u32);
             json!({
@@ -227,6 +218,14 @@ fn session_state(session: &Session) -> Value {
     })
 }
 
+/// Patches of parameter ids as the page indexes them.
+fn ids(patches: &[Vec<ParamId>]) -> Vec<Vec<u32>> {
+    patches
+        .iter()
+        .map(|p| p.iter().map(|id| id.0).collect())
+        .collect()
+}
+
 /// A view as the page draws it: exact vertices rounded (the page never computes with them),
 /// parameters as indices.
 fn drawable_view(view: api::SourceView) -> Value {
@@ -240,8 +239,24 @@ fn drawable_view(view: api::SourceView) -> Value {
                 api::exact::rational_to_f64(&p[1]),
             ]).collect::<Vec<_>>(),
             "triangles": v.triangles,
-            "patches": v.patches.iter().map(|p| p.iter().map(|id| id.0).collect::<Vec<_>>()).collect::<Vec<_>>(),
+            "patches": ids(&v.patches),
             // Drawn deformed by the page from the control points (floats: drawing only).
+            "models": v.models,
+        }),
+        api::SourceView::Prisms(v) => json!({
+            "kind": "prisms",
+            "degree": v.degree,
+            "smoothness": v.smoothness,
+            "vertices": v.vertices.iter().map(|p| [
+                api::exact::rational_to_f64(&p[0]),
+                api::exact::rational_to_f64(&p[1]),
+            ]).collect::<Vec<_>>(),
+            "triangles": v.triangles,
+            "bottom": ids(&v.bottom),
+            "top": ids(&v.top),
+            "xy": v.xy.as_ref().map(|xy| ids(xy)),
+            "reference_bottom": api::exact::rational_to_f64(&v.reference_bottom),
+            "reference_top": api::exact::rational_to_f64(&v.reference_top),
             "models": v.models,
         }),
     }
@@ -269,168 +284,4 @@ fn select(session: &Session, selection: &Selection) -> Result<Value, String> {
         })),
         Planning::Refused(message) => Ok(refused(message, Vec::new(), Vec::new())),
     }
-}
-
-/// Rows as the page draws them: the label and the points (parameters of dimension 2) in each
-/// row, for rows made of points only.
-fn drawable_rows(
-    system: &api::ConstraintSystem,
-    rows: impl Iterator<Item = api::RowId>,
-) -> Vec<Value> {
-    rows.filter_map(|r| {
-        let row = &system.rows()[r.index()];
-        let params = row.body.params();
-        let points = params.iter().all(|p| system.params()[p.index()].dim == 2);
-        (points && params.len() >= 2).then(|| {
-            json!({ "label": row.label, "points": params.iter().map(|p| p.0).collect::<Vec<_>>() })
-        })
-    })
-    .collect()
-}
-
-/// The answer to a move that cannot be made: the message, the labels of the constraints in
-/// the way and the explanation (the state is unchanged).
-fn refused(message: String, labels: Vec<String>, explanation: Vec<String>) -> Value {
-    json!({
-        "ok": false,
-        "conflict": { "message": message, "labels": labels, "explanation": explanation },
-    })
-}
-
-fn drag_frame(
-    session: &mut Session,
-    drag: &mut Option<ActiveDrag>,
-    request: &DragRequest,
-) -> Result<Value, String> {
-    let started = Instant::now();
-    let selection = &request.selection;
-    if !session.source_names().any(|s| s == selection.source) {
-        return Err(format!("unknown source {:?}", selection.source));
-    }
-    let operation = selection.operation(&request.motion)?;
-    let plan = match session
-        .plan_operation(&selection.source, &operation)
-        .map_err(|e| e.to_string())?
-    {
-        Planning::Planned(plan) => plan,
-        Planning::Refused(message) => return Ok(refused(message, Vec::new(), Vec::new())),
-    };
-    let key = selection.clone();
-    let reuse = drag
-        .as_ref()
-        .is_some_and(|d| d.key == key && d.spec == plan.spec);
-    if !reuse {
-        let edit = match session.initialize(&plan) {
-            Ok(edit) => edit,
-            Err(e) => {
-                *drag = None;
-                let (labels, explanation) = session.conflict_details(&plan.spec, &e);
-                return Ok(refused(e.to_string(), labels, explanation));
-            }
-        };
-        let report = edit.edit().report();
-        *drag = Some(ActiveDrag {
-            key,
-            spec: plan.spec.clone(),
-            edit,
-            rank: report.rank,
-            redundant: report.redundant.len(),
-        });
-    }
-    let Some(active) = drag.as_ref() else {
-        return Err("no drag under way".into());
-    };
-    let step = plan
-        .steps
-        .last()
-        .ok_or_else(|| "the source planned no step".to_string())?;
-    let to_f64 = |v: &[Rational]| {
-        v.iter()
-            .map(api::exact::rational_to_f64)
-            .collect::<Vec<_>>()
-    };
-    let moved_point = |id: &ParamId, value: Vec<f64>| json!({ "id": id.0, "value": value });
-    // A frame is drawn: the exact verdict with the values rounded (`preview`); the release
-    // commits the exact update.
-    let (moved, committed) = if request.commit {
-        let result = match session.committed_update(&active.edit, step) {
-            Ok(result) => result,
-            Err(e) => {
-                let (labels, explanation) = session.conflict_details(&active.spec, &e);
-                return Ok(refused(e.to_string(), labels, explanation));
-            }
-        };
-        let moved: Vec<Value> = result
-            .anchors
-            .iter()
-            .chain(&result.derived)
-            .map(|(id, v)| moved_point(id, to_f64(v)))
-            .collect();
-        (moved, Some(result))
-    } else {
-        let derived = match active.edit.preview(step) {
-            Ok(derived) => derived,
-            Err(e) => {
-                let (labels, explanation) = session.conflict_details(&active.spec, &e);
-                return Ok(refused(e.to_string(), labels, explanation));
-            }
-        };
-        let edit = active.edit.edit();
-        let moved: Vec<Value> = edit
-            .anchors()
-            .iter()
-            .zip(&step.anchors)
-            .map(|(id, v)| moved_point(id, to_f64(v)))
-            .chain(
-                edit.derived()
-                    .iter()
-                    .zip(derived)
-                    .map(|(id, v)| moved_point(id, v)),
-            )
-            .collect();
-        (moved, None)
-    };
-    let mut answer = json!({
-        "ok": true,
-        "moved": moved,
-        "anchors": active.spec.anchors.len(),
-        "derived": active.spec.derived.len(),
-        "rank": active.rank,
-        "redundant": active.redundant,
-        "initialized": !reuse,
-    });
-    if !reuse {
-        // Once per drag: which points are derived, and the non-redundant relevant constraints
-        // (the rows the edit keeps), for drawing.
-        let mut independent: Vec<api::RowId> = active
-            .edit
-            .edit()
-            .report()
-            .independent
-            .iter()
-            .map(|r| r.row)
-            .collect();
-        independent.sort();
-        independent.dedup();
-        answer["derived_ids"] = json!(active.spec.derived.iter().map(|p| p.0).collect::<Vec<_>>());
-        answer["relevant"] = json!(drawable_rows(session.system(), independent.into_iter()));
-    }
-    if let Some(result) = committed {
-        let Some(active) = drag.take() else {
-            return Err("no drag under way".into());
-        };
-        // Source names are letters, digits, '_' and '-' (the run file's rule): `{:?}` is their
-        // RON string.
-        let entry = format!(
-            "Source(source: {:?}, operation: {operation})",
-            selection.source
-        );
-        session
-            .apply(&active.edit, &result, entry)
-            .map_err(|e| e.to_string())?;
-        answer["committed"] = json!(true);
-        answer["violated_rows"] = json!(session.system().violations(session.values()).len());
-    }
-    answer["server_ms"] = json!(started.elapsed().as_secs_f64() * 1e3);
-    Ok(answer)
 }

@@ -11,6 +11,7 @@
 //! The session itself runs on a thread of its own ([`actor`]); handlers only forward.
 
 mod actor;
+mod frames;
 mod motion;
 mod save;
 

@@ -28,6 +28,10 @@ pub struct Selection {
     pub anchors: Vec<String>,
     /// `δ_max` on the control net; `None` for every point.
     pub neighborhood: Option<u32>,
+    /// The surface a terrain source edits: `"xy"` (the horizontal map), `"z0"` (bottom) or
+    /// `"z1"` (top); `None` for sources without modes.
+    #[serde(default)]
+    pub mode: Option<String>,
 }
 
 /// How the anchors move since the drag began (thesis 18.5: translate, rotate, scale about a
@@ -55,6 +59,11 @@ pub enum Motion {
         center: [String; 2],
         /// Scale factor.
         factor: String,
+    },
+    /// Up by `dz` (a terrain surface's heights, modes z0 and z1, thesis 18.6).
+    Lift {
+        /// Height change.
+        dz: String,
     },
 }
 
@@ -93,6 +102,31 @@ fn check_point_name(name: &str) -> Result<(), String> {
         return Err(format!("{name:?} is not a control point name"));
     }
     Ok(())
+}
+
+impl Motion {
+    /// The coordinates of a motion the sources plan affinely (a translation's `(dx, dy)`, a
+    /// lift's `dz`), exact; `None` for a rotation or a scaling.
+    pub fn linear_coordinates(&self) -> Result<Option<Vec<Rational>>, String> {
+        match self {
+            Motion::Translate { dx, dy } => Ok(Some(vec![exact("dx", dx)?, exact("dy", dy)?])),
+            Motion::Lift { dz } => Ok(Some(vec![exact("dz", dz)?])),
+            _ => Ok(None),
+        }
+    }
+
+    /// The motion of the same kind with linear coordinates `coordinates` (see
+    /// [`Motion::linear_coordinates`]).
+    pub fn with_coordinates(&self, coordinates: &[&str]) -> Option<Motion> {
+        match (self, coordinates) {
+            (Motion::Translate { .. }, [dx, dy]) => Some(Motion::Translate {
+                dx: (*dx).into(),
+                dy: (*dy).into(),
+            }),
+            (Motion::Lift { .. }, [dz]) => Some(Motion::Lift { dz: (*dz).into() }),
+            _ => None,
+        }
+    }
 }
 
 impl Selection {
@@ -136,9 +170,15 @@ impl Selection {
                 center(c)?,
                 number("factor", factor)?
             ),
+            Motion::Lift { dz } => format!("dz: {}", number("dz", dz)?),
+        };
+        let mode = match self.mode.as_deref() {
+            None => String::new(),
+            Some(m @ ("xy" | "z0" | "z1")) => format!("mode: {m:?}, "),
+            Some(other) => return Err(format!("{other:?} is not a mode (xy, z0 or z1)")),
         };
         Ok(format!(
-            "(anchors: [{}], neighborhood: {neighborhood}, {moved}, steps: 1)",
+            "({mode}anchors: [{}], neighborhood: {neighborhood}, {moved}, steps: 1)",
             anchors.join(", ")
         ))
     }
@@ -153,6 +193,7 @@ mod tests {
             source: "worm".into(),
             anchors: anchors.iter().map(|a| a.to_string()).collect(),
             neighborhood: Some(3),
+            mode: None,
         }
     }
 
@@ -187,6 +228,21 @@ mod tests {
             .operation(&scale)
             .expect("scales")
             .contains(r#"neighborhood: "all", scale: (center: ("0", "0"), factor: "3/2""#));
+        let terrain = Selection {
+            mode: Some("z1".into()),
+            ..selection(&["v4"])
+        };
+        assert_eq!(
+            terrain
+                .operation(&Motion::Lift { dz: "-2.5".into() })
+                .expect("lifts"),
+            r#"(mode: "z1", anchors: ["v4"], neighborhood: 3, dz: "-5/2", steps: 1)"#
+        );
+        let bad = Selection {
+            mode: Some("up".into()),
+            ..selection(&["v4"])
+        };
+        assert!(bad.operation(&Motion::Lift { dz: "1".into() }).is_err());
     }
 
     #[test]

@@ -146,6 +146,11 @@ impl Session {
         Ok(())
     }
 
+    /// What an edit commits in this run: the optimum or a snapped point.
+    pub fn commit_policy(&self) -> CommitPolicy {
+        self.run.commit
+    }
+
     /// The update a commit of `edit` takes for `step`, under the run's commit policy (the
     /// optimum, or a snapped point): what [`Session::run_edit`] commits for the same step.
     pub fn committed_update(

@@ -53,9 +53,18 @@
 //! ```
 //! Model vertices outside the prisms (outside `T`, or `z` outside `[a, b]`) are left in place
 //! and listed, with their counts, in the first lines of the deformed OBJ.
+//!
+//! # View
+//! An editor's view is an [`api::Prisms`]: `T`, the layer `[a, b]`, per triangle the
+//! parameters of `σ0`, `σ1` and (with `xy: true`) `φ` in multi-index order, and the models the
+//! requested outputs deform, each vertex placed where `ψ` evaluates it, with its relative
+//! height `(z − a)/(b − a)` (`view`). A drag of one of its points is an operation above: mode
+//! `z0`, `z1` or `xy` after the point's surface, the anchor the parameter's name without
+//! `{name}.{surface}.`.
 
 mod operation;
 mod output;
+mod view;
 
 use crate::deform::Psi;
 use crate::heightfield::HeightField;
@@ -65,7 +74,7 @@ use api::exact::Exact;
 use api::{
     BuildRequest, ConstraintSource, Contribution, OperationCheckRequest, OperationPlan, Origin,
     OutputCheck, OutputCheckRequest, OutputFile, ParamId, PlanRequest, Rational, RenderRequest,
-    SourceError, SummaryItem, Values,
+    SourceError, SourceView, SummaryItem, Values, ViewRequest,
 };
 use serde::Deserialize;
 use spline2d::config::{spline_from_config, SplineConfig, SplineRead};
@@ -102,6 +111,11 @@ struct Built {
     bottom: SplineParams,
     top: SplineParams,
     xy: Option<SplineParams>,
+    /// The build request's base directory: what the view resolves its outputs' model paths
+    /// against (a view request carries none; render's base directory is the same run file's).
+    base_dir: std::path::PathBuf,
+    /// The build request's input limit, which the view's model reads keep too.
+    input_limit: u64,
 }
 
 impl Built {
@@ -288,6 +302,8 @@ impl ConstraintSource for TerrainSource {
             bottom,
             top,
             xy,
+            base_dir: request.base_dir.clone(),
+            input_limit: request.input_limit,
         });
         Ok(contribution)
     }
@@ -332,7 +348,16 @@ impl ConstraintSource for TerrainSource {
     fn render(&self, request: &RenderRequest) -> Result<Vec<OutputFile>, SourceError> {
         self.render_output(request)
     }
+
+    /// The prisms: the reference mesh, the layer, per triangle the parameters of `σ0`, `σ1`
+    /// and `φ` (with `xy: true`), and the models the request's outputs deform, placed where
+    /// `ψ` evaluates them, with their relative heights (`view`).
+    fn view(&self, request: &ViewRequest) -> Result<Option<SourceView>, SourceError> {
+        self.prisms_view(request).map(Some)
+    }
 }
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod view_tests;

@@ -36,6 +36,8 @@ fn default_true() -> bool {
 pub(super) struct CheckedOutput {
     config: OutputConfig,
     pub(super) model: Model,
+    /// The model file as the output names it (relative to the run file, as written).
+    pub(super) model_name: String,
     pub(super) model_path: PathBuf,
     /// `<stem>-deformed.obj`.
     pub(super) model_file: String,
@@ -89,6 +91,7 @@ impl TerrainSource {
             model_file: deformed_name(&model_path),
             config,
             model,
+            model_name: model_path,
             model_path: full,
             picture,
         };

@@ -27,7 +27,7 @@ fn request(config: &str) -> BuildRequest {
 }
 
 /// A built source with its system and values.
-fn built(xy: bool) -> (TerrainSource, ConstraintSystem, Values) {
+pub(super) fn built(xy: bool) -> (TerrainSource, ConstraintSystem, Values) {
     let mut source = TerrainSource::default();
     let contribution = source.build(&request(&config(xy))).expect("build");
     let mut system = ConstraintSystem::new();
@@ -39,7 +39,12 @@ fn built(xy: bool) -> (TerrainSource, ConstraintSystem, Values) {
 }
 
 /// Plans `operation` and applies its last step exactly.
-fn edit(source: &TerrainSource, system: &ConstraintSystem, values: &mut Values, operation: &str) {
+pub(super) fn edit(
+    source: &TerrainSource,
+    system: &ConstraintSystem,
+    values: &mut Values,
+    operation: &str,
+) {
     let plan = source
         .plan(&PlanRequest {
             schema: api::SCHEMA_VERSION,
@@ -378,7 +383,7 @@ fn deformed_terrains_are_c1_across_triangle_edges() {
 
 /// The bundled terrain example's source (`examples/terrain.ron`) and the bundled height
 /// field `examples/terrains/hills.asc`.
-fn example() -> (TerrainSource, ConstraintSystem, Values, Model) {
+pub(super) fn example() -> (TerrainSource, ConstraintSystem, Values, Model) {
     let examples = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples");
     let config = r#"(spline: (mesh: "terrains/reference.obj", degree: 5, smoothness: 1),
         top: "20", xy: true)"#;

@@ -96,6 +96,8 @@ async function dragRequest(body) {
 
 function setState(next) {
   state = next;
+  // Models and views are new objects: the picture of a drag's still part is stale.
+  endMoving();
   points = new Map();
   const sourceOf = new Map();
   models = [];
@@ -137,18 +139,72 @@ function fit() {
   view.y = (h + (y1 - y0) * view.scale) / 2 + y0 * view.scale;
 }
 
+// Drawing goes to `g`: the page's canvas, or the cached picture of what a drag does not move.
+let g = ctx;
+
+// What the drag under way moves, for drawing only that at each frame: the moving points, and
+// per view the triangles whose patches use them and per model the faces with a vertex in one
+// of those triangles. `null`: no drag, everything is drawn.
+let moving = null;
+// The still part of the picture during a drag (an offscreen canvas), drawn once per drag.
+let still = null;
+
+// The part of the picture to draw: everything, only what a drag leaves still, or only what it
+// moves.
+const ALL = 0, STILL = 1, MOVING = 2;
+
+function movingSets(ids) {
+  const set = new Set(ids);
+  const triangles = new Map();
+  for (const source of state.sources) {
+    const v = source.view;
+    if (!v || !v.patches) continue;
+    const t = new Set();
+    v.patches.forEach((patch, k) => { if (patch.some((id) => set.has(id))) t.add(k); });
+    triangles.set(v, t);
+  }
+  const faces = new Map();
+  for (const model of models) {
+    const t = triangles.get(model.view) || new Set();
+    const inside = new Uint8Array(model.faces.length);
+    model.faces.forEach((face, k) => {
+      if (face.some((vertex) => t.has(model.triangleOf[vertex]))) inside[k] = 1;
+    });
+    faces.set(model, inside);
+  }
+  return { ids: set, triangles, faces };
+}
+
+// Starts drawing a drag of `ids` by parts: the still part is drawn once into `still`.
+function beginMoving(ids) {
+  moving = movingSets(ids);
+  still = document.createElement("canvas");
+  still.width = canvas.width;
+  still.height = canvas.height;
+  g = still.getContext("2d");
+  const ratio = window.devicePixelRatio || 1;
+  g.setTransform(ratio, 0, 0, ratio, 0, 0);
+  drawLayers(STILL);
+  g = ctx;
+}
+
+function endMoving() { moving = null; still = null; }
+
+// Whether an item belongs to the part drawn: `isMoving` says whether the drag moves it.
+const inPart = (part, isMoving) => part === ALL || (part === MOVING) === isMoving;
+
 function line(a, b) {
   const [p, q] = [toScreen(a), toScreen(b)];
-  ctx.moveTo(p[0], p[1]);
-  ctx.lineTo(q[0], q[1]);
+  g.moveTo(p[0], p[1]);
+  g.lineTo(q[0], q[1]);
 }
 
 function polygon(corners) {
   corners.forEach((c, n) => {
     const [x, y] = toScreen(c);
-    if (n === 0) ctx.moveTo(x, y); else ctx.lineTo(x, y);
+    if (n === 0) g.moveTo(x, y); else g.lineTo(x, y);
   });
-  ctx.closePath();
+  g.closePath();
 }
 
 function drawImage() {
@@ -156,41 +212,45 @@ function drawImage() {
   // The image's top-left corner at (x, y) in the world, `units per pixel` world units wide.
   const unit = Number(element("image-scale").value) || 1;
   const [sx, sy] = toScreen([Number(element("image-x").value) || 0, Number(element("image-y").value) || 0]);
-  ctx.globalAlpha = Number(element("image-opacity").value);
-  ctx.drawImage(image, sx, sy, image.width * unit * view.scale, image.height * unit * view.scale);
-  ctx.globalAlpha = 1;
+  g.globalAlpha = Number(element("image-opacity").value);
+  g.drawImage(image, sx, sy, image.width * unit * view.scale, image.height * unit * view.scale);
+  g.globalAlpha = 1;
 }
 
-function drawRows(rows, stroke, fill) {
-  ctx.beginPath();
+function drawRows(rows, stroke, fill, part) {
+  g.beginPath();
   for (const row of rows) {
     if (!row.points.every((id) => points.has(id))) continue;
+    if (!inPart(part, moving !== null && row.points.some((id) => moving.ids.has(id)))) continue;
     polygon(convexHull(row.points.map(at)));
   }
-  ctx.fillStyle = fill;
-  ctx.fill();
-  ctx.strokeStyle = stroke;
-  ctx.lineWidth = 1;
-  ctx.stroke();
+  g.fillStyle = fill;
+  g.fill();
+  g.strokeStyle = stroke;
+  g.lineWidth = 1;
+  g.stroke();
 }
 
-function drawView(v) {
+function drawView(v, part) {
   const indices = multiIndices(v.degree);
   const slot = new Map(indices.map((m, k) => [m.join(","), k]));
-  if (shown("show-reference")) {
-    ctx.beginPath();
-    ctx.strokeStyle = "#c8c8c8";
-    ctx.lineWidth = 1;
+  const movingTriangles = moving === null ? null : moving.triangles.get(v) || null;
+  const drawn = (t) => inPart(part, movingTriangles !== null && movingTriangles.has(t));
+  if (shown("show-reference") && part !== MOVING) {
+    g.beginPath();
+    g.strokeStyle = "#c8c8c8";
+    g.lineWidth = 1;
     for (const [a, b, c] of v.triangles) {
       line(v.vertices[a], v.vertices[b]); line(v.vertices[b], v.vertices[c]); line(v.vertices[c], v.vertices[a]);
     }
-    ctx.stroke();
+    g.stroke();
   }
   if (shown("show-net")) {
-    ctx.beginPath();
-    ctx.strokeStyle = "#9a9a9a";
-    ctx.setLineDash([3, 3]);
-    for (const patch of v.patches) {
+    g.beginPath();
+    // Solid and light: dashes cost much more to draw on a big net.
+    g.strokeStyle = "#b4b4c8";
+    v.patches.forEach((patch, t) => {
+      if (!drawn(t)) return;
       for (const [i, j, k] of indices) {
         const here = at(patch[slot.get([i, j, k].join(","))]);
         if (i > 0) {
@@ -199,16 +259,16 @@ function drawView(v) {
         }
         if (j > 0) line(here, at(patch[slot.get([i, j - 1, k + 1].join(","))]));
       }
-    }
-    ctx.stroke();
-    ctx.setLineDash([]);
+    });
+    g.stroke();
   }
   // The deformed mesh: each patch's three boundary curves.
-  ctx.beginPath();
-  ctx.strokeStyle = "#202020";
-  ctx.lineWidth = 1.5;
+  g.beginPath();
+  g.strokeStyle = "#202020";
+  g.lineWidth = 1.5;
   const d = v.degree;
-  for (const patch of v.patches) {
+  v.patches.forEach((patch, t) => {
+    if (!drawn(t)) return;
     for (const edge of [[0, 1], [1, 2], [2, 0]]) {
       const ctrl = [];
       for (let s = 0; s <= d; s++) {
@@ -218,87 +278,122 @@ function drawView(v) {
         ctrl.push(at(patch[slot.get(m.join(","))]));
       }
       const samples = Math.max(2, 4 * d);
-      const first = toScreen(ctrl[0]);
-      ctx.moveTo(first[0], first[1]);
-      for (let n = 1; n <= samples; n++) {
-        const p = toScreen(bezierCurve(ctrl, n / samples));
-        ctx.lineTo(p[0], p[1]);
+      const table = curveWeights(d, samples);
+      for (let n = 0; n <= samples; n++) {
+        const w = table[n];
+        let x = 0, y = 0;
+        for (let k = 0; k <= d; k++) { x += w[k] * ctrl[k][0]; y += w[k] * ctrl[k][1]; }
+        const [sx, sy] = toScreen([x, y]);
+        if (n === 0) g.moveTo(sx, sy); else g.lineTo(sx, sy);
       }
     }
-  }
-  ctx.stroke();
+  });
+  g.stroke();
 }
 
-function drawModels() {
+function drawModels(part) {
   if (!shown("show-model")) return;
-  ctx.beginPath();
-  ctx.strokeStyle = "rgba(0, 120, 60, 0.55)";
-  ctx.lineWidth = 0.75;
+  g.beginPath();
+  g.strokeStyle = "rgba(0, 120, 60, 0.55)";
+  g.lineWidth = 0.75;
   for (const model of models) {
     const p = model.positions;
-    for (const face of model.faces) {
+    const inside = moving === null ? null : moving.faces.get(model) || null;
+    model.faces.forEach((face, k) => {
+      if (!inPart(part, inside !== null && inside[k] === 1)) return;
       const [x0, y0] = toScreen(p[face[0]]);
-      ctx.moveTo(x0, y0);
+      g.moveTo(x0, y0);
       for (let n = 1; n < face.length; n++) {
         const [x, y] = toScreen(p[face[n]]);
-        ctx.lineTo(x, y);
+        g.lineTo(x, y);
       }
-      ctx.lineTo(x0, y0);
-    }
+      g.lineTo(x0, y0);
+    });
   }
-  ctx.stroke();
+  g.stroke();
 }
 
-function drawPoints() {
+// Points as squares (one path per colour: thousands of points draw in one call each).
+function drawPoints(part) {
   if (!shown("show-points")) return;
+  const styles = new Map();
   for (const [id, p] of points) {
     if (p.source === undefined) continue;
+    if (!inPart(part, moving !== null && moving.ids.has(id))) continue;
     const anchor = anchors.includes(id);
     const isDerived = derived.has(id) && shown("show-derived");
-    const [x, y] = toScreen(p.value);
-    ctx.fillStyle = id === blocked ? "#d00000" : anchor ? "#e07000" : isDerived ? "#2060c0" : "#404040";
-    ctx.beginPath();
-    ctx.arc(x, y, anchor || id === blocked ? 5 : isDerived ? 3.5 : 2.5, 0, 2 * Math.PI);
-    ctx.fill();
+    const colour = id === blocked ? "#d00000" : anchor ? "#e07000" : isDerived ? "#2060c0" : "#404040";
+    const size = anchor || id === blocked ? 5 : isDerived ? 3.5 : 2.5;
+    const key = `${colour} ${size}`;
+    if (!styles.has(key)) styles.set(key, []);
+    styles.get(key).push(toScreen(p.value));
+  }
+  for (const [key, at] of styles) {
+    const [colour, size] = key.split(" ");
+    const r = Number(size);
+    g.fillStyle = colour;
+    g.beginPath();
+    for (const [x, y] of at) g.rect(x - r, y - r, 2 * r, 2 * r);
+    g.fill();
   }
 }
 
 function drawCenter() {
   if (!center || operation() === "translate") return;
   const [cx, cy] = toScreen(center);
-  ctx.strokeStyle = "#8000a0";
-  ctx.lineWidth = 1.5;
-  ctx.beginPath();
-  ctx.moveTo(cx - 7, cy); ctx.lineTo(cx + 7, cy); ctx.moveTo(cx, cy - 7); ctx.lineTo(cx, cy + 7);
-  ctx.stroke();
+  g.strokeStyle = "#8000a0";
+  g.lineWidth = 1.5;
+  g.beginPath();
+  g.moveTo(cx - 7, cy); g.lineTo(cx + 7, cy); g.moveTo(cx, cy - 7); g.lineTo(cx, cy + 7);
+  g.stroke();
   if (drag && drag.mouse) {
     // The guide line from the centre to the mouse (thesis 18.5.2–3).
     const [mx, my] = toScreen(drag.mouse);
-    ctx.setLineDash([6, 4]);
-    ctx.beginPath();
-    ctx.moveTo(cx, cy); ctx.lineTo(mx, my);
-    ctx.stroke();
-    ctx.setLineDash([]);
+    g.setLineDash([6, 4]);
+    g.beginPath();
+    g.moveTo(cx, cy); g.lineTo(mx, my);
+    g.stroke();
+    g.setLineDash([]);
   }
+}
+
+// The layers in order, restricted to `part`.
+function drawLayers(part) {
+  if (part !== MOVING) drawImage();
+  if (shown("show-constraints")) drawRows(state.constraints, "rgba(150, 110, 0, 0.5)", "rgba(230, 190, 60, 0.12)", part);
+  if (shown("show-relevant") && relevant.length > 0) drawRows(relevant, "rgba(200, 60, 0, 0.7)", "rgba(255, 120, 40, 0.15)", part);
+  for (const source of state.sources) {
+    if (source.view && source.view.kind === "bezier_triangles") drawView(source.view, part);
+  }
+  drawModels(part);
+  drawPoints(part);
+  if (part !== STILL) drawCenter();
 }
 
 function draw() {
   const began = performance.now();
   const ratio = window.devicePixelRatio || 1;
-  canvas.width = canvas.clientWidth * ratio;
-  canvas.height = canvas.clientHeight * ratio;
-  ctx.setTransform(ratio, 0, 0, ratio, 0, 0);
-  ctx.clearRect(0, 0, canvas.clientWidth, canvas.clientHeight);
-  if (!state) return;
-  drawImage();
-  if (shown("show-constraints")) drawRows(state.constraints, "rgba(150, 110, 0, 0.5)", "rgba(230, 190, 60, 0.12)");
-  if (shown("show-relevant") && relevant.length > 0) drawRows(relevant, "rgba(200, 60, 0, 0.7)", "rgba(255, 120, 40, 0.15)");
-  for (const source of state.sources) {
-    if (source.view && source.view.kind === "bezier_triangles") drawView(source.view);
+  const width = Math.round(canvas.clientWidth * ratio), height = Math.round(canvas.clientHeight * ratio);
+  if (canvas.width !== width || canvas.height !== height) {
+    canvas.width = width;
+    canvas.height = height;
+    still = null;
+    moving = null;
   }
-  drawModels();
-  drawPoints();
-  drawCenter();
+  ctx.setTransform(1, 0, 0, 1, 0, 0);
+  ctx.clearRect(0, 0, canvas.width, canvas.height);
+  if (state) {
+    if (moving !== null && still !== null) {
+      // A drag frame: the still picture, then what moves.
+      ctx.drawImage(still, 0, 0);
+      ctx.setTransform(ratio, 0, 0, ratio, 0, 0);
+      drawLayers(MOVING);
+    } else {
+      ctx.setTransform(ratio, 0, 0, ratio, 0, 0);
+      drawLayers(ALL);
+    }
+  }
+  ctx.setTransform(ratio, 0, 0, ratio, 0, 0);
   last.draw = performance.now() - began;
 }
 
@@ -446,7 +541,8 @@ async function showSelection() {
     if (!answer.ok) showConflict(answer.conflict);
   } catch (e) { showMessage(String(e.message || e)); }
   report();
-  draw();
+  // A drag under way draws its own frames (with the same derived set).
+  if (drag === null) draw();
 }
 
 // Exact decimal text of a float (the server reads it exactly).
@@ -509,11 +605,14 @@ async function sendFrame(commit) {
       showMessage(null);
       if (answer.derived_ids) derived = new Set(answer.derived_ids);
       if (answer.relevant) relevant = answer.relevant;
+      const starting = answer.derived_ids !== undefined && !commit;
       last.counts = answer;
       const before = commit ? new Map(answer.moved.map((x) => [x.id, points.get(x.id).value.slice()])) : null;
       const deforming = performance.now();
       const moved = applyMoved(answer.moved);
       const deform = performance.now() - deforming;
+      // From the first frame on, only what the drag moves is drawn again.
+      if (starting) beginMoving([...anchors, ...answer.derived_ids]);
       if (!commit) d.lastValid = m;
       record = { first, request, server: answer.server_ms, deform, moved };
       if (commit) {
@@ -555,7 +654,7 @@ async function sendFrame(commit) {
   if (d.released) await sendFrame(true);
 }
 
-function endDrag() { drag = null; draw(); }
+function endDrag() { drag = null; endMoving(); draw(); }
 
 function startDrag(id, e) {
   const world = toWorld([e.offsetX, e.offsetY]);
@@ -603,12 +702,16 @@ canvas.addEventListener("mousedown", (e) => {
   }
   blocked = null;
   showMessage(null);
-  if (changed) showSelection();
   startDrag(id, e);
-  draw();
-  // Mouse-down: the edit is planned and initialised at once (a still frame), so the first
-  // move only updates.
-  if (drag) sendFrame(false);
+  if (drag) {
+    // Mouse-down: the edit is planned and initialised at once (a still frame, which also
+    // gives the derived set), so the first move only updates.
+    last.counts = null;
+    relevant = [];
+    sendFrame(false);
+  } else if (changed) {
+    showSelection();
+  }
 });
 
 canvas.addEventListener("mousemove", (e) => {
@@ -681,7 +784,10 @@ element("save").addEventListener("click", save);
 element("help-button").addEventListener("click", toggleHelp);
 for (const id of ["show-net", "show-reference", "show-points", "show-model", "show-image", "show-derived",
   "show-constraints", "show-relevant", "image-opacity", "image-x", "image-y", "image-scale"]) {
-  element(id).addEventListener("input", draw);
+  element(id).addEventListener("input", () => {
+    if (moving !== null) beginMoving([...moving.ids]);
+    draw();
+  });
 }
 for (const input of document.querySelectorAll("input[name=operation]")) input.addEventListener("change", draw);
 for (const id of ["neighborhood", "all"]) element(id).addEventListener("change", showSelection);
@@ -717,7 +823,7 @@ window.addEventListener("keydown", (e) => {
     showSelection();
   } else if (e.key === "?") toggleHelp();
   else if (e.key === "Escape") {
-    if (drag) { drag = null; reload(); }
+    if (drag) { drag = null; endMoving(); reload(); }
     element("help").hidden = true;
   }
 });

@@ -24,15 +24,22 @@ function bernsteinWeights(d, [u, v, w]) {
   return multiIndices(d).map(([i, j, k], n) => coefficients[n] * u ** i * v ** j * w ** k);
 }
 
-// A point of a Bézier curve (de Casteljau).
-function bezierCurve(ctrl, t) {
-  const pts = ctrl.map((p) => p.slice());
-  for (let r = 1; r < pts.length; r++) {
-    for (let i = 0; i < pts.length - r; i++) {
-      pts[i] = [pts[i][0] * (1 - t) + pts[i + 1][0] * t, pts[i][1] * (1 - t) + pts[i + 1][1] * t];
+// The Bernstein weights of degree d at `samples + 1` equally spaced parameters, for drawing
+// curves by dot products (no allocation per point).
+const curveWeightCache = new Map();
+function curveWeights(d, samples) {
+  const key = `${d} ${samples}`;
+  if (!curveWeightCache.has(key)) {
+    const binomial = [1];
+    for (let k = 1; k <= d; k++) binomial.push((binomial[k - 1] * (d - k + 1)) / k);
+    const table = [];
+    for (let n = 0; n <= samples; n++) {
+      const t = n / samples;
+      table.push(binomial.map((b, k) => b * (1 - t) ** (d - k) * t ** k));
     }
+    curveWeightCache.set(key, table);
   }
-  return pts[0];
+  return curveWeightCache.get(key);
 }
 
 // The convex hull of points (Andrew's monotone chain), counter-clockwise: how the page draws a
@@ -59,16 +66,20 @@ function convexHull(points) {
 class DeformedModel {
   constructor(view, model) {
     this.name = model.name;
+    this.view = view;
     this.faces = model.faces;
     this.reference = model.vertices;
     this.positions = model.vertices.map((p) => [p[0], p[1], p[2]]);
     this.patches = view.patches;
     this.byTriangle = view.patches.map(() => []);
     this.weights = new Array(model.vertices.length).fill(null);
+    // The reference triangle of each vertex (-1: outside the mesh, it does not move).
+    this.triangleOf = new Int32Array(model.vertices.length).fill(-1);
     model.embedding.forEach((place, vertex) => {
       if (place === null) return;
       const [triangle, barycentric] = place;
       this.byTriangle[triangle].push(vertex);
+      this.triangleOf[vertex] = triangle;
       this.weights[vertex] = bernsteinWeights(view.degree, barycentric);
     });
     // Which triangles use each control point.

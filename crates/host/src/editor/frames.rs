@@ -1,0 +1,391 @@
+//! Drag frames: a drag is a sequence of [`DragRequest`]s for the same selection, each with the
+//! motion since the drag began; the last one commits.
+//!
+//! * **Mouse-down** (the first frame of a selection): the source plans the operation (2DSD
+//!   Select and ExpandDerived) and the edit is initialised once (ECLES Initialize). For a
+//!   translation the plan is affine in the displacement `d` (anchors `a + d`, hints
+//!   `p + θ d`), so it is also planned for `d = (1, 0)` and `(0, 1)` (a terrain lift: `dz = 1`):
+//!   every later frame's step is `origin + dx·along_x + dy·along_y`, exact, without planning
+//!   again ([`LinearSteps`]). Rotations and scalings are planned at every frame.
+//! * **A frame** is one exact Update with the values rounded for drawing: the exact optimum
+//!   (`preview`) while that takes at most [`OPTIMUM_FRAME_BUDGET`], else a snapped point
+//!   (`update_snapped`: every constraint exact, small values, a proved distance to the optimum,
+//!   the same verdict). A run whose commits are snapped draws snapped frames on its own grid, so
+//!   a frame is its commit. An impossible move is refused with the constraints in the way.
+//! * **The release** plans the operation exactly at the final motion (not interpolated) and
+//!   commits the run's kind of update; the page shows how far the last frame was from it.
+
+use super::motion::{DragRequest, Motion, Selection};
+use crate::runfile::CommitPolicy;
+use crate::session::{ActiveEdit, PlannedEdit, Planning, Session};
+use api::{ParamId, PlannedStep, Rational};
+use serde_json::{json, Value};
+use std::time::{Duration, Instant};
+
+/// Frames show the exact optimum while one costs at most this; slower edits draw snapped
+/// points (a 60-frames-a-second drag leaves about 16 ms for the server, the transfer and the
+/// drawing together).
+const OPTIMUM_FRAME_BUDGET: Duration = Duration::from_millis(2);
+
+/// The grid of snapped frames of a run that commits the optimum (`2^−24`: far below a pixel
+/// for any drawing, values stay short).
+const FRAME_GRID_BITS: u32 = 24;
+
+/// How frames of a drag are computed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum FrameKind {
+    /// The exact optimum, rounded.
+    Optimum,
+    /// A snapped exact point on the grid `2^−bits`.
+    Snapped(u32),
+}
+
+/// The steps of a translation or a lift as an affine function of the motion's coordinates.
+struct LinearSteps {
+    origin: PlannedStep,
+    /// The change of the step per unit of each coordinate.
+    along: Vec<PlannedStep>,
+}
+
+impl LinearSteps {
+    /// The step for the coordinates `c`: `origin + Σ c_k · along_k`.
+    fn at(&self, c: &[Rational]) -> PlannedStep {
+        let combine = |pick: fn(&PlannedStep) -> &Vec<Vec<Rational>>| -> Vec<Vec<Rational>> {
+            pick(&self.origin)
+                .iter()
+                .enumerate()
+                .map(|(i, point)| {
+                    point
+                        .iter()
+                        .enumerate()
+                        .map(|(j, o)| {
+                            self.along
+                                .iter()
+                                .zip(c)
+                                .fold(o.clone(), |sum, (a, c)| sum + c * &pick(a)[i][j])
+                        })
+                        .collect()
+                })
+                .collect()
+        };
+        PlannedStep {
+            anchors: combine(|s| &s.anchors),
+            hints: combine(|s| &s.hints),
+        }
+    }
+}
+
+/// `b − a`, coordinate by coordinate.
+fn difference(a: &PlannedStep, b: &PlannedStep) -> PlannedStep {
+    let minus = |a: &[Vec<Rational>], b: &[Vec<Rational>]| {
+        a.iter()
+            .zip(b)
+            .map(|(a, b)| a.iter().zip(b).map(|(a, b)| b - a).collect())
+            .collect()
+    };
+    PlannedStep {
+        anchors: minus(&a.anchors, &b.anchors),
+        hints: minus(&a.hints, &b.hints),
+    }
+}
+
+/// The drag under way: what it was planned for, its initialised edit and how its frames are
+/// made.
+pub(super) struct ActiveDrag {
+    key: Selection,
+    spec: ecles::EditSpec,
+    edit: ActiveEdit,
+    linear: Option<LinearSteps>,
+    frames: FrameKind,
+    /// Rank of `R_ED` and its redundant rows (from the edit's report, made once).
+    rank: usize,
+    redundant: usize,
+}
+
+/// The answer to a move that cannot be made: the message, the labels of the constraints in
+/// the way and the explanation (the state is unchanged).
+pub(super) fn refused(message: String, labels: Vec<String>, explanation: Vec<String>) -> Value {
+    json!({
+        "ok": false,
+        "conflict": { "message": message, "labels": labels, "explanation": explanation },
+    })
+}
+
+/// Rows as the page draws them: the label and the points (parameters of dimension 2) in each
+/// row, for rows made of points only.
+pub(super) fn drawable_rows(
+    system: &api::ConstraintSystem,
+    rows: impl Iterator<Item = api::RowId>,
+) -> Vec<Value> {
+    rows.filter_map(|r| {
+        let row = &system.rows()[r.index()];
+        let params = row.body.params();
+        let points = params.iter().all(|p| system.params()[p.index()].dim == 2);
+        (points && params.len() >= 2).then(|| {
+            json!({ "label": row.label, "points": params.iter().map(|p| p.0).collect::<Vec<_>>() })
+        })
+    })
+    .collect()
+}
+
+/// Plans `motion` of `selection`: the plan, or the answer refusing it.
+fn plan(
+    session: &Session,
+    selection: &Selection,
+    motion: &Motion,
+) -> Result<Result<PlannedEdit, Value>, String> {
+    let operation = selection.operation(motion)?;
+    Ok(
+        match session
+            .plan_operation(&selection.source, &operation)
+            .map_err(|e| e.to_string())?
+        {
+            Planning::Planned(plan) => Ok(plan),
+            Planning::Refused(message) => Err(refused(message, Vec::new(), Vec::new())),
+        },
+    )
+}
+
+/// The last step of a plan.
+fn last_step(plan: &PlannedEdit) -> Result<&PlannedStep, String> {
+    plan.steps
+        .last()
+        .ok_or_else(|| "the source planned no step".to_string())
+}
+
+/// For a translation or a lift of `selection` planned as `base` at coordinates `at`: the steps
+/// at the origin and at unit coordinates, when the source plans the same edit for them (the
+/// same anchors, derived set and weights) and its plan is affine (checked at `at`).
+fn linear_steps(
+    session: &Session,
+    selection: &Selection,
+    motion: &Motion,
+    base: &PlannedEdit,
+    at: &[Rational],
+) -> Result<Option<LinearSteps>, String> {
+    let plan_at = |coordinates: &[&str]| -> Result<Option<PlannedStep>, String> {
+        let Some(m) = motion.with_coordinates(coordinates) else {
+            return Ok(None);
+        };
+        Ok(match plan(session, selection, &m)? {
+            Ok(p) if p.spec == base.spec => Some(last_step(&p)?.clone()),
+            _ => None,
+        })
+    };
+    let zero = Rational::from_integer(0.into());
+    let dimension = at.len();
+    // The mouse-down frame is planned at the origin already.
+    let origin = if at.iter().all(|c| *c == zero) {
+        last_step(base)?.clone()
+    } else {
+        match plan_at(&vec!["0"; dimension])? {
+            Some(step) => step,
+            None => return Ok(None),
+        }
+    };
+    let mut along = Vec::with_capacity(dimension);
+    for k in 0..dimension {
+        let mut unit = vec!["0"; dimension];
+        unit[k] = "1";
+        match plan_at(&unit)? {
+            Some(step) => along.push(difference(&origin, &step)),
+            None => return Ok(None),
+        }
+    }
+    let linear = LinearSteps { origin, along };
+    Ok((linear.at(at) == *last_step(base)?).then_some(linear))
+}
+
+/// The frame kind of a drag that commits under `policy`, whose first optimum frame took
+/// `first`.
+fn frame_kind(policy: CommitPolicy, first: Duration) -> FrameKind {
+    match policy {
+        CommitPolicy::Snapped { grid_bits } => FrameKind::Snapped(grid_bits),
+        CommitPolicy::Optimum if first > OPTIMUM_FRAME_BUDGET => {
+            FrameKind::Snapped(FRAME_GRID_BITS)
+        }
+        CommitPolicy::Optimum => FrameKind::Optimum,
+    }
+}
+
+/// One frame of a drag, or its release (see the module documentation).
+pub(super) fn drag_frame(
+    session: &mut Session,
+    drag: &mut Option<ActiveDrag>,
+    request: &DragRequest,
+) -> Result<Value, String> {
+    let started = Instant::now();
+    let selection = &request.selection;
+    if !session.source_names().any(|s| s == selection.source) {
+        return Err(format!("unknown source {:?}", selection.source));
+    }
+    let motion = &request.motion;
+    let coordinates = motion.linear_coordinates()?;
+    let same = drag.as_ref().is_some_and(|d| d.key == *selection);
+    // A frame of a translation or lift under way: its step, exactly, without planning.
+    let interpolated = match (same, request.commit, &coordinates, drag.as_ref()) {
+        (
+            true,
+            false,
+            Some(c),
+            Some(ActiveDrag {
+                linear: Some(l), ..
+            }),
+        ) => Some(l.at(c)),
+        _ => None,
+    };
+    let mut initialized = false;
+    let step = match interpolated {
+        Some(step) => step,
+        None => {
+            let planned = match plan(session, selection, motion)? {
+                Ok(p) => p,
+                Err(answer) => return Ok(answer),
+            };
+            if !(same && drag.as_ref().is_some_and(|d| d.spec == planned.spec)) {
+                *drag = None;
+                let edit = match session.initialize(&planned) {
+                    Ok(edit) => edit,
+                    Err(e) => {
+                        let (labels, explanation) = session.conflict_details(&planned.spec, &e);
+                        return Ok(refused(e.to_string(), labels, explanation));
+                    }
+                };
+                let linear = match &coordinates {
+                    Some(at) => linear_steps(session, selection, motion, &planned, at)?,
+                    None => None,
+                };
+                let report = edit.edit().report();
+                *drag = Some(ActiveDrag {
+                    key: selection.clone(),
+                    spec: planned.spec.clone(),
+                    edit,
+                    linear,
+                    frames: FrameKind::Optimum,
+                    rank: report.rank,
+                    redundant: report.redundant.len(),
+                });
+                initialized = true;
+            }
+            last_step(&planned)?.clone()
+        }
+    };
+    let Some(active) = drag.as_mut() else {
+        return Err("no drag under way".into());
+    };
+    let to_f64 = |v: &[Rational]| {
+        v.iter()
+            .map(api::exact::rational_to_f64)
+            .collect::<Vec<_>>()
+    };
+    let moved_point = |id: &ParamId, value: Vec<f64>| json!({ "id": id.0, "value": value });
+    let conflict = |session: &Session, active: &ActiveDrag, e: &ecles::EditError<Rational>| {
+        let (labels, explanation) = session.conflict_details(&active.spec, e);
+        refused(e.to_string(), labels, explanation)
+    };
+    let mut snap_bound = None;
+    let (moved, committed) = if request.commit {
+        let result = match session.committed_update(&active.edit, &step) {
+            Ok(result) => result,
+            Err(e) => return Ok(conflict(session, active, &e)),
+        };
+        let moved: Vec<Value> = result
+            .anchors
+            .iter()
+            .chain(&result.derived)
+            .map(|(id, v)| moved_point(id, to_f64(v)))
+            .collect();
+        (moved, Some(result))
+    } else {
+        let solving = Instant::now();
+        let derived: Vec<Vec<f64>> = match active.frames {
+            FrameKind::Optimum => match active.edit.preview(&step) {
+                Ok(derived) => derived,
+                Err(e) => return Ok(conflict(session, active, &e)),
+            },
+            FrameKind::Snapped(bits) => match active.edit.update_snapped(&step, bits) {
+                Ok((result, summary)) => {
+                    snap_bound = Some(summary.distance_bound);
+                    result.derived.iter().map(|(_, v)| to_f64(v)).collect()
+                }
+                Err(e) => return Ok(conflict(session, active, &e)),
+            },
+        };
+        if initialized {
+            active.frames = frame_kind(session.commit_policy(), solving.elapsed());
+        }
+        let edit = active.edit.edit();
+        let moved: Vec<Value> = edit
+            .anchors()
+            .iter()
+            .zip(&step.anchors)
+            .map(|(id, v)| moved_point(id, to_f64(v)))
+            .chain(
+                edit.derived()
+                    .iter()
+                    .zip(derived)
+                    .map(|(id, v)| moved_point(id, v)),
+            )
+            .collect();
+        (moved, None)
+    };
+    let mut answer = json!({
+        "ok": true,
+        "moved": moved,
+        "anchors": active.spec.anchors.len(),
+        "derived": active.spec.derived.len(),
+        "rank": active.rank,
+        "redundant": active.redundant,
+        "initialized": initialized,
+        "frames": match active.frames {
+            FrameKind::Optimum => "optimum".to_string(),
+            FrameKind::Snapped(bits) => format!("snapped 2^-{bits}"),
+        },
+        "snap_bound": snap_bound,
+        "planned": planned_text(active.linear.is_some()),
+    });
+    if initialized {
+        // Once per drag: which points are derived, and the non-redundant relevant constraints
+        // (the rows the edit keeps), for drawing.
+        let mut independent: Vec<api::RowId> = active
+            .edit
+            .edit()
+            .report()
+            .independent
+            .iter()
+            .map(|r| r.row)
+            .collect();
+        independent.sort();
+        independent.dedup();
+        answer["derived_ids"] = json!(active.spec.derived.iter().map(|p| p.0).collect::<Vec<_>>());
+        answer["relevant"] = json!(drawable_rows(session.system(), independent.into_iter()));
+    }
+    if let Some(result) = committed {
+        let Some(active) = drag.take() else {
+            return Err("no drag under way".into());
+        };
+        // Source names are letters, digits, '_' and '-' (the run file's rule): `{:?}` is their
+        // RON string.
+        let entry = format!(
+            "Source(source: {:?}, operation: {})",
+            selection.source,
+            selection.operation(motion)?
+        );
+        session
+            .apply(&active.edit, &result, entry)
+            .map_err(|e| e.to_string())?;
+        answer["committed"] = json!(true);
+        answer["violated_rows"] = json!(session.system().violations(session.values()).len());
+    }
+    answer["server_ms"] = json!(started.elapsed().as_secs_f64() * 1e3);
+    Ok(answer)
+}
+
+/// How the frames' steps are made, for the page's status.
+fn planned_text(linear: bool) -> &'static str {
+    if linear {
+        "once (affine in the motion)"
+    } else {
+        "every frame"
+    }
+}
