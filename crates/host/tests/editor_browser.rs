@@ -276,3 +276,63 @@ fn a_session_saved_from_the_page_reruns_and_its_autosave_resumes_from_the_banner
     assert_eq!(resumed["points"], edited["points"]);
     page.wait_for("document.getElementById('banner').hidden");
 }
+
+/// A terrain in z1 mode: the top surface's control point dragged up with the mouse along its
+/// vertical line commits an exact raise (every row holding) and the model rises with it; view
+/// mode turns the scene.
+#[test]
+#[ignore = "needs Chromium: .ci/run installs it and runs this with --ignored"]
+fn a_terrain_height_dragged_up_in_z1_mode_commits_exactly_and_view_mode_turns_the_scene() {
+    let editor = start("terrain.ron");
+    let mut browser = open(&editor);
+    assert_eq!(
+        browser.eval("document.getElementById('modes').hidden"),
+        false
+    );
+    assert_eq!(browser.eval("editMode()"), "z1");
+    let before = state(&editor);
+    assert_eq!(exact(&before, "terrain.top.v4"), ["20"]);
+    let at = browser.eval(
+        "(() => { const [id] = [...points].find(([, p]) => p.name === 'terrain.top.v4'); \
+         const [x, y] = screenOf(id); const r = canvas.getBoundingClientRect(); \
+         return [x + r.left, y + r.top]; })()",
+    );
+    let v4 = (at[0].as_f64().expect("x"), at[1].as_f64().expect("y"));
+    let heights_before = browser.eval("models[0].positions.map((p) => p[2])");
+    mouse_drag(&mut browser, v4, (0.0, -40.0));
+    let after = wait_for_state(&editor, "the lift's commit", |s| s["can_undo"] == true);
+    assert_eq!(after["violated_rows"], 0);
+    let raised = parse_rational(&exact(&after, "terrain.top.v4")[0]).expect("exact");
+    assert!(raised > parse_rational("20").expect("20"), "{raised}");
+    // Only the top surface's heights moved: v4's bottom and φ stay.
+    assert_eq!(
+        exact(&after, "terrain.bottom.v4"),
+        exact(&before, "terrain.bottom.v4")
+    );
+    assert_eq!(
+        exact(&after, "terrain.xy.v4"),
+        exact(&before, "terrain.xy.v4")
+    );
+    browser.wait_for("drag === null");
+    let heights_after = browser.eval("models[0].positions.map((p) => p[2])");
+    let rose = heights_before
+        .as_array()
+        .expect("heights")
+        .iter()
+        .zip(heights_after.as_array().expect("heights"))
+        .filter(|(a, b)| b.as_f64() > a.as_f64())
+        .count();
+    assert!(rose > 0, "the terrain model rises with the top surface");
+
+    // View mode: dragging empty space turns the scene.
+    browser.eval("document.querySelector('input[name=mode][value=view]').click()");
+    let azimuth = browser.eval("camera.azimuth").as_f64().expect("azimuth");
+    // A corner of the canvas: empty space.
+    let corner = browser.eval(
+        "(() => { const r = canvas.getBoundingClientRect(); return [r.left + 20, r.bottom - 20]; })()",
+    );
+    let corner = (corner[0].as_f64().expect("x"), corner[1].as_f64().expect("y"));
+    mouse_drag(&mut browser, corner, (60.0, 0.0));
+    let turned = browser.eval("camera.azimuth").as_f64().expect("azimuth");
+    assert!((turned - azimuth).abs() > 10.0, "{azimuth} -> {turned}");
+}

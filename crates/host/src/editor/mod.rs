@@ -35,6 +35,7 @@ use tokio::sync::oneshot;
 /// The page, its script and its style, assembled into one response.
 const PAGE_HTML: &str = include_str!("page/index.html");
 const PAGE_GEOMETRY_JS: &str = include_str!("page/geometry.js");
+const PAGE_PRISMS_JS: &str = include_str!("page/prisms.js");
 const PAGE_JS: &str = include_str!("page/editor.js");
 const PAGE_CSS: &str = include_str!("page/editor.css");
 
@@ -189,9 +190,10 @@ async fn guard(State(shared): State<Arc<Shared>>, request: Request, next: Next) 
 }
 
 async fn page() -> impl IntoResponse {
-    let html = PAGE_HTML
-        .replace("/*STYLE*/", PAGE_CSS)
-        .replace("/*SCRIPT*/", &format!("{PAGE_GEOMETRY_JS}\n{PAGE_JS}"));
+    let html = PAGE_HTML.replace("/*STYLE*/", PAGE_CSS).replace(
+        "/*SCRIPT*/",
+        &format!("{PAGE_GEOMETRY_JS}\n{PAGE_PRISMS_JS}\n{PAGE_JS}"),
+    );
     let mut headers = HeaderMap::new();
     headers.insert(
         header::CONTENT_SECURITY_POLICY,

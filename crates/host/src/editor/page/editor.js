@@ -13,7 +13,8 @@ const shown = (id) => element(id).checked;
 
 let state = null;          // the server's state
 let points = new Map();    // parameter id -> {name, value: [x, y], exact, source}
-let models = [];           // DeformedModel per model of every view
+let models = [];           // DeformedModel (or DeformedPrismModel) per model of every view
+let layers = new Map();    // PrismLayer per prisms view
 let anchors = [];          // selected anchor ids
 let derived = new Set();   // the derived set of the selection or of the drag
 let relevant = [];         // rows the current edit keeps: {label, points}
@@ -22,6 +23,7 @@ let center = null;         // centre of rotation and scaling (world), set by rig
 let view = { scale: 1, x: 0, y: 0 };  // world -> screen: (x * scale + view.x, -y * scale + view.y)
 let drag = null;           // the drag under way, see startDrag
 let pan = null;
+let orbit = null;          // turning the 3D scene (view mode)
 let image = null;          // the target image: an HTMLImageElement
 let last = { frame: null, server: null, draw: null, deviation: null, counts: null };
 // The last 1000 drag frames' times in ms, for the status bar and measurements: `total` from
@@ -101,15 +103,35 @@ function setState(next) {
   points = new Map();
   const sourceOf = new Map();
   models = [];
+  layers = new Map();
   for (const source of state.sources) {
     const v = source.view;
-    if (!v || !v.patches) continue;
-    for (const patch of v.patches) for (const id of patch) sourceOf.set(id, source.name);
-    for (const model of v.models || []) models.push(new DeformedModel(v, model));
+    if (!v || !v.kind) continue;
+    if (v.kind === "bezier_triangles") {
+      for (const patch of v.patches) for (const id of patch) sourceOf.set(id, source.name);
+      for (const model of v.models || []) models.push(new DeformedModel(v, model));
+    } else if (v.kind === "prisms") {
+      for (const patches of [v.bottom, v.top, v.xy]) {
+        if (patches) for (const patch of patches) for (const id of patch) sourceOf.set(id, source.name);
+      }
+      for (const model of v.models || []) models.push(new DeformedPrismModel(v, model));
+    }
   }
   for (const p of state.points) {
     points.set(p.id, { name: p.name, value: p.value, exact: p.exact, source: sourceOf.get(p.id) });
   }
+  for (const source of state.sources) {
+    const v = source.view;
+    if (!v || v.kind !== "prisms") continue;
+    const layer = new PrismLayer(v, at);
+    layers.set(v, layer);
+    for (const [id, surface] of layer.surfaceOf) {
+      const p = points.get(id);
+      if (p) { p.layer = layer; p.surface = surface; }
+    }
+  }
+  element("modes").hidden = layers.size === 0;
+  element("camera").hidden = layers.size === 0;
   for (const model of models) model.update(at, null);
   anchors = anchors.filter((id) => points.has(id) && points.get(id).source !== undefined);
   element("undo").disabled = !state.can_undo;
@@ -128,8 +150,40 @@ const at = (id) => points.get(id).value;
 const toScreen = ([x, y]) => [x * view.scale + view.x, -y * view.scale + view.y];
 const toWorld = ([sx, sy]) => [(sx - view.x) / view.scale, -(sy - view.y) / view.scale];
 
+// The editing mode of terrain sources: "view", "xy", "z0" or "z1".
+const editMode = () => document.querySelector("input[name=mode]:checked").value;
+const in3d = () => layers.size > 0 && editMode() !== "xy";
+
+// Where a control point is drawn in the plane of the picture (before pan and zoom), or null
+// when the current mode does not show it: spline points as they are; a terrain's φ points in
+// xy mode, its heights in 3D in z0 (bottom) or z1 (top) mode.
+function planeOf(id) {
+  const p = points.get(id);
+  if (p === undefined || p.source === undefined) return null;
+  if (p.surface === undefined) return p.value;
+  const mode = editMode();
+  if (mode === "xy") return p.surface === "xy" ? p.value : null;
+  if ((mode === "z0" && p.surface === "bottom") || (mode === "z1" && p.surface === "top")) {
+    return project3d(p.layer.position(id)).at;
+  }
+  return null;
+}
+
+function screenOf(id) {
+  const q = planeOf(id);
+  return q === null ? null : toScreen(q);
+}
+
 function fit() {
-  const all = [...points.values()].filter((p) => p.source !== undefined).map((p) => p.value);
+  let all = [...points.keys()].map(planeOf).filter((q) => q !== null);
+  if (all.length === 0) {
+    // View mode: the models and the surfaces' points.
+    all = [];
+    for (const model of models) for (const p of model.positions) all.push(in3d() ? project3d(p).at : p);
+    for (const layer of layers.values()) {
+      for (const id of layer.surfaceOf.keys()) if (layer.surfaceOf.get(id) !== "xy") all.push(project3d(layer.position(id)).at);
+    }
+  }
   if (all.length === 0) return;
   const xs = all.map((p) => p[0]), ys = all.map((p) => p[1]);
   const [x0, x1, y0, y1] = [Math.min(...xs), Math.max(...xs), Math.min(...ys), Math.max(...ys)];
@@ -158,9 +212,12 @@ function movingSets(ids) {
   const triangles = new Map();
   for (const source of state.sources) {
     const v = source.view;
-    if (!v || !v.patches) continue;
+    if (!v || !v.kind) continue;
     const t = new Set();
-    v.patches.forEach((patch, k) => { if (patch.some((id) => set.has(id))) t.add(k); });
+    const surfaces = v.kind === "prisms" ? [v.bottom, v.top, v.xy].filter((p) => p) : [v.patches];
+    for (const patches of surfaces) {
+      patches.forEach((patch, k) => { if (patch.some((id) => set.has(id))) t.add(k); });
+    }
     triangles.set(v, t);
   }
   const faces = new Map();
@@ -231,10 +288,12 @@ function drawRows(rows, stroke, fill, part) {
   g.stroke();
 }
 
-function drawView(v, part) {
+// A Bézier-triangle spline from above; `key` is the view whose moving triangles apply (a
+// terrain's φ is drawn as a spline of its own).
+function drawView(v, part, key = v) {
   const indices = multiIndices(v.degree);
   const slot = new Map(indices.map((m, k) => [m.join(","), k]));
-  const movingTriangles = moving === null ? null : moving.triangles.get(v) || null;
+  const movingTriangles = moving === null ? null : moving.triangles.get(key) || null;
   const drawn = (t) => inPart(part, movingTriangles !== null && movingTriangles.has(t));
   if (shown("show-reference") && part !== MOVING) {
     g.beginPath();
@@ -297,7 +356,9 @@ function drawModels(part) {
   g.strokeStyle = "rgba(0, 120, 60, 0.55)";
   g.lineWidth = 0.75;
   for (const model of models) {
-    const p = model.positions;
+    const flat = !(model instanceof DeformedPrismModel && in3d());
+    if (!flat && editMode() === "view" && shown("show-shaded")) { drawShaded(model); continue; }
+    const p = flat ? model.positions : model.positions.map((q) => project3d(q).at);
     const inside = moving === null ? null : moving.faces.get(model) || null;
     model.faces.forEach((face, k) => {
       if (!inPart(part, inside !== null && inside[k] === 1)) return;
@@ -313,12 +374,116 @@ function drawModels(part) {
   g.stroke();
 }
 
+// A terrain model shaded (view mode): faces from far to near, Lambert shading from a light
+// above and behind the viewer.
+function drawShaded(model) {
+  const light = [0.4, -0.5, 0.77];
+  const p = model.positions;
+  const faces = model.faces.map((face) => {
+    const q = face.map((i) => project3d(p[i]));
+    return { face, depth: q.reduce((s, x) => s + x.depth, 0) / q.length, q };
+  });
+  faces.sort((a, b) => a.depth - b.depth);
+  for (const { face, q } of faces) {
+    const [a, b, c] = face.map((i) => [p[i][0], p[i][1], p[i][2] * camera.exaggeration]);
+    const u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]], v = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
+    const n = [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]];
+    const length = Math.hypot(...n) || 1;
+    const lambert = Math.abs(n[0] * light[0] + n[1] * light[1] + n[2] * light[2]) / length;
+    const shade = Math.round(70 + 170 * lambert);
+    g.fillStyle = `rgb(${shade}, ${Math.round(shade * 0.95)}, ${Math.round(shade * 0.85)})`;
+    g.beginPath();
+    q.forEach((x, n) => { const [sx, sy] = toScreen(x.at); if (n === 0) g.moveTo(sx, sy); else g.lineTo(sx, sy); });
+    g.closePath();
+    g.fill();
+  }
+}
+
+// A terrain: from above in xy mode (φ as a spline), else in 3D: both surfaces' patch
+// boundaries (the edited one dark), the edited surface's control net, the reference mesh at
+// the bottom of the reference layer.
+function drawPrisms(v, layer, part) {
+  const mode = editMode();
+  if (mode === "xy") {
+    if (v.xy) {
+      if (!layer.flat) layer.flat = { degree: v.degree, vertices: v.vertices, triangles: v.triangles, patches: v.xy };
+      drawView(layer.flat, part, v);
+    }
+    return;
+  }
+  const movingTriangles = moving === null ? null : moving.triangles.get(v) || null;
+  const drawn = (t) => inPart(part, movingTriangles !== null && movingTriangles.has(t));
+  const plane = (q) => toScreen(project3d(q).at);
+  if (shown("show-reference") && part !== MOVING) {
+    g.beginPath();
+    g.strokeStyle = "#c8c8c8";
+    g.lineWidth = 1;
+    for (const tri of v.triangles) {
+      tri.forEach((a, n) => {
+        const [x, y] = plane([...v.vertices[a], v.reference_bottom]);
+        if (n === 0) g.moveTo(x, y); else g.lineTo(x, y);
+      });
+      g.closePath();
+    }
+    g.stroke();
+  }
+  const indices = multiIndices(v.degree);
+  const slot = new Map(indices.map((m, k) => [m.join(","), k]));
+  const edited = mode === "z0" ? "bottom" : mode === "z1" ? "top" : null;
+  if (edited && shown("show-net")) {
+    g.beginPath();
+    g.strokeStyle = "#b4b4c8";
+    g.lineWidth = 1;
+    v[edited].forEach((patch, t) => {
+      if (!drawn(t)) return;
+      const pos = (m) => plane(layer.position(patch[slot.get(m.join(","))]));
+      for (const [i, j, k] of indices) {
+        const here = pos([i, j, k]);
+        const to = [];
+        if (i > 0) to.push(pos([i - 1, j + 1, k]), pos([i - 1, j, k + 1]));
+        if (j > 0) to.push(pos([i, j - 1, k + 1]));
+        for (const there of to) { g.moveTo(here[0], here[1]); g.lineTo(there[0], there[1]); }
+      }
+    });
+    g.stroke();
+  }
+  const d = v.degree;
+  const samples = Math.max(2, 4 * d);
+  const table = curveWeights(d, samples);
+  for (const surface of ["bottom", "top"]) {
+    g.beginPath();
+    g.strokeStyle = surface === edited ? "#202020" : "#8a8a8a";
+    g.lineWidth = surface === edited ? 1.5 : 1;
+    v[surface].forEach((patch, t) => {
+      if (!drawn(t)) return;
+      for (const edge of [[0, 1], [1, 2], [2, 0]]) {
+        const ctrl = [];
+        for (let s = 0; s <= d; s++) {
+          const m = [0, 0, 0];
+          m[edge[0]] = d - s;
+          m[edge[1]] = s;
+          ctrl.push(layer.position(patch[slot.get(m.join(","))]));
+        }
+        for (let n = 0; n <= samples; n++) {
+          const w = table[n];
+          const q = [0, 0, 0];
+          for (let k = 0; k <= d; k++) for (let c = 0; c < 3; c++) q[c] += w[k] * ctrl[k][c];
+          const [x, y] = plane(q);
+          if (n === 0) g.moveTo(x, y); else g.lineTo(x, y);
+        }
+      }
+    });
+    g.stroke();
+  }
+}
+
 // Points as squares (one path per colour: thousands of points draw in one call each).
 function drawPoints(part) {
   if (!shown("show-points")) return;
   const styles = new Map();
   for (const [id, p] of points) {
-    if (p.source === undefined) continue;
+    const on = screenOf(id);
+    if (on === null) continue;
     if (!inPart(part, moving !== null && moving.ids.has(id))) continue;
     const anchor = anchors.includes(id);
     const isDerived = derived.has(id) && shown("show-derived");
@@ -326,7 +491,7 @@ function drawPoints(part) {
     const size = anchor || id === blocked ? 5 : isDerived ? 3.5 : 2.5;
     const key = `${colour} ${size}`;
     if (!styles.has(key)) styles.set(key, []);
-    styles.get(key).push(toScreen(p.value));
+    styles.get(key).push(on);
   }
   for (const [key, at] of styles) {
     const [colour, size] = key.split(" ");
@@ -339,6 +504,21 @@ function drawPoints(part) {
 }
 
 function drawCenter() {
+  if (drag && drag.lift) {
+    // The anchor's vertical line (thesis 18.6): heights move along it.
+    const p = points.get(anchors[0]);
+    const [x, y, z] = p.layer.position(anchors[0]);
+    const span = p.layer.view.reference_top - p.layer.view.reference_bottom;
+    const [a, b] = [toScreen(project3d([x, y, z - span]).at), toScreen(project3d([x, y, z + span]).at)];
+    g.strokeStyle = "#8000a0";
+    g.lineWidth = 1;
+    g.setLineDash([6, 4]);
+    g.beginPath();
+    g.moveTo(a[0], a[1]); g.lineTo(b[0], b[1]);
+    g.stroke();
+    g.setLineDash([]);
+    return;
+  }
   if (!center || operation() === "translate") return;
   const [cx, cy] = toScreen(center);
   g.strokeStyle = "#8000a0";
@@ -363,7 +543,9 @@ function drawLayers(part) {
   if (shown("show-constraints")) drawRows(state.constraints, "rgba(150, 110, 0, 0.5)", "rgba(230, 190, 60, 0.12)", part);
   if (shown("show-relevant") && relevant.length > 0) drawRows(relevant, "rgba(200, 60, 0, 0.7)", "rgba(255, 120, 40, 0.15)", part);
   for (const source of state.sources) {
-    if (source.view && source.view.kind === "bezier_triangles") drawView(source.view, part);
+    const v = source.view;
+    if (v && v.kind === "bezier_triangles") drawView(v, part);
+    if (v && v.kind === "prisms") drawPrisms(v, layers.get(v), part);
   }
   drawModels(part);
   drawPoints(part);
@@ -509,9 +691,10 @@ function toggleHelp() {
 
 function pointAt(sx, sy) {
   let best = null, bestDistance = 8;
-  for (const [id, p] of points) {
-    if (p.source === undefined) continue;
-    const [x, y] = toScreen(p.value);
+  for (const id of points.keys()) {
+    const on = screenOf(id);
+    if (on === null) continue;
+    const [x, y] = on;
     const distance = Math.hypot(x - sx, y - sy);
     if (distance < bestDistance) { best = id; bestDistance = distance; }
   }
@@ -521,12 +704,16 @@ function pointAt(sx, sy) {
 const operation = () => document.querySelector("input[name=operation]:checked").value;
 
 function selection() {
-  const source = points.get(anchors[0]).source;
-  const prefix = source + ".";
+  const first = points.get(anchors[0]);
+  const source = first.source;
+  // A terrain's point names carry the surface: `terrain.top.v4` is `v4` in mode z1.
+  const prefix = first.surface === undefined ? source + "." : `${source}.${first.surface}.`;
+  const modeOf = { bottom: "z0", top: "z1", xy: "xy" };
   return {
     source,
     anchors: anchors.map((id) => points.get(id).name.slice(prefix.length)),
     neighborhood: shown("all") ? null : Number(element("neighborhood").value),
+    mode: first.surface === undefined ? null : modeOf[first.surface],
   };
 }
 
@@ -551,6 +738,10 @@ const decimal = (v, places) => (Math.round(v * 10 ** places) / 10 ** places).toF
 // The motion of the drag so far, as the server takes it.
 function motion(d) {
   const [x, y] = d.mouse;
+  if (d.lift) {
+    // Along the anchor's vertical line: the screen's vertical motion, in heights.
+    return { lift: { dz: decimal((y - d.start[1]) * heightPerScreenUnit(), 6) } };
+  }
   if (d.operation === "translate") {
     return { translate: { dx: decimal(x - d.start[0], 6), dy: decimal(y - d.start[1], 6) } };
   }
@@ -659,17 +850,20 @@ function endDrag() { drag = null; endMoving(); draw(); }
 function startDrag(id, e) {
   const world = toWorld([e.offsetX, e.offsetY]);
   const op = operation();
-  if (op !== "translate" && center === null) {
+  const heights = points.get(id).surface === "top" || points.get(id).surface === "bottom";
+  if (op !== "translate" && center === null && !heights) {
     showMessage("Right-click to set the centre of rotation and scaling first.");
     return;
   }
+  const lift = points.get(id).surface === "top" || points.get(id).surface === "bottom";
   drag = {
     selection: selection(),
     operation: op,
+    lift,
     center,
-    start: points.get(id).value.slice(),
+    start: planeOf(id).slice(),
     grab: world,
-    mouse: points.get(id).value.slice(),
+    mouse: planeOf(id).slice(),
     lastValid: null,
     sent: 0,
     eventTime: performance.now(),
@@ -688,6 +882,10 @@ canvas.addEventListener("contextmenu", (e) => {
 canvas.addEventListener("mousedown", (e) => {
   if (e.button !== 0) return;
   const id = pointAt(e.offsetX, e.offsetY);
+  if (id === null && in3d() && editMode() === "view" && !e.shiftKey) {
+    orbit = { x: e.offsetX, y: e.offsetY };
+    return;
+  }
   if (id === null) { pan = { x: e.offsetX, y: e.offsetY }; return; }
   const adding = e.shiftKey || shown("add-anchors");
   const sameSource = anchors.length === 0 || points.get(id).source === points.get(anchors[0]).source;
@@ -715,6 +913,12 @@ canvas.addEventListener("mousedown", (e) => {
 });
 
 canvas.addEventListener("mousemove", (e) => {
+  if (orbit) {
+    // View mode: turn the scene (18.3).
+    setCamera(camera.azimuth + (e.offsetX - orbit.x) * 0.4, camera.elevation + (e.offsetY - orbit.y) * 0.4);
+    orbit = { x: e.offsetX, y: e.offsetY };
+    return;
+  }
   if (pan) {
     view.x += e.offsetX - pan.x; view.y += e.offsetY - pan.y;
     pan = { x: e.offsetX, y: e.offsetY };
@@ -732,6 +936,7 @@ canvas.addEventListener("mousemove", (e) => {
 
 window.addEventListener("mouseup", () => {
   pan = null;
+  orbit = null;
   if (!drag) return;
   drag.released = true;
   drag.releaseTime = performance.now();
@@ -799,6 +1004,31 @@ element("image-file").addEventListener("change", () => {
   loaded.onerror = () => showMessage(`${file.name} is not an image this browser can read`);
   loaded.src = URL.createObjectURL(file);
 });
+
+function setCamera(azimuth, elevation) {
+  camera.azimuth = ((azimuth % 360) + 540) % 360 - 180;
+  camera.elevation = Math.min(90, Math.max(0, elevation));
+  element("azimuth").value = camera.azimuth;
+  element("elevation").value = camera.elevation;
+  draw();
+}
+
+for (const id of ["azimuth", "elevation", "exaggeration"]) {
+  element(id).addEventListener("input", () => {
+    camera.exaggeration = Number(element("exaggeration").value) || 1;
+    setCamera(Number(element("azimuth").value), Number(element("elevation").value));
+  });
+}
+for (const input of document.querySelectorAll("input[name=mode]")) {
+  input.addEventListener("change", () => {
+    anchors = [];
+    derived = new Set();
+    relevant = [];
+    fit();
+    draw();
+  });
+}
+element("show-shaded").addEventListener("input", draw);
 
 function setOperation(value) {
   document.querySelector(`input[name=operation][value=${value}]`).checked = true;
