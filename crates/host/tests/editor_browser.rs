@@ -331,7 +331,10 @@ fn a_terrain_height_dragged_up_in_z1_mode_commits_exactly_and_view_mode_turns_th
     let corner = browser.eval(
         "(() => { const r = canvas.getBoundingClientRect(); return [r.left + 20, r.bottom - 20]; })()",
     );
-    let corner = (corner[0].as_f64().expect("x"), corner[1].as_f64().expect("y"));
+    let corner = (
+        corner[0].as_f64().expect("x"),
+        corner[1].as_f64().expect("y"),
+    );
     mouse_drag(&mut browser, corner, (60.0, 0.0));
     let turned = browser.eval("camera.azimuth").as_f64().expect("azimuth");
     assert!((turned - azimuth).abs() > 10.0, "{azimuth} -> {turned}");

@@ -175,18 +175,19 @@ function screenOf(id) {
 }
 
 function fit() {
-  let all = [...points.keys()].map(planeOf).filter((q) => q !== null);
-  if (all.length === 0) {
-    // View mode: the models and the surfaces' points.
-    all = [];
-    for (const model of models) for (const p of model.positions) all.push(in3d() ? project3d(p).at : p);
+  // The points this mode shows and, for terrains in 3D, both surfaces and the models.
+  const all = [...points.keys()].map(planeOf).filter((q) => q !== null);
+  if (in3d()) {
+    for (const model of models) for (const p of model.positions) all.push(project3d(p).at);
     for (const layer of layers.values()) {
-      for (const id of layer.surfaceOf.keys()) if (layer.surfaceOf.get(id) !== "xy") all.push(project3d(layer.position(id)).at);
+      for (const [id, surface] of layer.surfaceOf) if (surface !== "xy") all.push(project3d(layer.position(id)).at);
     }
   }
   if (all.length === 0) return;
-  const xs = all.map((p) => p[0]), ys = all.map((p) => p[1]);
-  const [x0, x1, y0, y1] = [Math.min(...xs), Math.max(...xs), Math.min(...ys), Math.max(...ys)];
+  let [x0, x1, y0, y1] = [Infinity, -Infinity, Infinity, -Infinity];
+  for (const [x, y] of all) {
+    x0 = Math.min(x0, x); x1 = Math.max(x1, x); y0 = Math.min(y0, y); y1 = Math.max(y1, y);
+  }
   const w = canvas.clientWidth, h = canvas.clientHeight, margin = 30;
   view.scale = Math.min((w - 2 * margin) / Math.max(x1 - x0, 1e-9), (h - 2 * margin) / Math.max(y1 - y0, 1e-9));
   view.x = (w - (x1 - x0) * view.scale) / 2 - x0 * view.scale;
