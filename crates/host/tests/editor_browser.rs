@@ -69,15 +69,15 @@ fn dragging_a_control_point_with_the_mouse_commits_exact_values_and_undo_restore
         assert!(Instant::now() < deadline, "the drag was not committed");
         std::thread::sleep(Duration::from_millis(50));
     };
-    // Exact: x unchanged, y moved up by the decimal displacement the page sent; every row holds.
+    // Exact: x unchanged, y moved up by the dyadic displacement the page sent; every row holds.
     let moved = exact(&after, "worm.v3");
     assert_eq!(moved[0], "36");
     let y = parse_rational(&moved[1]).expect("an exact value");
     assert!(y > parse_rational("17").expect("17"), "{moved:?}");
-    let micro = api::Rational::from_integer(1_000_000.into());
+    let grid = api::Rational::from_integer((1u64 << 30).into());
     assert!(
-        (y * micro).is_integer(),
-        "a displacement of at most six decimals: {moved:?}"
+        (y * grid).is_integer(),
+        "a displacement on a power-of-two grid: {moved:?}"
     );
     assert_eq!(after["violated_rows"], 0);
     // The picture changed near the point and not at the other end of the worm.
@@ -220,16 +220,13 @@ fn a_rotation_about_a_right_clicked_centre_is_exact() {
             .map(|t| parse_rational(t).expect("exact"))
             .collect()
     };
-    let centre = browser.eval("center.map(String)");
+    // The centre exactly as the page sends it.
+    let centre = browser.eval("center.map(dyadic)");
     let c: Vec<api::Rational> = centre
         .as_array()
         .expect("centre")
         .iter()
-        .map(|t| {
-            // The page sends the centre rounded to six decimals.
-            let x: f64 = t.as_str().expect("text").parse().expect("a number");
-            parse_rational(&format!("{x:.6}")).expect("exact")
-        })
+        .map(|t| parse_rational(t.as_str().expect("text")).expect("exact"))
         .collect();
     let distance = |p: &[api::Rational]| {
         let (dx, dy) = (&p[0] - &c[0], &p[1] - &c[1]);

@@ -19,6 +19,7 @@ use super::motion::{DragRequest, Motion, Selection};
 use crate::runfile::CommitPolicy;
 use crate::session::{ActiveEdit, PlannedEdit, Planning, Session};
 use api::{ParamId, PlannedStep, Rational};
+use num_traits::Zero;
 use serde_json::{json, Value};
 use std::time::{Duration, Instant};
 
@@ -59,10 +60,16 @@ impl LinearSteps {
                         .iter()
                         .enumerate()
                         .map(|(j, o)| {
-                            self.along
-                                .iter()
-                                .zip(c)
-                                .fold(o.clone(), |sum, (a, c)| sum + c * &pick(a)[i][j])
+                            // Most terms vanish (a translation along x leaves every y alone):
+                            // exact products and sums are paid only for the others.
+                            self.along.iter().zip(c).fold(o.clone(), |sum, (a, c)| {
+                                let a = &pick(a)[i][j];
+                                if a.is_zero() || c.is_zero() {
+                                    sum
+                                } else {
+                                    sum + c * a
+                                }
+                            })
                         })
                         .collect()
                 })

@@ -736,18 +736,28 @@ async function showSelection() {
 // Exact decimal text of a float (the server reads it exactly).
 const decimal = (v, places) => (Math.round(v * 10 ** places) / 10 ** places).toFixed(places);
 
+// A length of the picture as an exact dyadic fraction `n/2^k`, on the finest power-of-two grid
+// coarser than a twentieth of a pixel at the current zoom: exact numbers with small
+// denominators (cheap to solve with, short when committed), far below what the eye sees.
+function dyadic(v) {
+  const k = Math.min(30, Math.max(0, Math.ceil(Math.log2(20 * view.scale))));
+  const scale = 2 ** k;
+  const n = Math.round(v * scale);
+  return n === 0 ? "0" : `${n}/${scale}`;
+}
+
 // The motion of the drag so far, as the server takes it.
 function motion(d) {
   const [x, y] = d.mouse;
   if (d.lift) {
     // Along the anchor's vertical line: the screen's vertical motion, in heights.
-    return { lift: { dz: decimal((y - d.start[1]) * heightPerScreenUnit(), 6) } };
+    return { lift: { dz: dyadic((y - d.start[1]) * heightPerScreenUnit()) } };
   }
   if (d.operation === "translate") {
-    return { translate: { dx: decimal(x - d.start[0], 6), dy: decimal(y - d.start[1], 6) } };
+    return { translate: { dx: dyadic(x - d.start[0]), dy: dyadic(y - d.start[1]) } };
   }
   const c = d.center;
-  const centerText = [decimal(c[0], 6), decimal(c[1], 6)];
+  const centerText = [dyadic(c[0]), dyadic(c[1])];
   if (d.operation === "rotate") {
     const angle = Math.atan2(y - c[1], x - c[0]) - Math.atan2(d.start[1] - c[1], d.start[0] - c[0]);
     let degrees = (angle * 180) / Math.PI;
