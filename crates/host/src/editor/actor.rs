@@ -9,7 +9,7 @@
 //! moved points for drawing: the exact verdict with the values rounded (`preview`, which skips
 //! reducing fractions); the last request commits the exact update.
 
-use super::frames::{drag_frame, drawable_rows, refused, ActiveDrag};
+use super::frames::{drag_frame, drawable_rows, prepare_linear_steps, refused, ActiveDrag};
 use super::motion::{DragRequest, Selection};
 use super::save;
 use crate::error::RunError;
@@ -78,6 +78,8 @@ impl Editor {
                 Command::Drag(request, reply) => {
                     let answer = self.drag_frame(&request);
                     let _ = reply.send(answer);
+                    // Work of the drag that the answer did not need to wait for.
+                    prepare_linear_steps(&self.session, &mut self.drag);
                 }
                 Command::History(undo, reply) => {
                     self.drag = None;

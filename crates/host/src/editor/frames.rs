@@ -4,13 +4,15 @@
 //! * **Mouse-down** (the first frame of a selection): the source plans the operation (2DSD
 //!   Select and ExpandDerived) and the edit is initialised once (ECLES Initialize). For a
 //!   translation the plan is affine in the displacement `d` (anchors `a + d`, hints
-//!   `p + θ d`), so it is also planned for `d = (1, 0)` and `(0, 1)` (a terrain lift: `dz = 1`):
-//!   every later frame's step is `origin + dx·along_x + dy·along_y`, exact, without planning
-//!   again ([`LinearSteps`]). Rotations and scalings are planned at every frame.
+//!   `p + θ d`), so it is also planned for `d = (1, 0)` and `(0, 1)` (a terrain lift: `dz = 1`),
+//!   once the mouse-down frame is answered ([`prepare_linear_steps`]): every later frame's step
+//!   is `origin + dx·along_x + dy·along_y`, exact, without planning again ([`LinearSteps`]).
+//!   Rotations and scalings are planned at every frame.
 //! * **A frame** is one exact Update with the values rounded for drawing: the exact optimum
-//!   (`preview`) while that takes at most [`OPTIMUM_FRAME_BUDGET`], else a snapped point
-//!   (`update_snapped`: every constraint exact, small values, a proved distance to the optimum,
-//!   the same verdict). A run whose commits are snapped draws snapped frames on its own grid, so
+//!   (`preview`) for an edit initialised within [`OPTIMUM_FRAME_BUDGET`] while its frames take
+//!   no longer, else a snapped point (`update_snapped`: every constraint exact, small values, a
+//!   proved distance to the optimum, the same verdict). A frame that moves nothing (the
+//!   mouse-down frame) is the current values. A run whose commits are snapped draws snapped frames on its own grid, so
 //!   a frame is its commit. An impossible move is refused with the constraints in the way.
 //! * **The release** plans the operation exactly at the final motion (not interpolated) and
 //!   commits the run's kind of update; the page shows how far the last frame was from it.
@@ -103,6 +105,9 @@ pub(super) struct ActiveDrag {
     spec: ecles::EditSpec,
     edit: ActiveEdit,
     linear: Option<LinearSteps>,
+    /// A translation or lift initialised but not yet made affine: its motion, plan and
+    /// coordinates, for [`prepare_linear_steps`] after the mouse-down frame is answered.
+    linear_pending: Option<(Motion, PlannedEdit, Vec<Rational>)>,
     frames: FrameKind,
     /// Rank of `R_ED` and its redundant rows (from the edit's report, made once).
     rank: usize,
@@ -203,15 +208,25 @@ fn linear_steps(
     Ok((linear.at(at) == *last_step(base)?).then_some(linear))
 }
 
-/// The frame kind of a drag that commits under `policy`, whose first optimum frame took
-/// `first`.
-fn frame_kind(policy: CommitPolicy, first: Duration) -> FrameKind {
+/// The frame kind a drag starts with, committing under `policy`, whose Initialize took
+/// `initialize`: an edit that is slow to initialise is large, and its optimum frames would be
+/// slow too. An optimum frame over [`OPTIMUM_FRAME_BUDGET`] switches the drag to snapped frames
+/// (see [`slower_frames`]).
+fn first_frame_kind(policy: CommitPolicy, initialize: Duration) -> FrameKind {
     match policy {
         CommitPolicy::Snapped { grid_bits } => FrameKind::Snapped(grid_bits),
-        CommitPolicy::Optimum if first > OPTIMUM_FRAME_BUDGET => {
+        CommitPolicy::Optimum if initialize > OPTIMUM_FRAME_BUDGET => {
             FrameKind::Snapped(FRAME_GRID_BITS)
         }
         CommitPolicy::Optimum => FrameKind::Optimum,
+    }
+}
+
+/// The frame kind after a frame of kind `kind` took `took`.
+fn slower_frames(kind: FrameKind, took: Duration) -> FrameKind {
+    match kind {
+        FrameKind::Optimum if took > OPTIMUM_FRAME_BUDGET => FrameKind::Snapped(FRAME_GRID_BITS),
+        other => other,
     }
 }
 
@@ -251,6 +266,7 @@ pub(super) fn drag_frame(
             };
             if !(same && drag.as_ref().is_some_and(|d| d.spec == planned.spec)) {
                 *drag = None;
+                let initializing = Instant::now();
                 let edit = match session.initialize(&planned) {
                     Ok(edit) => edit,
                     Err(e) => {
@@ -258,17 +274,16 @@ pub(super) fn drag_frame(
                         return Ok(refused(e.to_string(), labels, explanation));
                     }
                 };
-                let linear = match &coordinates {
-                    Some(at) => linear_steps(session, selection, motion, &planned, at)?,
-                    None => None,
-                };
                 let report = edit.edit().report();
                 *drag = Some(ActiveDrag {
                     key: selection.clone(),
                     spec: planned.spec.clone(),
                     edit,
-                    linear,
-                    frames: FrameKind::Optimum,
+                    linear: None,
+                    linear_pending: coordinates
+                        .clone()
+                        .map(|at| (motion.clone(), planned.clone(), at)),
+                    frames: first_frame_kind(session.commit_policy(), initializing.elapsed()),
                     rank: report.rank,
                     redundant: report.redundant.len(),
                 });
@@ -305,22 +320,32 @@ pub(super) fn drag_frame(
         (moved, Some(result))
     } else {
         let solving = Instant::now();
-        let derived: Vec<Vec<f64>> = match active.frames {
-            FrameKind::Optimum => match active.edit.preview(&step) {
-                Ok(derived) => derived,
-                Err(e) => return Ok(conflict(session, active, &e)),
-            },
-            FrameKind::Snapped(bits) => match active.edit.update_snapped(&step, bits) {
-                Ok((result, summary)) => {
-                    snap_bound = Some(summary.distance_bound);
-                    result.derived.iter().map(|(_, v)| to_f64(v)).collect()
-                }
-                Err(e) => return Ok(conflict(session, active, &e)),
-            },
+        let derived: Vec<Vec<f64>> = if motion.is_identity() {
+            // Nothing moves (the mouse-down frame): the current values are the solution (they
+            // satisfy every row and equal the hints), nothing to solve.
+            let values = session.values();
+            active
+                .spec
+                .derived
+                .iter()
+                .map(|id| to_f64(values.get(*id)))
+                .collect()
+        } else {
+            match active.frames {
+                FrameKind::Optimum => match active.edit.preview(&step) {
+                    Ok(derived) => derived,
+                    Err(e) => return Ok(conflict(session, active, &e)),
+                },
+                FrameKind::Snapped(bits) => match active.edit.update_snapped(&step, bits) {
+                    Ok((result, summary)) => {
+                        snap_bound = Some(summary.distance_bound);
+                        result.derived.iter().map(|(_, v)| to_f64(v)).collect()
+                    }
+                    Err(e) => return Ok(conflict(session, active, &e)),
+                },
+            }
         };
-        if initialized {
-            active.frames = frame_kind(session.commit_policy(), solving.elapsed());
-        }
+        active.frames = slower_frames(active.frames, solving.elapsed());
         let edit = active.edit.edit();
         let moved: Vec<Value> = edit
             .anchors()
@@ -349,7 +374,7 @@ pub(super) fn drag_frame(
             FrameKind::Snapped(bits) => format!("snapped 2^-{bits}"),
         },
         "snap_bound": snap_bound,
-        "planned": planned_text(active.linear.is_some()),
+        "planned": planned_text(active.linear.is_some() || active.linear_pending.is_some()),
     });
     if initialized {
         // Once per drag: which points are derived, and the non-redundant relevant constraints
@@ -386,6 +411,22 @@ pub(super) fn drag_frame(
     }
     answer["server_ms"] = json!(started.elapsed().as_secs_f64() * 1e3);
     Ok(answer)
+}
+
+/// After the mouse-down frame of a translation or lift was answered: plans the unit motions and
+/// makes the drag's steps affine ([`LinearSteps`]), so that the mouse-down frame waits only for
+/// Select, ExpandDerived and Initialize, and every move after it for an Update. A source whose
+/// plan is not affine leaves the drag planning every frame.
+pub(super) fn prepare_linear_steps(session: &Session, drag: &mut Option<ActiveDrag>) {
+    let Some(active) = drag.as_mut() else {
+        return;
+    };
+    let Some((motion, planned, at)) = active.linear_pending.take() else {
+        return;
+    };
+    active.linear = linear_steps(session, &active.key, &motion, &planned, &at)
+        .ok()
+        .flatten();
 }
 
 /// How the frames' steps are made, for the page's status.

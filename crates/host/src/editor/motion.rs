@@ -115,6 +115,20 @@ impl Motion {
         }
     }
 
+    /// True for a motion that moves nothing: a translation or lift by zero, a rotation by zero
+    /// degrees, a scaling by one (numbers that do not parse are not the identity).
+    pub fn is_identity(&self) -> bool {
+        let is = |what: &str, text: &str, value: i64| {
+            exact(what, text).is_ok_and(|q| q == Rational::from_integer(value.into()))
+        };
+        match self {
+            Motion::Translate { dx, dy } => is("dx", dx, 0) && is("dy", dy, 0),
+            Motion::Lift { dz } => is("dz", dz, 0),
+            Motion::Rotate { degrees, .. } => is("degrees", degrees, 0),
+            Motion::Scale { factor, .. } => is("factor", factor, 1),
+        }
+    }
+
     /// The motion of the same kind with linear coordinates `coordinates` (see
     /// [`Motion::linear_coordinates`]).
     pub fn with_coordinates(&self, coordinates: &[&str]) -> Option<Motion> {
@@ -243,6 +257,29 @@ mod tests {
             ..selection(&["v4"])
         };
         assert!(bad.operation(&Motion::Lift { dz: "1".into() }).is_err());
+    }
+
+    #[test]
+    fn identity_motions_are_recognised_exactly() {
+        let t = |dx: &str, dy: &str| Motion::Translate {
+            dx: dx.into(),
+            dy: dy.into(),
+        };
+        assert!(t("0", "0/7").is_identity());
+        assert!(!t("0", "1/1073741824").is_identity());
+        assert!(!t("x", "0").is_identity());
+        assert!(Motion::Lift { dz: "0.0".into() }.is_identity());
+        let c = ["1".to_string(), "2".to_string()];
+        assert!(Motion::Scale {
+            center: c.clone(),
+            factor: "4/4".into()
+        }
+        .is_identity());
+        assert!(!Motion::Rotate {
+            center: c,
+            degrees: "0.001".into()
+        }
+        .is_identity());
     }
 
     #[test]

@@ -248,6 +248,17 @@ function beginMoving(ids) {
 
 function endMoving() { moving = null; still = null; }
 
+// Draws the points `ids` over the picture as it is (their colours for the selection).
+function overlay(ids) {
+  const began = performance.now();
+  const ratio = window.devicePixelRatio || 1;
+  ctx.setTransform(ratio, 0, 0, ratio, 0, 0);
+  moving = { ids: new Set(ids), triangles: new Map(), faces: new Map() };
+  drawPoints(MOVING);
+  moving = null;
+  last.draw = performance.now() - began;
+}
+
 // Whether an item belongs to the part drawn: `isMoving` says whether the drag moves it.
 const inPart = (part, isMoving) => part === ALL || (part === MOVING) === isMoving;
 
@@ -814,7 +825,7 @@ async function sendFrame(commit) {
       const moved = applyMoved(answer.moved);
       const deform = performance.now() - deforming;
       // From the first frame on, only what the drag moves is drawn again.
-      if (starting) beginMoving([...anchors, ...answer.derived_ids]);
+      if (starting) d.movingIds = [...anchors, ...answer.derived_ids];
       if (!commit) d.lastValid = m;
       record = { first, request, server: answer.server_ms, deform, moved };
       if (commit) {
@@ -834,7 +845,18 @@ async function sendFrame(commit) {
   } catch (e) {
     showMessage(String(e.message || e));
   }
-  draw();
+  if (record !== null && record.first && d.movingIds && moving === null) {
+    // The mouse-down frame moves nothing: the anchors and the derived set are drawn over the
+    // picture, and the picture of what the drag leaves still is made once the frame is on
+    // the screen (before the first move, unless that comes sooner).
+    overlay(d.movingIds);
+    requestAnimationFrame(() => setTimeout(() => {
+      if (drag === d && moving === null) beginMoving(d.movingIds);
+    }, 0));
+  } else {
+    if (drag === d && !commit && d.movingIds && moving === null) beginMoving(d.movingIds);
+    draw();
+  }
   if (!commit && record !== null) {
     record.draw = last.draw;
     record.ready = performance.now() - began;
