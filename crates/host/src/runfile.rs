@@ -17,6 +17,7 @@
 //!         Source(source: "phi", operation: (anchors: ["v4"], translate: ("1", "0"))),
 //!     ],
 //!     outputs: [(source: "phi", output: (picture: "worm.svg"))],
+//!     editor: (image: (file: "photo.png", opacity: "1/2")), // for `ecles edit`, optional
 //! )
 //! ```
 //!
@@ -29,6 +30,7 @@
 use api::config::{from_ron, ron_options, unique_map, TextPosition};
 use api::exact::Exact;
 use api::input::{read_text_file, InputFileError};
+use api::Rational;
 use api::SourceError;
 use ron::value::RawValue;
 use serde::Deserialize;
@@ -100,6 +102,72 @@ pub struct RunFile {
     pub edits: Vec<EditEntry>,
     /// Outputs rendered by sources after the edits.
     pub outputs: Vec<OutputEntry>,
+    /// Settings of the interactive editor (`ecles edit`), with their text as written.
+    pub editor: Option<(EditorConfig, String)>,
+}
+
+/// What `ecles edit` shows besides the sources (`editor: (image: (file: "photo.png"))`).
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EditorConfig {
+    /// A target image drawn behind the sources.
+    #[serde(default)]
+    pub image: Option<TargetImage>,
+}
+
+/// A PNG or JPEG drawn behind the sources in the editor, to edit towards.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields, try_from = "RawTargetImage")]
+pub struct TargetImage {
+    /// The image file, relative to the run file.
+    pub file: String,
+    /// Opacity in [0, 1] (default 1/2).
+    pub opacity: Rational,
+    /// Model coordinates of the image's top-left corner (default (0, 0)).
+    pub position: [Rational; 2],
+    /// Model units per image pixel, positive (default 1).
+    pub units_per_pixel: Rational,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawTargetImage {
+    file: String,
+    #[serde(default)]
+    opacity: Option<Exact>,
+    #[serde(default)]
+    position: Option<(Exact, Exact)>,
+    #[serde(default)]
+    units_per_pixel: Option<Exact>,
+}
+
+impl TryFrom<RawTargetImage> for TargetImage {
+    type Error = String;
+    fn try_from(raw: RawTargetImage) -> Result<Self, String> {
+        let zero = Rational::from_integer(0.into());
+        let one = Rational::from_integer(1.into());
+        let opacity = raw
+            .opacity
+            .map_or_else(|| Rational::new(1.into(), 2.into()), |e| e.0);
+        if opacity < zero || opacity > one {
+            return Err(format!("image opacity {opacity} must be between 0 and 1"));
+        }
+        let units_per_pixel = raw.units_per_pixel.map_or(one, |e| e.0);
+        if units_per_pixel <= zero {
+            return Err(format!(
+                "image units_per_pixel {units_per_pixel} must be positive"
+            ));
+        }
+        let position = raw
+            .position
+            .map_or_else(|| [zero.clone(), zero.clone()], |(x, y)| [x.0, y.0]);
+        Ok(TargetImage {
+            file: raw.file,
+            opacity,
+            position,
+            units_per_pixel,
+        })
+    }
 }
 
 /// One constraint source.
@@ -385,6 +453,8 @@ struct RawRunFile<'a> {
     edits: Vec<&'a RawValue>,
     #[serde(borrow, default)]
     outputs: Vec<&'a RawValue>,
+    #[serde(borrow, default)]
+    editor: Option<&'a RawValue>,
 }
 
 #[derive(Deserialize)]
@@ -475,7 +545,11 @@ impl RunFile {
         for output in &self.outputs {
             out.push_str(&format!("        {},\n", output.text));
         }
-        out.push_str("    ],\n)\n");
+        out.push_str("    ],\n");
+        if let Some((_, text)) = &self.editor {
+            out.push_str(&format!("    editor: {text},\n"));
+        }
+        out.push_str(")\n");
         out
     }
 }
@@ -597,6 +671,13 @@ pub fn parse(text: &str, name: &str) -> Result<RunFile, RunFileError> {
             text: value.get_ron().trim().to_string(),
         });
     }
+    let editor = match raw.editor {
+        Some(value) => Some((
+            reader.element::<EditorConfig>(value)?,
+            value.get_ron().trim().to_string(),
+        )),
+        None => None,
+    };
     Ok(RunFile {
         sources,
         backend: raw.backend,
@@ -604,6 +685,7 @@ pub fn parse(text: &str, name: &str) -> Result<RunFile, RunFileError> {
         commit: raw.commit,
         edits,
         outputs,
+        editor,
     })
 }
 

@@ -373,3 +373,69 @@ fn rotations_scalings_and_the_derived_set_before_a_drag() {
     );
     assert_eq!(after["violated_rows"], 0);
 }
+
+/// Writes a 4 × 3 grey PNG to `path`.
+fn write_png(path: &std::path::Path) {
+    let file = std::fs::File::create(path).expect("create");
+    let mut encoder = png::Encoder::new(std::io::BufWriter::new(file), 4, 3);
+    encoder.set_color(png::ColorType::Grayscale);
+    encoder.set_depth(png::BitDepth::Eight);
+    let mut writer = encoder.write_header().expect("header");
+    writer.write_image_data(&[128; 12]).expect("pixels");
+}
+
+/// A target image named in the run file is checked before serving, served to the page with its
+/// settings, and kept in a saved session; a file that is not an image stops the editor before
+/// it serves, naming the file.
+#[test]
+fn the_run_files_target_image_is_checked_served_and_saved() {
+    let (dir, run) = worm_copy();
+    write_png(&dir.path().join("target.png"));
+    let text = std::fs::read_to_string(&run).expect("run file");
+    let with_image = text.trim_end().trim_end_matches(')').to_string()
+        + "    editor: (image: (file: \"target.png\", opacity: \"0.25\", position: (\"-10\", \"40\"), units_per_pixel: \"1/2\")),\n)\n";
+    std::fs::write(&run, &with_image).expect("write");
+    let editor = start_at(run.clone(), false);
+    let image = state(&editor)["image"].clone();
+    assert_eq!(
+        image,
+        json!({"file": "target.png", "opacity": 0.25, "x": -10.0, "y": 40.0,
+            "units_per_pixel": 0.5, "size": [4, 3]})
+    );
+    let headers = [
+        format!("Host: 127.0.0.1:{}", editor.port),
+        format!("x-ecles-token: {}", editor.token),
+    ];
+    let (status, body) = common::request(&editor, "GET", "/api/image", &headers, "");
+    assert_eq!(status, 200);
+    assert!(
+        body.starts_with("\u{fffd}PNG") || body.contains("PNG"),
+        "{body:?}"
+    );
+    commit_drag(&editor, &["v3"], 3, "0", "2");
+    let (status, saved) = call(&editor, "POST", "/api/save", &json!({"name": null}));
+    assert_eq!(status, 200, "{saved}");
+    let session = std::fs::read_to_string(dir.path().join("worm.session.ron")).expect("saved");
+    assert!(
+        session.contains("editor: (image: (file: \"target.png\""),
+        "{session}"
+    );
+
+    // Not an image: refused before serving, the file named.
+    std::fs::write(dir.path().join("target.png"), "not a picture").expect("write");
+    let options = host::editor::EditorOptions {
+        port: 0,
+        token: true,
+        autosave: false,
+    };
+    let error = host::editor::serve(&run, api::input::DEFAULT_MAX_INPUT_BYTES, &options, |_| {
+        panic!("served a run whose image is not one")
+    })
+    .expect_err("refused");
+    assert!(
+        error
+            .to_string()
+            .contains("target.png: neither a PNG nor a JPEG"),
+        "{error}"
+    );
+}

@@ -13,7 +13,7 @@ use super::frames::{drag_frame, drawable_rows, prepare_linear_steps, refused, Ac
 use super::motion::{DragRequest, Selection};
 use super::save;
 use crate::error::RunError;
-use crate::session::{Planning, Session};
+use crate::session::{CheckedImage, Planning, Session};
 use api::{format_rational, ParamId, Values};
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
@@ -34,6 +34,8 @@ pub(crate) enum Command {
     Resume(bool, oneshot::Sender<Result<Value, String>>),
     /// The points a selection would move (2DSD Select and ExpandDerived, nothing initialised).
     Select(Selection, oneshot::Sender<Result<Value, String>>),
+    /// The run file's target image: its bytes and media type.
+    Image(oneshot::Sender<Option<(Vec<u8>, &'static str)>>),
 }
 
 /// The editor's side of the session: the session, the drag under way and the autosave.
@@ -47,6 +49,8 @@ pub(crate) struct Editor {
     offer: Option<(PathBuf, usize)>,
     /// The last autosave's failure, shown until one succeeds.
     autosave_error: Option<String>,
+    /// The run file's target image (checked with the run, before serving).
+    image: Option<CheckedImage>,
     input_limit: u64,
 }
 
@@ -58,12 +62,15 @@ impl Editor {
         let offer = autosave
             .as_ref()
             .and_then(|path| Some((path.clone(), save::autosave_offer(path, input_limit)?)));
+        // Checked with the rest of the run before the server started.
+        let image = session.target_image().ok().flatten();
         Editor {
             session,
             drag: None,
             autosave,
             offer,
             autosave_error: None,
+            image,
             input_limit,
         }
     }
@@ -105,6 +112,13 @@ impl Editor {
                 }
                 Command::Select(selection, reply) => {
                     let _ = reply.send(select(&self.session, &selection));
+                }
+                Command::Image(reply) => {
+                    let _ = reply.send(
+                        self.image
+                            .as_ref()
+                            .map(|image| (image.bytes.clone(), image.media_type)),
+                    );
                 }
             }
         }
@@ -149,6 +163,21 @@ impl Editor {
             "error": self.autosave_error,
         });
         state["committed"] = json!(self.session.committed_count());
+        state["image"] = match &self.image {
+            Some(image) => {
+                let f = api::exact::rational_to_f64;
+                let s = &image.settings;
+                json!({
+                    "file": s.file,
+                    "opacity": f(&s.opacity),
+                    "x": f(&s.position[0]),
+                    "y": f(&s.position[1]),
+                    "units_per_pixel": f(&s.units_per_pixel),
+                    "size": image.size,
+                })
+            }
+            None => Value::Null,
+        };
         state
     }
 

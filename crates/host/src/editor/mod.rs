@@ -149,6 +149,7 @@ fn router(shared: Arc<Shared>) -> Router {
         .route("/api/save", post(save_session))
         .route("/api/resume", post(resume))
         .route("/api/select", post(select))
+        .route("/api/image", get(target_image))
         .layer(middleware::from_fn_with_state(shared.clone(), guard))
         .with_state(shared)
 }
@@ -340,4 +341,17 @@ async fn resume(State(shared): State<Arc<Shared>>, Json(request): Json<ResumeReq
 
 async fn select(State(shared): State<Arc<Shared>>, Json(selection): Json<Selection>) -> Response {
     answered(ask(&shared, |reply| actor::Command::Select(selection, reply)).await)
+}
+
+/// The run file's target image (404 when it names none).
+async fn target_image(State(shared): State<Arc<Shared>>) -> Response {
+    match ask(&shared, actor::Command::Image).await {
+        Ok(Some((bytes, media_type))) => (
+            [(header::CONTENT_TYPE, HeaderValue::from_static(media_type))],
+            bytes,
+        )
+            .into_response(),
+        Ok(None) => (StatusCode::NOT_FOUND, "the run file names no target image").into_response(),
+        Err(response) => response,
+    }
 }

@@ -63,11 +63,14 @@ impl Session {
     /// what the outputs will write and read.
     pub fn check(&self) -> Result<OutputsPlan, RunError> {
         self.check_edits(&self.run_name(), &self.run.edits)?;
+        let image = self.target_image()?;
         let mut plan = OutputsPlan {
             files: Vec::new(),
             inputs: self.inputs.clone(),
             announced: Vec::new(),
         };
+        // The target image is an input too: no output may overwrite it.
+        plan.inputs.extend(image.map(|image| image.path));
         for (i, out) in self.run.outputs.iter().enumerate() {
             let loaded = self.loaded(&out.source)?;
             let context = format!("output {i} (source {:?})", out.source);

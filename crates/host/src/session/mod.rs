@@ -20,9 +20,11 @@ mod edit;
 mod float_twin;
 mod record;
 mod render;
+mod target_image;
 
 pub use check::OutputsPlan;
 pub use edit::{ActiveEdit, PlannedEdit, Planning};
+pub use target_image::CheckedImage;
 
 /// The label of row `index` (0-based) of source `source` in the system and in reports:
 /// `"{source} row {index + 1}: {text}"`, the source's own label as `text` (without the source's name

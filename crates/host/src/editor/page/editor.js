@@ -1092,10 +1092,23 @@ window.addEventListener("keydown", (e) => {
 });
 window.addEventListener("resize", draw);
 
+// The run file's target image (its settings into the panel, the picture from the server).
+function loadTargetImage(settings) {
+  element("image-opacity").value = settings.opacity;
+  element("image-x").value = settings.x;
+  element("image-y").value = settings.y;
+  element("image-scale").value = settings.units_per_pixel;
+  const loaded = new Image();
+  loaded.onload = () => { image = loaded; draw(); };
+  loaded.onerror = () => showMessage(`${settings.file}: this browser cannot draw it`);
+  loaded.src = token ? `/api/image?token=${encodeURIComponent(token)}` : "/api/image";
+}
+
 (async () => {
   openSocket();
   try {
     setState(await api("/api/state"));
+    if (state.image) loadTargetImage(state.image);
     fit();
     report();
   } catch (e) {
