@@ -207,31 +207,30 @@ fn a_missing_plugin_library_is_named() {
     );
 }
 
-/// The editor's view of the worm (method 6 of the plugin ABI), with the model the output of
-/// examples/worm.ron deforms, is the same from the spline2d plugin library as from the
-/// built-in source, and passes the conformance check of views (no models without outputs,
-/// outputs change only the models, the host's validation).
-#[test]
-fn the_spline_view_crosses_the_plugin_boundary_unchanged() {
-    use api::{ConstraintSource, ConstraintSystem, SourceView, Values};
+/// The view of source `name` built from `config` (base directory `examples/`), asked with
+/// `outputs`, from the plugin library `library` and from the built-in source `fixed`: both
+/// pass the conformance check of views and are equal, floats included (they cross the
+/// boundary bit for bit). Returns the view.
+fn view_across_the_boundary(
+    library_name: &str,
+    mut fixed: impl api::ConstraintSource,
+    name: &str,
+    config: &str,
+    outputs: &[String],
+) -> api::SourceView {
+    use api::{ConstraintSource, ConstraintSystem, Values};
     let request = api::BuildRequest {
         schema: api::SCHEMA_VERSION,
         input_limit: api::input::DEFAULT_MAX_INPUT_BYTES,
-        name: "worm".into(),
-        config: r#"(mesh: "meshes/worm.obj", degree: 5, smoothness: 1)"#.into(),
+        name: name.into(),
+        config: config.into(),
         base_dir: root().join("examples"),
         system: ConstraintSystem::new(),
         values: Values::default(),
         sources: Vec::new(),
     };
-    // The output of examples/worm.ron, as written there.
-    let run = std::fs::read_to_string(root().join("examples/worm.ron")).expect("worm.ron");
-    let output = r#"(picture: "worm.svg", model: "models/worm-model.obj")"#;
-    assert!(run.contains(output), "examples/worm.ron names its model");
-    let outputs = vec![output.to_string()];
-    let plugin = plugin_abi::load(&library("plugins_spline2d_dylib")).expect("loads");
+    let plugin = plugin_abi::load(&library(library_name)).expect("loads");
     let mut dynamic = plugin.instantiate();
-    let mut fixed = plugins_spline2d::plugin::Spline2dSource::default();
     let contribution = dynamic.build(&request).expect("dynamic build");
     fixed.build(&request).expect("static build");
     let mut system = ConstraintSystem::new();
@@ -239,12 +238,33 @@ fn the_spline_view_crosses_the_plugin_boundary_unchanged() {
     contribution
         .apply_to(&mut system, &mut values)
         .expect("applies");
-    let view = conformance::check_view(&dynamic, "worm", &system, &outputs)
+    let view = conformance::check_view(&dynamic, name, &system, outputs)
         .expect("a conforming view")
-        .expect("spline2d draws");
+        .expect("the source draws");
     assert_eq!(
         Some(view.clone()),
-        conformance::check_view(&fixed, "worm", &system, &outputs).expect("static view")
+        conformance::check_view(&fixed, name, &system, outputs).expect("static view")
+    );
+    view
+}
+
+/// The editor's view of the worm (method 6 of the plugin ABI), with the model the output of
+/// examples/worm.ron deforms, is the same from the spline2d plugin library as from the
+/// built-in source, and passes the conformance check of views (no models without outputs,
+/// outputs change only the models, the host's validation).
+#[test]
+fn the_spline_view_crosses_the_plugin_boundary_unchanged() {
+    use api::SourceView;
+    // The output of examples/worm.ron, as written there.
+    let run = std::fs::read_to_string(root().join("examples/worm.ron")).expect("worm.ron");
+    let output = r#"(picture: "worm.svg", model: "models/worm-model.obj")"#;
+    assert!(run.contains(output), "examples/worm.ron names its model");
+    let view = view_across_the_boundary(
+        "plugins_spline2d_dylib",
+        plugins_spline2d::plugin::Spline2dSource::default(),
+        "worm",
+        r#"(mesh: "meshes/worm.obj", degree: 5, smoothness: 1)"#,
+        &[output.to_string()],
     );
     let SourceView::BezierTriangles(view) = view else {
         panic!("spline2d draws Bézier triangles")
@@ -264,7 +284,7 @@ fn the_spline_view_crosses_the_plugin_boundary_unchanged() {
 /// built-in source, and passes the conformance check of views.
 #[test]
 fn the_terrain_view_crosses_the_plugin_boundary_unchanged() {
-    use api::{ConstraintSource, ConstraintSystem, SourceView, Values};
+    use api::SourceView;
     // The source and outputs of examples/terrain.ron, as written there.
     let run = std::fs::read_to_string(root().join("examples/terrain.ron")).expect("terrain.ron");
     let outputs: Vec<String> = [
@@ -280,35 +300,13 @@ fn the_terrain_view_crosses_the_plugin_boundary_unchanged() {
         );
     }
     assert!(run.contains(r#"spline: (mesh: "terrains/reference.obj", degree: 5, smoothness: 1),"#));
-    let request = api::BuildRequest {
-        schema: api::SCHEMA_VERSION,
-        input_limit: api::input::DEFAULT_MAX_INPUT_BYTES,
-        name: "terrain".into(),
-        config: r#"(spline: (mesh: "terrains/reference.obj", degree: 5, smoothness: 1),
-            top: "20", xy: true)"#
-            .into(),
-        base_dir: root().join("examples"),
-        system: ConstraintSystem::new(),
-        values: Values::default(),
-        sources: Vec::new(),
-    };
-    let plugin = plugin_abi::load(&library("plugins_terrain_dylib")).expect("loads");
-    let mut dynamic = plugin.instantiate();
-    let mut fixed = plugins_terrain::plugin::TerrainSource::default();
-    let contribution = dynamic.build(&request).expect("dynamic build");
-    fixed.build(&request).expect("static build");
-    let mut system = ConstraintSystem::new();
-    let mut values = Values::default();
-    contribution
-        .apply_to(&mut system, &mut values)
-        .expect("applies");
-    let view = conformance::check_view(&dynamic, "terrain", &system, &outputs)
-        .expect("a conforming view")
-        .expect("the terrain draws");
-    // Equal, floats included: they cross the boundary bit for bit.
-    assert_eq!(
-        Some(view.clone()),
-        conformance::check_view(&fixed, "terrain", &system, &outputs).expect("static view")
+    let view = view_across_the_boundary(
+        "plugins_terrain_dylib",
+        plugins_terrain::plugin::TerrainSource::default(),
+        "terrain",
+        r#"(spline: (mesh: "terrains/reference.obj", degree: 5, smoothness: 1),
+            top: "20", xy: true)"#,
+        &outputs,
     );
     let SourceView::Prisms(view) = view else {
         panic!("the terrain draws prisms")

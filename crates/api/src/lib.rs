@@ -46,5 +46,6 @@ pub use system::{
     ScalarEquation, SystemError, Values,
 };
 pub use view::{
-    BezierTriangles, Prisms, SourceView, ViewModel, ViewRequest, MAX_VIEW_MODEL_VERTICES,
+    BezierTriangles, Prisms, SourceView, ViewModel, ViewModels, ViewRequest,
+    MAX_VIEW_MODEL_VERTICES,
 };

@@ -29,6 +29,73 @@ pub const MAX_VIEW_DEGREE: usize = 64;
 /// one of them on every frame of a drag, and the view crosses the plugin ABI as JSON.
 pub const MAX_VIEW_MODEL_VERTICES: usize = 4_000_000;
 
+/// The models of a view as a source collects them: their vertices counted against
+/// [`MAX_VIEW_MODEL_VERTICES`] (before a model is placed, the costly part) and their indices
+/// turned into the view's `u32`. One implementation for every source that draws models.
+#[derive(Debug, Default)]
+pub struct ViewModels {
+    models: Vec<ViewModel>,
+    vertices: usize,
+}
+
+impl ViewModels {
+    /// Counts a model of `vertices` vertices in, refusing one that would bring the view above
+    /// [`MAX_VIEW_MODEL_VERTICES`]; call before placing it.
+    pub fn reserve(&mut self, vertices: usize) -> Result<(), String> {
+        self.vertices = self
+            .vertices
+            .checked_add(vertices)
+            .filter(|&total| total <= MAX_VIEW_MODEL_VERTICES)
+            .ok_or_else(|| {
+                format!(
+                    "{vertices} vertices bring the view's models above {MAX_VIEW_MODEL_VERTICES} vertices, the most an editor draws"
+                )
+            })?;
+        Ok(())
+    }
+
+    /// Adds a model: its vertices, triangles (vertex indices), per vertex its reference
+    /// triangle and barycentric coordinates (`None`: not placed, it stays) and its relative
+    /// heights (empty for a planar view).
+    pub fn push(
+        &mut self,
+        name: String,
+        vertices: Vec<[f64; 3]>,
+        triangles: &[[usize; 3]],
+        embedding: impl IntoIterator<Item = Option<(usize, [f64; 3])>>,
+        relative_height: Vec<f64>,
+    ) -> Result<(), String> {
+        let index = |i: usize, what: &str| {
+            u32::try_from(i).map_err(|_| format!("{what} {i} does not fit a view's index"))
+        };
+        let faces = triangles
+            .iter()
+            .map(|t| t.iter().map(|&v| index(v, "vertex")).collect())
+            .collect::<Result<_, _>>()?;
+        let embedding = embedding
+            .into_iter()
+            .map(|place| {
+                place
+                    .map(|(t, beta)| Ok((index(t, "triangle")?, beta)))
+                    .transpose()
+            })
+            .collect::<Result<_, String>>()?;
+        self.models.push(ViewModel {
+            name,
+            vertices,
+            faces,
+            embedding,
+            relative_height,
+        });
+        Ok(())
+    }
+
+    /// The models collected.
+    pub fn into_models(self) -> Vec<ViewModel> {
+        self.models
+    }
+}
+
 /// A request for a source's view ([`crate::ConstraintSource::view`]).
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
 pub struct ViewRequest {
@@ -425,6 +492,42 @@ impl Prisms {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Models collected for a view: the vertex budget is counted before placing, indices
+    /// become the view's, unplaced vertices stay `None`.
+    #[test]
+    fn view_models_count_their_vertices_and_index_their_faces() {
+        let mut models = ViewModels::default();
+        models.reserve(3).expect("within the budget");
+        models
+            .push(
+                "m.obj".into(),
+                vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+                &[[0, 1, 2]],
+                [Some((0, [1.0, 0.0, 0.0])), None, Some((7, [0.0, 0.5, 0.5]))],
+                Vec::new(),
+            )
+            .expect("pushed");
+        let error = models
+            .reserve(MAX_VIEW_MODEL_VERTICES)
+            .expect_err("over the budget");
+        assert!(error.contains("above 4000000 vertices"), "{error}");
+        let mut wide = ViewModels::default();
+        let error = wide
+            .push(
+                "w.obj".into(),
+                Vec::new(),
+                &[[0, 1, usize::MAX]],
+                [],
+                Vec::new(),
+            )
+            .expect_err("index too large");
+        assert!(error.contains("does not fit a view's index"), "{error}");
+        let models = models.into_models();
+        assert_eq!(models[0].faces, vec![vec![0, 1, 2]]);
+        assert_eq!(models[0].embedding[1], None);
+        assert_eq!(models[0].embedding[2], Some((7, [0.0, 0.5, 0.5])));
+    }
 
     fn system() -> (ConstraintSystem, Vec<ParamId>) {
         let mut s = ConstraintSystem::new();

@@ -14,7 +14,7 @@
 use crate::plugin::Built;
 use crate::svg::{before_after, Picture};
 use api::config::{check_output_file_name, from_ron};
-use api::{OutputFile, RenderRequest, SourceError, ViewModel, MAX_VIEW_MODEL_VERTICES};
+use api::{OutputFile, RenderRequest, SourceError, ViewModel, ViewModels};
 use serde::Deserialize;
 use spline2d::eval::{FloatSpline, Locator};
 use spline2d::model::{
@@ -162,9 +162,8 @@ pub(crate) fn view_models(
     built: &Built,
     outputs: &[String],
 ) -> Result<Vec<ViewModel>, SourceError> {
-    let mut models = Vec::new();
+    let mut models = ViewModels::default();
     let mut locator = None;
-    let mut total = 0usize;
     for text in outputs {
         let (checked, model) = check_output(built, text, &built.base_dir, built.input_limit)?;
         let (Some(name), Some(model)) = (checked.config.model, model) else {
@@ -173,42 +172,21 @@ pub(crate) fn view_models(
         let error = |message: String| {
             SourceError::new(format!("{} view: model {name:?}: {message}", built.name))
         };
-        total = total
-            .checked_add(model.positions.len())
-            .filter(|&total| total <= MAX_VIEW_MODEL_VERTICES)
-            .ok_or_else(|| {
-                error(format!(
-                    "{} vertices bring the view's models above {MAX_VIEW_MODEL_VERTICES} vertices, the most an editor draws",
-                    model.positions.len()
-                ))
-            })?;
+        models.reserve(model.positions.len()).map_err(error)?;
         let locator = locator.get_or_insert_with(|| Locator::new(built.spline.mesh()));
-        let index = |i: usize, what: &str| {
-            u32::try_from(i).map_err(|_| error(format!("{what} {i} does not fit a view's index")))
-        };
-        let faces = model
-            .triangles
-            .iter()
-            .map(|t| t.iter().map(|&v| index(v, "vertex")).collect())
-            .collect::<Result<_, _>>()?;
-        let embedding = locate_vertices(&model, locator)
-            .into_iter()
-            .map(|place| {
-                place
-                    .map(|(t, beta)| Ok((index(t, "triangle")?, beta)))
-                    .transpose()
-            })
-            .collect::<Result<_, _>>()?;
-        models.push(ViewModel {
-            name: name.clone(),
-            vertices: model.positions,
-            faces,
-            embedding,
-            // A plane deformation has no layer.
-            relative_height: Vec::new(),
-        });
+        let embedding = locate_vertices(&model, locator);
+        // A plane deformation has no layer: no relative heights.
+        models
+            .push(
+                name.clone(),
+                model.positions,
+                &model.triangles,
+                embedding,
+                Vec::new(),
+            )
+            .map_err(error)?;
     }
-    Ok(models)
+    Ok(models.into_models())
 }
 
 /// The deformed model as an OBJ file named `name`: a first line listing the vertices left in

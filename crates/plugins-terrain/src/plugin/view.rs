@@ -5,9 +5,7 @@
 
 use super::{Built, TerrainSource};
 use crate::deform::PrismLocator;
-use api::{
-    ParamId, Prisms, SourceError, SourceView, ViewModel, ViewRequest, MAX_VIEW_MODEL_VERTICES,
-};
+use api::{ParamId, Prisms, SourceError, SourceView, ViewModel, ViewModels, ViewRequest};
 use spline2d::params::SplineParams;
 use spline2d::spline::Spline;
 
@@ -63,54 +61,36 @@ fn view_models(
     built: &Built,
     outputs: &[String],
 ) -> Result<Vec<ViewModel>, SourceError> {
-    let mut models = Vec::new();
+    let mut models = ViewModels::default();
     let mut locator = None;
-    let mut total = 0usize;
     for text in outputs {
         let checked = source.check_output_text(text, &built.base_dir, built.input_limit)?;
         let (name, model) = (checked.model_name, checked.model);
         let error = |message: String| {
             SourceError::new(format!("{} view: model {name:?}: {message}", built.name))
         };
-        total = total
-            .checked_add(model.positions.len())
-            .filter(|&total| total <= MAX_VIEW_MODEL_VERTICES)
-            .ok_or_else(|| {
-                error(format!(
-                    "{} vertices bring the view's models above {MAX_VIEW_MODEL_VERTICES} vertices, the most an editor draws",
-                    model.positions.len()
-                ))
-            })?;
+        models.reserve(model.positions.len()).map_err(error)?;
         let locator =
             locator.get_or_insert_with(|| PrismLocator::new(built.spline.mesh(), &built.layer));
-        let index = |i: usize, what: &str| {
-            u32::try_from(i).map_err(|_| error(format!("{what} {i} does not fit a view's index")))
-        };
-        let faces = model
-            .triangles
-            .iter()
-            .map(|t| t.iter().map(|&v| index(v, "vertex")).collect())
-            .collect::<Result<_, _>>()?;
-        let embedding = model
+        let embedding: Vec<_> = model
             .positions
             .iter()
-            .map(|&p| match locator.locate(p) {
-                Ok((t, beta, _)) => Ok(Some((index(t, "triangle")?, beta))),
-                Err(_) => Ok(None),
-            })
-            .collect::<Result<_, SourceError>>()?;
+            .map(|&p| locator.locate(p).ok().map(|(t, beta, _)| (t, beta)))
+            .collect();
         let relative_height = model
             .positions
             .iter()
             .map(|p| locator.relative_height(p[2]))
             .collect();
-        models.push(ViewModel {
-            name,
-            vertices: model.positions,
-            faces,
-            embedding,
-            relative_height,
-        });
+        models
+            .push(
+                name.clone(),
+                model.positions,
+                &model.triangles,
+                embedding,
+                relative_height,
+            )
+            .map_err(error)?;
     }
-    Ok(models)
+    Ok(models.into_models())
 }

@@ -60,18 +60,18 @@ function convexHull(points) {
   return lower.slice(0, -1).concat(upper.slice(0, -1));
 }
 
-// A model embedded in a Bézier-triangle view, deformed from the control points' values:
-// each vertex's Bernstein weights are computed once; a frame recomputes only the vertices in
-// triangles whose control points moved.
-class DeformedModel {
-  constructor(view, model) {
+// A model placed in a view's reference mesh (each vertex's triangle and Bernstein weights,
+// computed once), deformed from the control points' values: a frame recomputes only the
+// vertices in triangles whose control points moved. `surfaces`: the view's patch lists whose
+// points move the model.
+class EmbeddedModel {
+  constructor(view, model, surfaces) {
     this.name = model.name;
     this.view = view;
     this.faces = model.faces;
     this.reference = model.vertices;
     this.positions = model.vertices.map((p) => [p[0], p[1], p[2]]);
-    this.patches = view.patches;
-    this.byTriangle = view.patches.map(() => []);
+    this.byTriangle = view.triangles.map(() => []);
     this.weights = new Array(model.vertices.length).fill(null);
     // The reference triangle of each vertex (-1: outside the mesh, it does not move).
     this.triangleOf = new Int32Array(model.vertices.length).fill(-1);
@@ -84,27 +84,37 @@ class DeformedModel {
     });
     // Which triangles use each control point.
     this.trianglesOf = new Map();
-    view.patches.forEach((patch, t) => {
-      for (const id of patch) {
-        if (!this.trianglesOf.has(id)) this.trianglesOf.set(id, new Set());
-        this.trianglesOf.get(id).add(t);
-      }
-    });
+    for (const patches of surfaces) {
+      patches.forEach((patch, t) => {
+        for (const id of patch) {
+          if (!this.trianglesOf.has(id)) this.trianglesOf.set(id, new Set());
+          this.trianglesOf.get(id).add(t);
+        }
+      });
+    }
+  }
+
+  // The triangles whose vertices a move of `movedIds` changes (every triangle when null).
+  trianglesMovedBy(movedIds) {
+    if (movedIds === null) return this.view.triangles.map((_, t) => t);
+    const set = new Set();
+    for (const id of movedIds) for (const t of this.trianglesOf.get(id) || []) set.add(t);
+    return [...set];
+  }
+}
+
+// A model of a Bézier-triangle view (spline2d).
+class DeformedModel extends EmbeddedModel {
+  constructor(view, model) {
+    super(view, model, [view.patches]);
+    this.patches = view.patches;
   }
 
   // Recomputes the vertices in the triangles of `movedIds` (every triangle when null) from
   // `at(id)`, the current value of a control point; returns the number of vertices moved.
   update(at, movedIds) {
-    let triangles;
-    if (movedIds === null) {
-      triangles = this.patches.map((_, t) => t);
-    } else {
-      const set = new Set();
-      for (const id of movedIds) for (const t of this.trianglesOf.get(id) || []) set.add(t);
-      triangles = [...set];
-    }
     let count = 0;
-    for (const t of triangles) {
+    for (const t of this.trianglesMovedBy(movedIds)) {
       const ctrl = this.patches[t].map(at);
       for (const vertex of this.byTriangle[t]) {
         const w = this.weights[vertex];

@@ -68,53 +68,21 @@ class PrismLayer {
 
 // A model of a prisms view deformed by ψ: horizontally φ at the vertex's place (the vertex's
 // own x, y when φ is the identity), vertically (1 − α)·σ0 + α·σ1 with α its relative height.
-class DeformedPrismModel {
+class DeformedPrismModel extends EmbeddedModel {
   constructor(view, model) {
-    this.name = model.name;
-    this.view = view;
-    this.faces = model.faces;
-    this.reference = model.vertices;
-    this.positions = model.vertices.map((p) => [p[0], p[1], p[2]]);
+    super(view, model, [view.bottom, view.top, view.xy].filter((p) => p));
     const span = view.reference_top - view.reference_bottom;
     this.alpha = model.relative_height && model.relative_height.length === model.vertices.length
       ? model.relative_height
       : model.vertices.map((p) => (p[2] - view.reference_bottom) / span);
-    this.byTriangle = view.triangles.map(() => []);
-    this.weights = new Array(model.vertices.length).fill(null);
-    this.triangleOf = new Int32Array(model.vertices.length).fill(-1);
-    model.embedding.forEach((place, vertex) => {
-      if (place === null) return;
-      const [triangle, barycentric] = place;
-      this.byTriangle[triangle].push(vertex);
-      this.triangleOf[vertex] = triangle;
-      this.weights[vertex] = bernsteinWeights(view.degree, barycentric);
-    });
-    this.trianglesOf = new Map();
-    for (const patches of [view.bottom, view.top, view.xy]) {
-      if (!patches) continue;
-      patches.forEach((patch, t) => {
-        for (const id of patch) {
-          if (!this.trianglesOf.has(id)) this.trianglesOf.set(id, new Set());
-          this.trianglesOf.get(id).add(t);
-        }
-      });
-    }
   }
 
   // As DeformedModel.update: recomputes the vertices of the triangles of `movedIds` (all when
   // null); returns how many.
   update(at, movedIds) {
     const v = this.view;
-    let triangles;
-    if (movedIds === null) {
-      triangles = v.triangles.map((_, t) => t);
-    } else {
-      const set = new Set();
-      for (const id of movedIds) for (const t of this.trianglesOf.get(id) || []) set.add(t);
-      triangles = [...set];
-    }
     let count = 0;
-    for (const t of triangles) {
+    for (const t of this.trianglesMovedBy(movedIds)) {
       const bottom = v.bottom[t].map((id) => at(id)[0]);
       const top = v.top[t].map((id) => at(id)[0]);
       const xy = v.xy ? v.xy[t].map(at) : null;
