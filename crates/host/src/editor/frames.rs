@@ -300,7 +300,14 @@ pub(super) fn drag_frame(
             .map(api::exact::rational_to_f64)
             .collect::<Vec<_>>()
     };
-    let moved_point = |id: &ParamId, value: Vec<f64>| json!({ "id": id.0, "value": value });
+    // A moved point as `[id, x, y]` (a height: `[id, z]`): compact, a frame may carry
+    // thousands.
+    let moved_point = |id: &ParamId, value: Vec<f64>| {
+        let mut entry = Vec::with_capacity(1 + value.len());
+        entry.push(Value::from(id.0));
+        entry.extend(value.into_iter().map(Value::from));
+        Value::Array(entry)
+    };
     let conflict = |session: &Session, active: &ActiveDrag, e: &ecles::EditError<Rational>| {
         let (labels, explanation) = session.conflict_details(&active.spec, e);
         refused(e.to_string(), labels, explanation)

@@ -788,9 +788,10 @@ const isStill = (m) =>
   (m.scale && Number(m.scale.factor) === 1);
 
 // Applies the moved points of an answer to the drawing; returns their ids.
+// `moved`: `[id, x, y]` (or `[id, z]`) per point.
 function applyMoved(moved) {
-  for (const m of moved) points.get(m.id).value = m.value;
-  const ids = moved.map((m) => m.id);
+  for (const [id, ...value] of moved) points.get(id).value = value;
+  const ids = moved.map(([id]) => id);
   let vertices = 0;
   for (const model of models) vertices += model.update(at, ids);
   return vertices;
@@ -820,7 +821,7 @@ async function sendFrame(commit) {
       if (answer.relevant) relevant = answer.relevant;
       const starting = answer.derived_ids !== undefined && !commit;
       last.counts = answer;
-      const before = commit ? new Map(answer.moved.map((x) => [x.id, points.get(x.id).value.slice()])) : null;
+      const before = commit ? new Map(answer.moved.map(([id]) => [id, points.get(id).value.slice()])) : null;
       const deforming = performance.now();
       const moved = applyMoved(answer.moved);
       const deform = performance.now() - deforming;
@@ -830,10 +831,10 @@ async function sendFrame(commit) {
       record = { first, request, server: answer.server_ms, deform, moved };
       if (commit) {
         // How far the last drawn frame was from the committed exact values (rounded).
-        last.deviation = Math.max(0, ...answer.moved.map((x) => {
-          const was = before.get(x.id);
-          return Math.max(...x.value.map((v, k) => Math.abs(v - was[k])));
-        }));
+        last.deviation = answer.moved.reduce((worst, [id, ...value]) => {
+          const was = before.get(id);
+          return Math.max(worst, ...value.map((v, k) => Math.abs(v - was[k])));
+        }, 0);
         setState(await api("/api/state"));
         commits.push(performance.now() - began);
       }
