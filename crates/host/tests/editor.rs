@@ -439,3 +439,68 @@ fn the_run_files_target_image_is_checked_served_and_saved() {
         "{error}"
     );
 }
+
+/// Frames over the WebSocket: the same answers as `/api/drag`, in order; a message that is
+/// not a drag request is answered with an error and the socket stays open; the handshake
+/// needs the token and this origin like every request.
+#[test]
+fn drag_frames_travel_over_a_websocket_with_the_same_guard() {
+    use tungstenite::Message;
+    let editor = start("worm.ron");
+    let connect = |query: &str, origin: &str| {
+        let stream = std::net::TcpStream::connect(("127.0.0.1", editor.port)).expect("connects");
+        let request = tungstenite::http::Request::builder()
+            .uri(format!("ws://127.0.0.1:{}/api/frames{query}", editor.port))
+            .header("Host", format!("127.0.0.1:{}", editor.port))
+            .header("Origin", origin)
+            .header("Connection", "Upgrade")
+            .header("Upgrade", "websocket")
+            .header("Sec-WebSocket-Version", "13")
+            .header(
+                "Sec-WebSocket-Key",
+                tungstenite::handshake::client::generate_key(),
+            )
+            .body(())
+            .expect("a request");
+        tungstenite::client(request, stream)
+    };
+    let here = format!("http://127.0.0.1:{}", editor.port);
+    assert!(connect("", &here).is_err(), "no token, no socket");
+    assert!(
+        connect(&format!("?token={}", editor.token), "http://evil.example").is_err(),
+        "another origin, no socket"
+    );
+    let (mut socket, _) =
+        connect(&format!("?token={}", editor.token), &here).expect("the page's socket");
+    let mut ask = |text: String| -> Value {
+        socket.send(Message::text(text)).expect("sends");
+        loop {
+            match socket.read().expect("an answer") {
+                Message::Text(answer) => return serde_json::from_str(&answer).expect("JSON"),
+                _ => continue,
+            }
+        }
+    };
+    let frame = |dy: &str, commit: bool| {
+        json!({"selection": {"source": "worm", "anchors": ["v3"], "neighborhood": 3},
+            "motion": {"translate": {"dx": "0", "dy": dy}}, "commit": commit})
+        .to_string()
+    };
+    let still = ask(frame("0", false));
+    assert_eq!(
+        (still["ok"].clone(), still["initialized"].clone()),
+        (json!(true), json!(true))
+    );
+    let moved = ask(frame("3/2", false));
+    assert_eq!(moved["initialized"], false, "{moved}");
+    let bad = ask("{\"selection\": 1}".into());
+    assert!(
+        bad["error"]
+            .as_str()
+            .is_some_and(|e| e.contains("not a drag request")),
+        "{bad}"
+    );
+    let committed = ask(frame("3/2", true));
+    assert_eq!(committed["committed"], true, "{committed}");
+    assert_eq!(exact(&state(&editor), "worm.v3"), ["36", "37/2"]);
+}
