@@ -303,8 +303,7 @@ function drawRows(rows, stroke, fill, part) {
 // A Bézier-triangle spline from above; `key` is the view whose moving triangles apply (a
 // terrain's φ is drawn as a spline of its own).
 function drawView(v, part, key = v) {
-  const indices = multiIndices(v.degree);
-  const slot = new Map(indices.map((m, k) => [m.join(","), k]));
+  const layout = patchLayout(v.degree);
   const movingTriangles = moving === null ? null : moving.triangles.get(key) || null;
   const drawn = (t) => inPart(part, movingTriangles !== null && movingTriangles.has(t));
   if (shown("show-reference") && part !== MOVING) {
@@ -322,34 +321,26 @@ function drawView(v, part, key = v) {
     g.strokeStyle = "#b4b4c8";
     v.patches.forEach((patch, t) => {
       if (!drawn(t)) return;
-      for (const [i, j, k] of indices) {
-        const here = at(patch[slot.get([i, j, k].join(","))]);
-        if (i > 0) {
-          line(here, at(patch[slot.get([i - 1, j + 1, k].join(","))]));
-          line(here, at(patch[slot.get([i - 1, j, k + 1].join(","))]));
-        }
-        if (j > 0) line(here, at(patch[slot.get([i, j - 1, k + 1].join(","))]));
-      }
+      for (const [a, b] of layout.net) line(at(patch[a]), at(patch[b]));
     });
     g.stroke();
   }
-  // The deformed mesh: each patch's three boundary curves.
+  // The deformed mesh: the patches' boundary curves, each shared edge once.
   g.beginPath();
   g.strokeStyle = "#202020";
   g.lineWidth = 1.5;
   const d = v.degree;
+  const samples = Math.max(2, 3 * d);
+  const table = curveWeights(d, samples);
+  const done = new Set();
   v.patches.forEach((patch, t) => {
     if (!drawn(t)) return;
-    for (const edge of [[0, 1], [1, 2], [2, 0]]) {
-      const ctrl = [];
-      for (let s = 0; s <= d; s++) {
-        const m = [0, 0, 0];
-        m[edge[0]] = d - s;
-        m[edge[1]] = s;
-        ctrl.push(at(patch[slot.get(m.join(","))]));
-      }
-      const samples = Math.max(2, 4 * d);
-      const table = curveWeights(d, samples);
+    for (const slots of layout.edges) {
+      const [first, last] = [patch[slots[0]], patch[slots[d]]];
+      const edgeKey = Math.min(first, last) * 67108864 + Math.max(first, last);
+      if (done.has(edgeKey)) continue;
+      done.add(edgeKey);
+      const ctrl = slots.map((k) => at(patch[k]));
       for (let n = 0; n <= samples; n++) {
         const w = table[n];
         let x = 0, y = 0;
@@ -439,8 +430,7 @@ function drawPrisms(v, layer, part) {
     }
     g.stroke();
   }
-  const indices = multiIndices(v.degree);
-  const slot = new Map(indices.map((m, k) => [m.join(","), k]));
+  const layout = patchLayout(v.degree);
   const edited = mode === "z0" ? "bottom" : mode === "z1" ? "top" : null;
   if (edited && shown("show-net")) {
     g.beginPath();
@@ -448,19 +438,16 @@ function drawPrisms(v, layer, part) {
     g.lineWidth = 1;
     v[edited].forEach((patch, t) => {
       if (!drawn(t)) return;
-      const pos = (m) => plane(layer.position(patch[slot.get(m.join(","))]));
-      for (const [i, j, k] of indices) {
-        const here = pos([i, j, k]);
-        const to = [];
-        if (i > 0) to.push(pos([i - 1, j + 1, k]), pos([i - 1, j, k + 1]));
-        if (j > 0) to.push(pos([i, j - 1, k + 1]));
-        for (const there of to) { g.moveTo(here[0], here[1]); g.lineTo(there[0], there[1]); }
+      for (const [a, b] of layout.net) {
+        const [p, q] = [plane(layer.position(patch[a])), plane(layer.position(patch[b]))];
+        g.moveTo(p[0], p[1]);
+        g.lineTo(q[0], q[1]);
       }
     });
     g.stroke();
   }
   const d = v.degree;
-  const samples = Math.max(2, 4 * d);
+  const samples = Math.max(2, 3 * d);
   const table = curveWeights(d, samples);
   for (const surface of ["bottom", "top"]) {
     g.beginPath();
@@ -468,14 +455,8 @@ function drawPrisms(v, layer, part) {
     g.lineWidth = surface === edited ? 1.5 : 1;
     v[surface].forEach((patch, t) => {
       if (!drawn(t)) return;
-      for (const edge of [[0, 1], [1, 2], [2, 0]]) {
-        const ctrl = [];
-        for (let s = 0; s <= d; s++) {
-          const m = [0, 0, 0];
-          m[edge[0]] = d - s;
-          m[edge[1]] = s;
-          ctrl.push(layer.position(patch[slot.get(m.join(","))]));
-        }
+      for (const slots of layout.edges) {
+        const ctrl = slots.map((k) => layer.position(patch[k]));
         for (let n = 0; n <= samples; n++) {
           const w = table[n];
           const q = [0, 0, 0];

@@ -24,6 +24,36 @@ function bernsteinWeights(d, [u, v, w]) {
   return multiIndices(d).map(([i, j, k], n) => coefficients[n] * u ** i * v ** j * w ** k);
 }
 
+// Where things are in a patch of degree d (its control points in the view's order), computed
+// once per degree: `edges[e]` the slots of boundary edge e's control points from its first
+// corner to its second (edges 0–1, 1–2, 2–0), `net` the control net's segments as slot pairs.
+const patchLayouts = new Map();
+function patchLayout(d) {
+  if (!patchLayouts.has(d)) {
+    const indices = multiIndices(d);
+    const slot = new Map(indices.map((m, k) => [m.join(","), k]));
+    const at = (m) => slot.get(m.join(","));
+    const edges = [[0, 1], [1, 2], [2, 0]].map(([a, b]) => {
+      const out = [];
+      for (let s = 0; s <= d; s++) {
+        const m = [0, 0, 0];
+        m[a] = d - s;
+        m[b] = s;
+        out.push(at(m));
+      }
+      return out;
+    });
+    const net = [];
+    for (const [i, j, k] of indices) {
+      const here = at([i, j, k]);
+      if (i > 0) net.push([here, at([i - 1, j + 1, k])], [here, at([i - 1, j, k + 1])]);
+      if (j > 0) net.push([here, at([i, j - 1, k + 1])]);
+    }
+    patchLayouts.set(d, { edges, net });
+  }
+  return patchLayouts.get(d);
+}
+
 // The Bernstein weights of degree d at `samples + 1` equally spaced parameters, for drawing
 // curves by dot products (no allocation per point).
 const curveWeightCache = new Map();
