@@ -330,7 +330,7 @@ function drawView(v, part, key = v) {
   g.strokeStyle = "#202020";
   g.lineWidth = 1.5;
   const d = v.degree;
-  const samples = Math.max(2, 3 * d);
+  const samples = Math.max(2, 4 * d);
   const table = curveWeights(d, samples);
   const done = new Set();
   v.patches.forEach((patch, t) => {
@@ -447,7 +447,7 @@ function drawPrisms(v, layer, part) {
     g.stroke();
   }
   const d = v.degree;
-  const samples = Math.max(2, 3 * d);
+  const samples = Math.max(2, 4 * d);
   const table = curveWeights(d, samples);
   for (const surface of ["bottom", "top"]) {
     g.beginPath();
