@@ -13,15 +13,15 @@
 //!
 //! Needs Chromium (`$CHROMIUM`, else `/usr/bin/chromium`).
 
-// The tests' CDP client; this program uses a part of it.
+// The tests' CDP client and served editors; this program uses a part of them.
 #[allow(dead_code)]
 #[path = "../tests/common/cdp.rs"]
 mod cdp;
+#[path = "../tests/common/mod.rs"]
+mod common;
 
-use host::editor::{serve, EditorOptions};
 use serde_json::Value;
 use std::path::PathBuf;
-use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
 fn quantile(sorted: &[f64], q: f64) -> f64 {
@@ -60,20 +60,8 @@ fn main() {
         (x.parse().expect("DX"), y.parse().expect("DY"))
     });
 
-    let (tx, rx) = mpsc::channel();
-    std::thread::spawn(move || {
-        let options = EditorOptions {
-            port: 0,
-            token: true,
-            autosave: false,
-        };
-        let result = serve(&run, api::input::DEFAULT_MAX_INPUT_BYTES, &options, |url| {
-            let _ = tx.send(url.to_string());
-        });
-        eprintln!("the server stopped: {result:?}");
-        std::process::exit(1);
-    });
-    let url = rx.recv().expect("the editor serves");
+    let editor = common::start_at(run, false);
+    let url = format!("http://127.0.0.1:{}/?token={}", editor.port, editor.token);
     let loading = Instant::now();
     let mut browser = cdp::Browser::launch(&url);
     browser.wait_for("document.getElementById('status').textContent.includes('points')");

@@ -9,39 +9,20 @@
 //!
 //! Needs Chromium (`$CHROMIUM`, else `/usr/bin/chromium`).
 
-// The tests' CDP client; this program uses a part of it.
+// The tests' CDP client and served editors; this program uses a part of them.
 #[allow(dead_code)]
 #[path = "../tests/common/cdp.rs"]
 mod cdp;
+#[path = "../tests/common/mod.rs"]
+mod common;
 
 use base64::Engine;
-use host::editor::{serve, EditorOptions};
 use std::path::{Path, PathBuf};
-use std::sync::mpsc;
 
 /// Serves `examples/{run}` and opens the page; the browser.
 fn open(run: &str) -> cdp::Browser {
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../../examples")
-        .join(run);
-    let (tx, rx) = mpsc::channel();
-    std::thread::spawn(move || {
-        let options = EditorOptions {
-            port: 0,
-            token: true,
-            autosave: false,
-        };
-        let result = serve(
-            &path,
-            api::input::DEFAULT_MAX_INPUT_BYTES,
-            &options,
-            |url| {
-                let _ = tx.send(url.to_string());
-            },
-        );
-        eprintln!("the server stopped: {result:?}");
-    });
-    let url = rx.recv().expect("the editor serves");
+    let editor = common::start_at(common::examples().join(run), false);
+    let url = format!("http://127.0.0.1:{}/?token={}", editor.port, editor.token);
     let mut browser = cdp::Browser::launch(&url);
     browser.wait_for("document.getElementById('status').textContent.includes('points')");
     browser

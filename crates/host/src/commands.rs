@@ -378,7 +378,7 @@ pub fn edit(
                 let autosave = crate::editor::autosave_path(run);
                 if !options.autosave {
                     console.line("no autosave (--no-autosave)")
-                } else if autosave.exists() {
+                } else if crate::editor::autosave_offer(&autosave, max_input_bytes).is_some() {
                     console.line(format!(
                         "an autosave is at {}: the page offers to resume it; the first new edit replaces it",
                         autosave.display()

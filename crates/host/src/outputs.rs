@@ -103,6 +103,24 @@ pub fn write_all(dir: &Path, files: &[(&str, &[u8])], report: &[u8]) -> Result<(
     Ok(())
 }
 
+/// Writes one file atomically: through a synced temporary file in the same directory and a
+/// rename, so a reader sees the old file or the whole new one.
+pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), RunError> {
+    let dir = path
+        .parent()
+        .filter(|d| !d.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let Staged { temp, target } = stage(dir, &name, bytes)?;
+    temp.persist(&target).map_err(|e| {
+        RunError::environment(format!("cannot write {}: {}", target.display(), e.error))
+    })?;
+    Ok(())
+}
+
 /// Writes `bytes` to a fresh temporary file next to `dir/name` and syncs it.
 fn stage(dir: &Path, name: &str, bytes: &[u8]) -> Result<Staged, RunError> {
     let target = dir.join(name);

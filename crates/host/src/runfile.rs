@@ -506,6 +506,16 @@ impl RunFile {
         comment: &str,
         edits: impl IntoIterator<Item = &'e str>,
     ) -> String {
+        // An entry as written may end in a `//` comment: its comma then goes on a line of its
+        // own.
+        let entry = |text: &str| {
+            let last_line = text.lines().last().unwrap_or_default();
+            if last_line.contains("//") {
+                format!("        {text}\n        ,\n")
+            } else {
+                format!("        {text},\n")
+            }
+        };
         let mut out = String::new();
         for line in comment.lines() {
             out.push_str("// ");
@@ -514,7 +524,7 @@ impl RunFile {
         }
         out.push_str("(\n    sources: [\n");
         for source in &self.sources {
-            out.push_str(&format!("        {},\n", source.text));
+            out.push_str(&entry(&source.text));
         }
         out.push_str("    ],\n");
         let simplify = match self.backend.simplify {
@@ -539,15 +549,15 @@ impl RunFile {
         }
         out.push_str("    edits: [\n");
         for edit in edits {
-            out.push_str(&format!("        {edit},\n"));
+            out.push_str(&entry(edit));
         }
         out.push_str("    ],\n    outputs: [\n");
         for output in &self.outputs {
-            out.push_str(&format!("        {},\n", output.text));
+            out.push_str(&entry(&output.text));
         }
         out.push_str("    ],\n");
         if let Some((_, text)) = &self.editor {
-            out.push_str(&format!("    editor: {text},\n"));
+            out.push_str(&format!("    editor: {}", entry(text).trim_start()));
         }
         out.push_str(")\n");
         out
@@ -766,6 +776,35 @@ pub fn parse_fragment<T: serde::de::DeserializeOwned>(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The run file of a saved session reads back to the same entries, also when entries end
+    /// in line comments (their commas go on lines of their own) and with an editor section.
+    #[test]
+    fn a_run_file_with_other_edits_reads_back_to_the_same_entries() {
+        let text = r#"(
+            sources: [
+                (name: "a", plugin: "linear", config: (parameters: {"x": "1"}, equations: [])) // first
+            ],
+            cross_check: (tolerance: 1e-8),
+            commit: Snapped(grid_bits: 12),
+            outputs: [],
+            editor: (image: (file: "p.png", opacity: "1/4")), // behind
+        )"#;
+        let run = parse(text, "run.ron").expect("parses");
+        let edit = r#"Ecles(anchors: {"a.x": "2"}) // moved"#;
+        let saved = run.with_edits("two lines\nof comment", [edit, edit]);
+        let again = parse(&saved, "saved.ron").expect("the saved text parses");
+        assert_eq!(again.edits.len(), 2, "{saved}");
+        assert!(again.edits.iter().all(|e| e.text == edit), "{saved}");
+        assert_eq!(again.sources[0].text, run.sources[0].text);
+        assert_eq!(again.commit, CommitPolicy::Snapped { grid_bits: 12 });
+        assert_eq!(again.cross_check.map(|c| c.tolerance), Some(1e-8));
+        assert_eq!(again.editor, run.editor);
+        assert!(
+            saved.starts_with("// two lines\n// of comment\n("),
+            "{saved}"
+        );
+    }
 
     #[test]
     fn reads_a_full_run_file() {

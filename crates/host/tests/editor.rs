@@ -156,6 +156,10 @@ fn refused_moves_and_bad_requests_change_nothing() {
             json!({"selection": {"source": "worm", "anchors": [], "neighborhood": 3}, "motion": {"translate": {"dx": "0", "dy": "1"}}, "commit": true}),
             "between 1 and",
         ),
+        (
+            json!({"selection": {"source": "worm", "anchors": ["v3"], "neighborhood": 3}, "motion": {"translate": {"dx": "0", "dy": "0/5"}}, "commit": true}),
+            "moves nothing commits nothing",
+        ),
     ] {
         let (status, answer) = call(&editor, "POST", "/api/drag", &bad);
         assert_eq!(status, 400, "{bad}: {answer}");

@@ -295,6 +295,16 @@ fn a_terrain_height_dragged_up_in_z1_mode_commits_exactly_and_view_mode_turns_th
          return [x + r.left, y + r.top]; })()",
     );
     let v4 = (at[0].as_f64().expect("x"), at[1].as_f64().expect("y"));
+    // A click (no move) selects and commits nothing.
+    browser.mouse("mousePressed", v4.0, v4.1);
+    browser.wait_for("frames.length >= 1");
+    browser.mouse("mouseReleased", v4.0, v4.1);
+    browser.wait_for("drag === null");
+    assert_eq!(
+        state(&editor)["can_undo"],
+        false,
+        "a click committed an edit"
+    );
     let heights_before = browser.eval("models[0].positions.map((p) => p[2])");
     mouse_drag(&mut browser, v4, (0.0, -40.0));
     let after = wait_for_state(&editor, "the lift's commit", |s| s["can_undo"] == true);

@@ -2,12 +2,9 @@
 //! await the replies, so the session (and the plugin instances in it) never crosses threads
 //! and one command runs at a time.
 //!
-//! A drag is a sequence of [`DragRequest`]s for the same source, anchors and neighbourhood,
-//! each with the total displacement so far: every move plans the source's translation
-//! (2DSD Select and ExpandDerived for that move), reuses the initialised edit while the plan's
-//! anchors, derived set and weights stay the same (ECLES Initialize once), and answers the
-//! moved points for drawing: the exact verdict with the values rounded (`preview`, which skips
-//! reducing fractions); the last request commits the exact update.
+//! Drags are made in [`super::frames`]; saving, the autosave and resuming in [`super::save`].
+//! The state the page draws is the sources' views (made once: they hold structure, not
+//! values) with the current values.
 
 use super::frames::{drag_frame, drawable_rows, prepare_linear_steps, refused, ActiveDrag};
 use super::motion::{DragRequest, Selection};
@@ -51,6 +48,8 @@ pub(crate) struct Editor {
     autosave_error: Option<String>,
     /// The run file's target image (checked with the run, before serving).
     image: Option<CheckedImage>,
+    /// The sources' views as the page draws them ([`source_views`]), made once.
+    views: Value,
     input_limit: u64,
 }
 
@@ -64,7 +63,9 @@ impl Editor {
             .and_then(|path| Some((path.clone(), save::autosave_offer(path, input_limit)?)));
         // Checked with the rest of the run before the server started.
         let image = session.target_image().ok().flatten();
+        let views = source_views(&session);
         Editor {
+            views,
             session,
             drag: None,
             autosave,
@@ -153,7 +154,7 @@ impl Editor {
 
     /// The state ([`session_state`]) with the autosave's offer and failure.
     fn state(&self) -> Value {
-        let mut state = session_state(&self.session);
+        let mut state = session_state(&self.session, &self.views);
         state["autosave"] = json!({
             "path": self.autosave.as_ref().map(|p| p.display().to_string()),
             "offer": self.offer.as_ref().map(|(path, edits)| json!({
@@ -207,10 +208,9 @@ fn approx(values: &Values, id: ParamId) -> Vec<f64> {
         .collect()
 }
 
-/// The whole state: sources with their views, points with their values, counts.
-fn session_state(session: &Session) -> Value {
-    let system = session.system();
-    let values = session.values();
+/// Each source with its view as the page draws it. Views hold structure, not values: made once
+/// per session (a view places every model vertex in the reference mesh).
+fn source_views(session: &Session) -> Value {
     let mut sources = Vec::new();
     for name in session.source_names() {
         let view = match session.view(name) {
@@ -219,6 +219,13 @@ fn session_state(session: &Session) -> Value {
         };
         sources.push(json!({ "name": name, "view": view }));
     }
+    Value::Array(sources)
+}
+
+/// The whole state: `sources` (from [`source_views`]), points with their values, counts.
+fn session_state(session: &Session, sources: &Value) -> Value {
+    let system = session.system();
+    let values = session.values();
     let points: Vec<Value> = system
         .params()
         .iter()
@@ -249,6 +256,14 @@ fn session_state(session: &Session) -> Value {
     })
 }
 
+/// Reference vertices rounded for drawing (the page never computes with them).
+fn drawable_vertices(vertices: &[[api::Rational; 2]]) -> Vec<[f64; 2]> {
+    vertices
+        .iter()
+        .map(|p| p.each_ref().map(api::exact::rational_to_f64))
+        .collect()
+}
+
 /// Patches of parameter ids as the page indexes them.
 fn ids(patches: &[Vec<ParamId>]) -> Vec<Vec<u32>> {
     patches
@@ -265,10 +280,7 @@ fn drawable_view(view: api::SourceView) -> Value {
             "kind": "bezier_triangles",
             "degree": v.degree,
             "smoothness": v.smoothness,
-            "vertices": v.vertices.iter().map(|p| [
-                api::exact::rational_to_f64(&p[0]),
-                api::exact::rational_to_f64(&p[1]),
-            ]).collect::<Vec<_>>(),
+            "vertices": drawable_vertices(&v.vertices),
             "triangles": v.triangles,
             "patches": ids(&v.patches),
             // Drawn deformed by the page from the control points (floats: drawing only).
@@ -278,10 +290,7 @@ fn drawable_view(view: api::SourceView) -> Value {
             "kind": "prisms",
             "degree": v.degree,
             "smoothness": v.smoothness,
-            "vertices": v.vertices.iter().map(|p| [
-                api::exact::rational_to_f64(&p[0]),
-                api::exact::rational_to_f64(&p[1]),
-            ]).collect::<Vec<_>>(),
+            "vertices": drawable_vertices(&v.vertices),
             "triangles": v.triangles,
             "bottom": ids(&v.bottom),
             "top": ids(&v.top),

@@ -205,7 +205,16 @@ fn linear_steps(
         }
     }
     let linear = LinearSteps { origin, along };
-    Ok((linear.at(at) == *last_step(base)?).then_some(linear))
+    // The source's plan must be affine in the motion: checked at the frame's own coordinates
+    // and at (2, …, 2), a point the unit plans do not contain.
+    if linear.at(at) != *last_step(base)? {
+        return Ok(None);
+    }
+    let two = Rational::from_integer(2.into());
+    Ok(match plan_at(&vec!["2"; dimension])? {
+        Some(step) if linear.at(&vec![two; dimension]) == step => Some(linear),
+        _ => None,
+    })
 }
 
 /// The frame kind a drag starts with, committing under `policy`, whose Initialize took
@@ -253,7 +262,7 @@ pub(super) fn drag_frame(
             Some(ActiveDrag {
                 linear: Some(l), ..
             }),
-        ) => Some(l.at(c)),
+        ) if l.along.len() == c.len() => Some(l.at(c)),
         _ => None,
     };
     let mut initialized = false;
@@ -314,6 +323,9 @@ pub(super) fn drag_frame(
     };
     let mut snap_bound = None;
     let (moved, committed) = if request.commit {
+        if motion.is_identity() {
+            return Err("a release that moves nothing commits nothing".into());
+        }
         let result = match session.committed_update(&active.edit, &step) {
             Ok(result) => result,
             Err(e) => return Ok(conflict(session, active, &e)),
@@ -327,9 +339,11 @@ pub(super) fn drag_frame(
         (moved, Some(result))
     } else {
         let solving = Instant::now();
-        let derived: Vec<Vec<f64>> = if motion.is_identity() {
-            // Nothing moves (the mouse-down frame): the current values are the solution (they
-            // satisfy every row and equal the hints), nothing to solve.
+        let still =
+            motion.is_identity() && session.system().violations(session.values()).is_empty();
+        let derived: Vec<Vec<f64>> = if still {
+            // Nothing moves (the mouse-down frame) and every row holds: the current values
+            // are the solution (feasible and equal to the hints), nothing to solve.
             let values = session.values();
             active
                 .spec

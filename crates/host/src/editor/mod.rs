@@ -3,8 +3,9 @@
 //! The server binds 127.0.0.1 only and serves one editing session. Every request must name
 //! the host it was sent to as `127.0.0.1:PORT` or `localhost:PORT` (a page of another site
 //! that rebinds a name to 127.0.0.1 is refused: DNS rebinding), must come from this origin when
-//! the browser says where it comes from (`Origin`), and must carry the session's token (in the
-//! URL of the page, then as the `x-ecles-token` header), unless `--no-token` was given for
+//! the browser says where it comes from (`Origin`), and must carry the session's token (as the
+//! `x-ecles-token` header, or as `?token=` in the URL: the page itself, its WebSocket and its
+//! image, which a browser fetches without custom headers), unless `--no-token` was given for
 //! scripted use. The page (HTML, script and style) is compiled into the binary: no build step,
 //! no network.
 //!
@@ -16,7 +17,7 @@ mod motion;
 mod save;
 
 pub use motion::{DragRequest, Motion, Selection};
-pub use save::{autosave_path, default_save_name, VALUES_FILE};
+pub use save::{autosave_offer, autosave_path, default_save_name, VALUES_FILE};
 
 use crate::error::RunError;
 use axum::extract::ws::{Message, WebSocket, WebSocketUpgrade};
@@ -250,6 +251,7 @@ async fn drag(State(shared): State<Arc<Shared>>, Json(request): Json<DragRequest
 async fn frames(State(shared): State<Arc<Shared>>, upgrade: WebSocketUpgrade) -> Response {
     upgrade
         .max_message_size(MAX_FRAME_MESSAGE)
+        .max_frame_size(MAX_FRAME_MESSAGE)
         .on_upgrade(move |socket| drag_frames(shared, socket))
 }
 

@@ -79,12 +79,18 @@ pub struct DragRequest {
     pub commit: bool,
 }
 
-/// An exact number from the page, bounded in length.
+/// An exact number from the page, bounded in length and written without an exponent (a short
+/// text with one, `9e99999`, would be a number of a third of a million bits).
 fn exact(what: &str, text: &str) -> Result<Rational, String> {
     if text.len() > MAX_NUMBER_TEXT {
         return Err(format!(
             "{what} has {} characters, more than {MAX_NUMBER_TEXT}",
             text.len()
+        ));
+    }
+    if text.contains(['e', 'E']) {
+        return Err(format!(
+            "{what} {text:?}: write it without an exponent (a decimal or a fraction)"
         ));
     }
     parse_rational(text).map_err(|e| format!("{what} {text:?}: {e}"))
@@ -300,6 +306,11 @@ mod tests {
                 selection(&["v3"]),
                 translate(&"1".repeat(65)),
                 "65 characters",
+            ),
+            (
+                selection(&["v3"]),
+                translate("9e99999"),
+                "without an exponent",
             ),
             (
                 selection(&["v3"]),

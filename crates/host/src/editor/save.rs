@@ -7,7 +7,8 @@
 //!   `values.json`, every parameter's exact value. The run must reach exactly the editor's
 //!   values, or the save fails: a saved session is proved reproducible when it is written.
 //!   A failed save leaves the session file as it was; its output directory follows
-//!   `ecles run`'s rule (all or nothing, no report left from before).
+//!   `ecles run`'s rule: all or nothing, and the previous `report.json` is removed before the
+//!   outputs are written, so a failed save leaves no report that could be taken for its own.
 //! * **Autosave** writes the same run file (without running it) to `<stem>.autosave.ron` beside
 //!   the run after every commit, undo, redo and resume, atomically: killing the editor loses
 //!   at most the drag under way. On start, an autosave with edits is offered for resuming
@@ -15,10 +16,9 @@
 
 use crate::commands::{default_out_dir, PreparedRun};
 use crate::error::RunError;
-use crate::outputs;
+use crate::outputs::{self, write_atomically};
 use crate::session::Session;
 use serde_json::{json, Value};
-use std::io::Write;
 use std::path::{Path, PathBuf};
 
 /// Longest file name a save may be given.
@@ -54,30 +54,6 @@ fn comment(session: &Session, what: &str) -> String {
     )
 }
 
-/// Writes `bytes` to `path` through a synced temporary file in the same directory and an
-/// atomic rename: a reader sees the old file or the whole new one.
-pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), RunError> {
-    let dir = path
-        .parent()
-        .filter(|d| !d.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    let fail =
-        |e: std::io::Error| RunError::environment(format!("cannot write {}: {e}", path.display()));
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let mut temp = tempfile::Builder::new()
-        .prefix(&format!(".{name}."))
-        .suffix(".partial")
-        .tempfile_in(dir)
-        .map_err(fail)?;
-    temp.write_all(bytes).map_err(fail)?;
-    temp.as_file().sync_all().map_err(fail)?;
-    temp.persist(path).map_err(|e| fail(e.error))?;
-    Ok(())
-}
-
 /// Writes the autosave of the session's current state.
 pub fn autosave(session: &Session, path: &Path) -> Result<(), RunError> {
     write_atomically(
@@ -110,9 +86,23 @@ fn save_path(session: &Session, name: &str) -> Result<PathBuf, String> {
     }
     let run = &session.run_path;
     let path = run.with_file_name(name);
-    if path == *run || path == autosave_path(run) {
+    // Compared as files, not as text: on a case-insensitive file system `Worm.ron` is
+    // `worm.ron`.
+    let same_file = |a: &Path, b: &Path| match (std::fs::canonicalize(a), std::fs::canonicalize(b))
+    {
+        (Ok(a), Ok(b)) => a == b,
+        _ => a == b,
+    };
+    let autosave = autosave_path(run);
+    if same_file(&path, run) || same_file(&path, &autosave) {
         return Err(format!(
             "{name:?} is the run file or its autosave; choose another name"
+        ));
+    }
+    if let Some(input) = session.inputs().iter().find(|i| same_file(&path, i)) {
+        return Err(format!(
+            "{name:?} is {}, an input of the run; choose another name",
+            input.display()
         ));
     }
     Ok(path)

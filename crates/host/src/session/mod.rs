@@ -350,6 +350,11 @@ impl Session {
         &self.values
     }
 
+    /// Every file the run reads (the run file, the sources' inputs, plugin libraries).
+    pub fn inputs(&self) -> &[PathBuf] {
+        &self.inputs
+    }
+
     /// The sources' names, in run-file order.
     pub fn source_names(&self) -> impl Iterator<Item = &str> {
         self.sources.iter().map(|s| s.name.as_str())

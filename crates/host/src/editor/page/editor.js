@@ -188,7 +188,9 @@ function fit() {
   for (const [x, y] of all) {
     x0 = Math.min(x0, x); x1 = Math.max(x1, x); y0 = Math.min(y0, y); y1 = Math.max(y1, y);
   }
+  // A canvas too small to fit anything keeps its view.
   const w = canvas.clientWidth, h = canvas.clientHeight, margin = 30;
+  if (w <= 2 * margin || h <= 2 * margin) return;
   view.scale = Math.min((w - 2 * margin) / Math.max(x1 - x0, 1e-9), (h - 2 * margin) / Math.max(y1 - y0, 1e-9));
   view.x = (w - (x1 - x0) * view.scale) / 2 - x0 * view.scale;
   view.y = (h + (y1 - y0) * view.scale) / 2 + y0 * view.scale;
@@ -500,6 +502,7 @@ function drawCenter() {
   if (drag && drag.lift) {
     // The anchor's vertical line (thesis 18.6): heights move along it.
     const p = points.get(anchors[0]);
+    if (!p || !p.layer) return;
     const [x, y, z] = p.layer.position(anchors[0]);
     const span = p.layer.view.reference_top - p.layer.view.reference_bottom;
     const [a, b] = [toScreen(project3d([x, y, z - span]).at), toScreen(project3d([x, y, z + span]).at)];
@@ -728,8 +731,8 @@ async function showSelection() {
 // Exact decimal text of a float (the server reads it exactly).
 const decimal = (v, places) => (Math.round(v * 10 ** places) / 10 ** places).toFixed(places);
 
-// A length of the picture as an exact dyadic fraction `n/2^k`, on the finest power-of-two grid
-// coarser than a twentieth of a pixel at the current zoom: exact numbers with small
+// A length of the picture as an exact dyadic fraction `n/2^k`, on the coarsest power-of-two
+// grid at least as fine as a twentieth of a pixel at the current zoom: exact numbers with small
 // denominators (cheap to solve with, short when committed), far below what the eye sees.
 function dyadic(v) {
   const k = Math.min(30, Math.max(0, Math.ceil(Math.log2(20 * view.scale))));
@@ -757,7 +760,8 @@ function motion(d) {
     if (degrees < -180) degrees += 360;
     return { rotate: { center: centerText, degrees: decimal(degrees, 3) } };
   }
-  const from = Math.hypot(d.start[0] - c[0], d.start[1] - c[1]);
+  // Grabbed on the centre: no scaling can be read from the mouse.
+  const from = Math.max(Math.hypot(d.start[0] - c[0], d.start[1] - c[1]), 4 / view.scale);
   const to = Math.hypot(x - c[0], y - c[1]);
   const factor = Math.max(to / Math.max(from, 1e-12), 1e-4);
   return { scale: { center: centerText, factor: decimal(factor, 4) } };
@@ -765,6 +769,7 @@ function motion(d) {
 
 const isStill = (m) =>
   (m.translate && Number(m.translate.dx) === 0 && Number(m.translate.dy) === 0) ||
+  (m.lift && Number(m.lift.dz) === 0) ||
   (m.rotate && Number(m.rotate.degrees) === 0) ||
   (m.scale && Number(m.scale.factor) === 1);
 
@@ -807,7 +812,11 @@ async function sendFrame(commit) {
       const moved = applyMoved(answer.moved);
       const deform = performance.now() - deforming;
       // From the first frame on, only what the drag moves is drawn again.
-      if (starting) d.movingIds = [...anchors, ...answer.derived_ids];
+      if (starting) {
+        d.movingIds = [...anchors, ...answer.derived_ids];
+        // Initialised again during the drag: the still picture is made again for the new set.
+        if (moving !== null) endMoving();
+      }
       if (!commit) d.lastValid = m;
       record = { first, request, server: answer.server_ms, deform, moved };
       if (commit) {
@@ -823,10 +832,31 @@ async function sendFrame(commit) {
     } else {
       blocked = anchors[0];
       showConflict(answer.conflict);
+      // A refused release: the picture goes back to the state the server keeps.
+      if (commit) await reloadValues();
     }
   } catch (e) {
     showMessage(String(e.message || e));
+    if (commit) await reloadValues();
   }
+  try {
+    finishFrame(d, commit, record, began);
+  } finally {
+    d.inFlight = false;
+  }
+  if (commit) {
+    // A drag started while this release was committed goes on.
+    if (drag === d) endDrag(); else draw();
+    return;
+  }
+  // Moves that came while this frame was computed: the latest is drawn before a release
+  // commits it.
+  if (d.pending) { d.pending = false; d.eventTime = performance.now(); await sendFrame(false); return; }
+  if (d.released) await sendFrame(true);
+}
+
+// Draws a frame of drag `d` and records its times.
+function finishFrame(d, commit, record, began) {
   if (record !== null && record.first && d.movingIds && moving === null) {
     // The mouse-down frame moves nothing: the anchors and the derived set are drawn over the
     // picture, and the picture of what the drag leaves still is made once the frame is on
@@ -852,12 +882,13 @@ async function sendFrame(commit) {
     });
   }
   report();
-  d.inFlight = false;
-  if (commit) { endDrag(); return; }
-  // Moves that came while this frame was computed: the latest is drawn before a release
-  // commits it.
-  if (d.pending) { d.pending = false; d.eventTime = performance.now(); await sendFrame(false); return; }
-  if (d.released) await sendFrame(true);
+}
+
+// The values as the server keeps them (after a refused or failed release).
+async function reloadValues() {
+  try {
+    setState(await api("/api/state"));
+  } catch (e) { showMessage(String(e.message || e)); }
 }
 
 function endDrag() { drag = null; endMoving(); draw(); }
@@ -870,11 +901,10 @@ function startDrag(id, e) {
     showMessage("Right-click to set the centre of rotation and scaling first.");
     return;
   }
-  const lift = points.get(id).surface === "top" || points.get(id).surface === "bottom";
   drag = {
     selection: selection(),
     operation: op,
-    lift,
+    lift: heights,
     center,
     start: planeOf(id).slice(),
     grab: world,
@@ -965,8 +995,14 @@ canvas.addEventListener("wheel", (e) => {
   view.scale *= factor;
   const [sx, sy] = toScreen([wx, wy]);
   view.x += e.offsetX - sx; view.y += e.offsetY - sy;
-  draw();
+  viewChanged();
 }, { passive: false });
+
+// After a pan, zoom or fit: a drag's picture of what stays still is drawn again.
+function viewChanged() {
+  if (moving !== null) beginMoving([...moving.ids]);
+  draw();
+}
 
 // --- history, saving, settings ---------------------------------------------------------
 
@@ -999,7 +1035,7 @@ async function save() {
 
 element("undo").addEventListener("click", () => history("/api/undo"));
 element("redo").addEventListener("click", () => history("/api/redo"));
-element("fit").addEventListener("click", () => { fit(); draw(); });
+element("fit").addEventListener("click", () => { fit(); viewChanged(); });
 element("save").addEventListener("click", save);
 element("help-button").addEventListener("click", toggleHelp);
 for (const id of ["show-net", "show-reference", "show-points", "show-model", "show-image", "show-derived",
@@ -1057,7 +1093,7 @@ window.addEventListener("keydown", (e) => {
   else if (ctrl && e.key === "y") { e.preventDefault(); history("/api/redo"); }
   else if (ctrl && e.key === "s") { e.preventDefault(); save(); }
   else if (ctrl) return;
-  else if (e.key === "f") { fit(); draw(); }
+  else if (e.key === "f") { fit(); viewChanged(); }
   else if (e.key === "t") setOperation("translate");
   else if (e.key === "r") setOperation("rotate");
   else if (e.key === "s") setOperation("scale");
