@@ -37,14 +37,24 @@ const commits = [];
 
 // --- talking to the server -------------------------------------------------------------
 
+// Work for the server under way; anything over 200 ms shows the progress indicator.
 let busy = 0;
-async function api(path, body) {
-  const headers = { "content-type": "application/json" };
-  if (token) headers["x-ecles-token"] = token;
+async function withProgress(work) {
   busy++;
-  // Anything over 200 ms shows the progress indicator.
   const timer = setTimeout(() => { element("progress").hidden = busy === 0; }, 200);
   try {
+    return await work();
+  } finally {
+    clearTimeout(timer);
+    busy--;
+    if (busy === 0) element("progress").hidden = true;
+  }
+}
+
+function api(path, body) {
+  const headers = { "content-type": "application/json" };
+  if (token) headers["x-ecles-token"] = token;
+  return withProgress(async () => {
     const response = await fetch(path, {
       method: body === undefined ? "GET" : "POST",
       headers,
@@ -53,11 +63,7 @@ async function api(path, body) {
     const answer = await response.json().catch(() => ({ error: response.statusText }));
     if (!response.ok) throw new Error(answer.error || response.statusText);
     return answer;
-  } finally {
-    clearTimeout(timer);
-    busy--;
-    if (busy === 0) element("progress").hidden = true;
-  }
+  });
 }
 
 // Drag frames travel over one WebSocket (no request overhead per frame); answers come in
@@ -78,22 +84,16 @@ function openSocket() {
   };
 }
 
-async function dragRequest(body) {
+function dragRequest(body) {
   if (socket === null || socket.readyState !== WebSocket.OPEN) return api("/api/drag", body);
-  busy++;
-  const timer = setTimeout(() => { element("progress").hidden = busy === 0; }, 200);
-  try {
+  return withProgress(async () => {
     const answer = await new Promise((resolve) => {
       waiting.push(resolve);
       socket.send(JSON.stringify(body));
     });
     if (answer.error) throw new Error(answer.error);
     return answer;
-  } finally {
-    clearTimeout(timer);
-    busy--;
-    if (busy === 0) element("progress").hidden = true;
-  }
+  });
 }
 
 function setState(next) {
