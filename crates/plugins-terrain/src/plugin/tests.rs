@@ -464,22 +464,32 @@ fn local_edits_of_the_example_terrain_leave_far_vertices_bit_identical() {
     eprintln!("{checked:?}");
 }
 
-#[test]
-fn renders_the_deformed_model_and_pictures() {
-    let dir = tempfile::tempdir().expect("temporary directory");
-    // A 9 × 9 height field over [0, 40]², one sample beyond the mesh and one above the top.
+/// An ESRI grid of 9 × 9 samples over [0, 40]² (cell 5), heights `(r·c) mod 7` but at the
+/// `special` (row, column) samples.
+pub(super) fn small_height_field(special: &[((usize, usize), &str)]) -> String {
     let mut text = String::from("ncols 9\nnrows 9\nxllcenter 0\nyllcenter 0\ncellsize 5\n");
     for r in 0..9 {
         let row: Vec<String> = (0..9)
-            .map(|c| match (r, c) {
-                (0, 0) => "25".to_string(),
-                _ => format!("{}", (r * c) % 7),
+            .map(|c| match special.iter().find(|(at, _)| *at == (r, c)) {
+                Some((_, h)) => h.to_string(),
+                None => format!("{}", (r * c) % 7),
             })
             .collect();
         text.push_str(&row.join(" "));
         text.push('\n');
     }
-    std::fs::write(dir.path().join("t.asc"), text).expect("write");
+    text
+}
+
+#[test]
+fn renders_the_deformed_model_and_pictures() {
+    let dir = tempfile::tempdir().expect("temporary directory");
+    // One sample above the top.
+    std::fs::write(
+        dir.path().join("t.asc"),
+        small_height_field(&[((0, 0), "25")]),
+    )
+    .expect("write");
     std::fs::write(
         dir.path().join("m.obj"),
         "v 1 1 0\nv 50 1 0\nv 1 30 2\nf 1 2 3\n",

@@ -2,7 +2,7 @@
 //! the models of `examples/terrain.ron`'s outputs placed in the mesh, and an editor's
 //! evaluation of the view (the formula at [`api::Prisms`]) drawing what the render deforms.
 
-use super::tests::{built, edit, example};
+use super::tests::{built, edit, example, small_height_field};
 use super::*;
 use crate::heightfield::HeightField;
 use api::exact::rational_to_f64;
@@ -213,18 +213,7 @@ fn the_view_of_the_example_terrain_places_its_models() {
 #[test]
 fn the_view_draws_what_the_render_deforms() {
     let dir = tempfile::tempdir().expect("temporary directory");
-    let mut text = String::from("ncols 9\nnrows 9\nxllcenter 0\nyllcenter 0\ncellsize 5\n");
-    for r in 0..9 {
-        let row: Vec<String> = (0..9)
-            .map(|c| match (r, c) {
-                (0, 0) => "25".to_string(),
-                (8, 8) => "-20".to_string(),
-                _ => format!("{}", (r * c) % 7),
-            })
-            .collect();
-        text.push_str(&row.join(" "));
-        text.push('\n');
-    }
+    let text = small_height_field(&[((0, 0), "25"), ((8, 8), "-20")]);
     std::fs::write(dir.path().join("t.asc"), text).expect("write");
     std::fs::write(
         dir.path().join("m.obj"),
