@@ -192,7 +192,56 @@ impl<F: Factorization> Edit<F> {
     where
         B: LinearBackend<Factorization = F>,
     {
-        let weights = validate_spec(system, values, spec)?;
+        if spec.anchors.is_empty() {
+            return Err(EditError::NoAnchors);
+        }
+        Self::initialize_checked(backend, system, values, spec, substitute)
+    }
+
+    /// The projection of `values` onto the constraints: the smallest change of the `derived`
+    /// parameters (weighted least squares with unit weights, exact) after which every row
+    /// touching them holds, every other parameter fixed. What becomes of a state when rows are
+    /// added to its system (a spline made smoother): the nearest state that keeps them. It is
+    /// ECLES with no anchors; update it with no anchor values and the current values as hints
+    /// ([`Edit::project`] does both).
+    pub fn projection<B>(
+        backend: &B,
+        system: &ConstraintSystem,
+        values: &Values,
+        derived: Vec<ParamId>,
+    ) -> Result<Self, EditError<F::Scalar>>
+    where
+        B: LinearBackend<Factorization = F>,
+    {
+        let spec = EditSpec::new(Vec::new(), derived);
+        Self::initialize_checked(backend, system, values, &spec, true)
+    }
+
+    /// The projected values of [`Edit::projection`]: no anchors, the current values as hints.
+    pub fn project(
+        &self,
+        values: &Values,
+    ) -> Result<UpdateResult<F::Scalar>, EditError<F::Scalar>> {
+        let hints: Vec<Vec<Rational>> = self
+            .derived
+            .iter()
+            .map(|p| values.get(*p).to_vec())
+            .collect();
+        self.update(&[], &hints)
+    }
+
+    /// ECLES.Initialize after the anchor rule (at least one, except for a projection).
+    fn initialize_checked<B>(
+        backend: &B,
+        system: &ConstraintSystem,
+        values: &Values,
+        spec: &EditSpec,
+        substitute: bool,
+    ) -> Result<Self, EditError<F::Scalar>>
+    where
+        B: LinearBackend<Factorization = F>,
+    {
+        let weights = validate_ids_and_weights(system, values, spec)?;
         let relevant = extract_relevant(system, &spec.anchors, &spec.derived);
         let reduced = reduce(system, values, spec, &relevant);
 
@@ -870,6 +919,15 @@ pub(crate) fn validate_spec<S: std::fmt::Debug>(
     if spec.anchors.is_empty() {
         return Err(EditError::NoAnchors);
     }
+    validate_ids_and_weights(system, values, spec)
+}
+
+/// [`validate_spec`] without the rule that an edit has anchors (a projection has none).
+fn validate_ids_and_weights<S: std::fmt::Debug>(
+    system: &ConstraintSystem,
+    values: &Values,
+    spec: &EditSpec,
+) -> Result<Vec<Rational>, EditError<S>> {
     // foldhash: SipHash's set-up and rounds were a visible part of initialising small edits.
     let mut seen: HashMap<ParamId, bool, foldhash::fast::RandomState> =
         HashMap::with_capacity_and_hasher(

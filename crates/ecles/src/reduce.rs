@@ -71,7 +71,12 @@ pub(crate) fn reduce(
     relevant: &Relevant,
 ) -> ReducedSystem {
     let dim_of = |p: &ParamId| system.params()[p.index()].dim;
-    let first_dim = dim_of(&spec.anchors[0]);
+    // A projection has no anchors: its first derived parameter sets the dimension.
+    let first_dim = spec
+        .anchors
+        .first()
+        .or(spec.derived.first())
+        .map_or(1, dim_of);
     let uniform = spec
         .anchors
         .iter()

@@ -439,3 +439,32 @@ fn requested_moves_are_checked_not_every_direction() {
         Err(EditError::Count { .. })
     ));
 }
+
+/// A projection moves the derived parameters the least (unit weights) onto the rows: the pumps
+/// with p3 moved to 6 break both rows; with p1 fixed, the nearest state that keeps them is
+/// found exactly.
+#[test]
+fn a_projection_is_the_nearest_state_that_keeps_every_row() {
+    let (s, p, mut values) = pumps();
+    values.set(&s, p[2], vec![z(6)]).expect("set");
+    assert_eq!(s.violations(&values).len(), 2);
+    let edit: ExactEdit =
+        Edit::projection(&backend(), &s, &values, vec![p[1], p[2], p[3]]).expect("projection");
+    let result = edit.project(&values).expect("projects");
+    result.write_into(&mut values);
+    assert!(s.violations(&values).is_empty());
+    // min (p2-2)² + (p3-6)² + (p4-8)² with p3 = 1 + p2, p4 = p3 + 5: (x-2)² + (x-5)² + (x-2)²
+    // is least at p2 = x = 3.
+    assert_eq!(values.get(p[1]), &[z(3)]);
+    assert_eq!(values.get(p[2]), &[z(4)]);
+    assert_eq!(values.get(p[3]), &[z(9)]);
+    // A state that keeps every row is its own projection.
+    let again: ExactEdit =
+        Edit::projection(&backend(), &s, &values, vec![p[1], p[2], p[3]]).expect("projection");
+    let before = values.clone();
+    again
+        .project(&values)
+        .expect("projects")
+        .write_into(&mut values);
+    assert_eq!(values, before);
+}

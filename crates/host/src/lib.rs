@@ -15,6 +15,7 @@
 
 pub mod analysis;
 pub mod commands;
+pub mod config_text;
 pub mod console;
 pub mod editor;
 pub mod error;

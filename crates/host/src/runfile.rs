@@ -15,6 +15,8 @@
 //!     edits: [
 //!         Ecles(anchors: {"eq.a": "2"}, derived: ["eq.b"]),
 //!         Source(source: "phi", operation: (anchors: ["v4"], translate: ("1", "0"))),
+//!         // From here on, "phi" is built with this configuration (C0); values carried over.
+//!         Configure(source: "phi", config: (mesh: "meshes/worm.obj", degree: 5, smoothness: 0)),
 //!     ],
 //!     outputs: [(source: "phi", output: (picture: "worm.svg"))],
 //!     editor: (image: (file: "photo.png", opacity: "1/2")), // for `ecles edit`, optional
@@ -393,6 +395,15 @@ pub enum EditKind {
         /// The operation, in the source's own schema.
         operation: Fragment,
     },
+    /// From this edit on, a source is built with another configuration (another continuity,
+    /// another reference mesh); see [`crate::session::Session::configure`] for what becomes of
+    /// the values.
+    Configure {
+        /// The source instance.
+        source: String,
+        /// Its new configuration, in the source's own schema.
+        config: Fragment,
+    },
 }
 
 /// An edit and where it is written.
@@ -485,6 +496,11 @@ enum RawEdit<'a> {
         source: String,
         #[serde(borrow)]
         operation: &'a RawValue,
+    },
+    Configure {
+        source: String,
+        #[serde(borrow)]
+        config: &'a RawValue,
     },
 }
 
@@ -657,6 +673,17 @@ pub fn parse(text: &str, name: &str) -> Result<RunFile, RunFileError> {
                     operation: reader.fragment(operation),
                 }
             }
+            RawEdit::Configure { source, config } => {
+                if !known(&source) {
+                    return Err(
+                        reader.error(at, format!("edit {i} names unknown source {source:?}"))
+                    );
+                }
+                EditKind::Configure {
+                    source,
+                    config: reader.fragment(config),
+                }
+            }
         };
         edits.push(EditEntry {
             kind,
@@ -816,6 +843,7 @@ mod tests {
                 edits: [
                     Ecles(anchors: {"eq.a": "2"}, derived: ["eq.b"], weights: {"eq.b": "1/2"}),
                     Source(source: "eq", operation: (anything: 1)),
+                    Configure(source: "eq", config: (parameters: {"a": "3"})),
                 ],
                 outputs: [(source: "eq", output: (picture: "x.svg"))],
             )"#,
@@ -824,7 +852,14 @@ mod tests {
         .expect("valid");
         assert_eq!(run.backend.simplify, Simplify::Turner);
         assert_eq!(run.cross_check.map(|c| c.tolerance), Some(1e-8));
-        assert_eq!(run.edits.len(), 2);
+        assert_eq!(run.edits.len(), 3);
+        let EditKind::Configure { source, config } = &run.edits[2].kind else {
+            panic!("a configuration");
+        };
+        assert_eq!(
+            (source.as_str(), config.text()),
+            ("eq", " (parameters: {\"a\": \"3\"})")
+        );
         assert_eq!(
             run.edits[1].at,
             TextPosition {
@@ -864,6 +899,11 @@ mod tests {
         assert!(text.starts_with("r.ron:2:2: two sources"), "{text}");
         let text = error("(sources: [], edits: [Source(source: \"zz\", operation: ())])");
         assert!(text.contains("zz"), "{text}");
+        let text = error("(sources: [],\n edits: [Configure(source: \"zz\", config: ())])");
+        assert!(
+            text.starts_with("r.ron:2:10: edit 0 names unknown source \"zz\""),
+            "{text}"
+        );
         let text = error("(sources: [], edits: [Ecles(anchors: {\"a\": 0.1})])");
         assert!(text.starts_with("r.ron:1:"), "{text}");
         let text = error("(sources: [], cross_check: (tolerance: 2.0))");

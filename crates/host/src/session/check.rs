@@ -30,8 +30,26 @@ impl Session {
         file: &str,
         edits: &[runfile::EditEntry],
     ) -> Result<(), RunError> {
-        for (i, edit) in edits.iter().enumerate() {
+        self.check_edits_from(file, edits, 0)
+    }
+
+    /// [`Session::check_edits`] of `edits`, the run's edits from number `first` on. After a
+    /// `Configure(...)` the rest is checked against the system it builds (built here: a
+    /// configuration a source refuses is found before the first edit runs).
+    fn check_edits_from(
+        &self,
+        file: &str,
+        edits: &[runfile::EditEntry],
+        first: usize,
+    ) -> Result<(), RunError> {
+        for (k, edit) in edits.iter().enumerate() {
+            let i = first + k;
             match &edit.kind {
+                EditKind::Configure { source, config } => {
+                    let place = super::ConfigPlace::At(file.to_string(), config.clone());
+                    let rebuilt = self.rebuilt(source, config.text(), &place)?;
+                    return rebuilt.check_edits_from(file, &edits[k + 1..], i + 1);
+                }
                 EditKind::Ecles(generic) => self.check_generic(generic).map_err(|message| {
                     RunError::input(format!("{file}:{}: edit {i}: {message}", edit.at))
                 })?,

@@ -59,6 +59,10 @@ impl Session {
                     RunError::Input(message) => at(operation.start(), message),
                     other => other,
                 }),
+            EditKind::Configure { .. } => Err(at(
+                entry.at,
+                "a Configure(...) rebuilds a source; it is run, not planned".into(),
+            )),
         }
     }
 
@@ -166,50 +170,45 @@ impl Session {
         }
     }
 
-    /// Restores the values before the last committed edit (exactly: the state itself was
-    /// kept); `false` when there is none. [`Session::redo`] takes it back.
+    /// Restores the state before the last committed edit (exactly: the state itself was
+    /// kept, and after a `Configure(...)` the sources and system too); `false` when there is
+    /// none. [`Session::redo`] takes it back.
     pub fn undo(&mut self) -> bool {
-        let (from, to) = (&mut self.history, &mut self.undone);
-        Self::step_back(
-            from,
-            to,
-            &mut self.values,
-            &mut self.last_highlight,
-            &mut self.generation,
-        )
+        self.step_back(true)
     }
 
     /// Commits again the last edit undone; `false` when there is none (a commit since the undo
     /// forgets what was undone).
     pub fn redo(&mut self) -> bool {
-        let (from, to) = (&mut self.undone, &mut self.history);
-        Self::step_back(
-            from,
-            to,
-            &mut self.values,
-            &mut self.last_highlight,
-            &mut self.generation,
-        )
+        self.step_back(false)
     }
 
-    /// Undo and redo: the state on top of `from` becomes current, the current one goes on `to`
-    /// with the same edit.
-    fn step_back(
-        from: &mut Vec<Step>,
-        to: &mut Vec<Step>,
-        values: &mut Values,
-        highlight: &mut BTreeMap<String, Highlight>,
-        generation: &mut u64,
-    ) -> bool {
-        let Some(step) = from.pop() else {
+    /// Undo (`true`) and redo: the state on top of the history (or of the undone edits)
+    /// becomes current, the current one goes on the other stack with the same edit.
+    fn step_back(&mut self, undo: bool) -> bool {
+        let popped = if undo {
+            self.history.pop()
+        } else {
+            self.undone.pop()
+        };
+        let Some(mut step) = popped else {
             return false;
         };
-        to.push(Step {
-            values: std::mem::replace(values, step.values),
-            highlight: std::mem::replace(highlight, step.highlight),
+        if let Some(built) = step.build.as_mut() {
+            self.swap_build(built);
+        }
+        let back = Step {
+            values: std::mem::replace(&mut self.values, step.values),
+            highlight: std::mem::replace(&mut self.last_highlight, step.highlight),
             entry: step.entry,
-        });
-        *generation += 1;
+            build: step.build,
+        };
+        if undo {
+            self.undone.push(back);
+        } else {
+            self.history.push(back);
+        }
+        self.generation += 1;
         true
     }
 
@@ -226,6 +225,7 @@ impl Session {
             values: self.values.clone(),
             highlight: self.last_highlight.clone(),
             entry,
+            build: None,
         });
         result.write_into(&mut self.values);
         if let Some((source, highlight)) = highlight {
@@ -262,13 +262,19 @@ impl Session {
             index,
             ..EditReport::default()
         };
+        if let EditKind::Configure { source, config } = &entry.kind {
+            let place = super::ConfigPlace::At(file.to_string(), config.clone());
+            let outcome =
+                self.configure_placed(source, config.text(), place, entry.text.clone())?;
+            return Ok(self.configure_report(index, source, outcome));
+        }
         let planned = self.plan_entry(file, entry, index)?;
         report.kind = match &entry.kind {
-            EditKind::Ecles(_) => "ecles".into(),
             EditKind::Source { source, .. } => {
                 report.source = Some(source.clone());
                 "source".into()
             }
+            _ => "ecles".into(),
         };
         let plan = match planned {
             Planning::Planned(plan) => plan,

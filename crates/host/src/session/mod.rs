@@ -16,6 +16,7 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 mod check;
+mod configure;
 mod edit;
 mod float_twin;
 mod record;
@@ -69,8 +70,30 @@ fn whole_system_report(
 struct Loaded {
     name: String,
     kind: String,
+    /// The configuration it was built with (RON text): the run file's, or a later
+    /// [`Session::configure`]'s.
+    config: String,
     source: Box<dyn ConstraintSource>,
     report: SourceReport,
+}
+
+/// Where a configuration given to [`Session::build_source`] is written, for its errors.
+enum ConfigPlace {
+    /// The source's entry in the run file.
+    RunFile,
+    /// A `Configure(...)` entry of a file (the run file, or a session being resumed).
+    At(String, runfile::Fragment),
+    /// Nowhere: made by the editor.
+    Unplaced,
+}
+
+/// What building the sources makes: replaced as a whole by [`Session::configure`], and kept on
+/// the undo stack to be put back.
+struct Built {
+    sources: Vec<Loaded>,
+    system: ConstraintSystem,
+    initial: Values,
+    graph: std::cell::OnceCell<crate::structural::SystemGraph>,
 }
 
 /// A committed edit on the undo or redo stack: the state on the other side of it, and the edit
@@ -78,8 +101,11 @@ struct Loaded {
 struct Step {
     values: Values,
     highlight: BTreeMap<String, Highlight>,
-    /// `Ecles(...)` or `Source(...)`, RON text that repeats the edit in a run file.
+    /// `Ecles(...)`, `Source(...)` or `Configure(...)`, RON text that repeats the edit in a run
+    /// file.
     entry: String,
+    /// For a `Configure(...)`: the sources and system on the other side of it.
+    build: Option<Built>,
 }
 
 /// The state of a run.
@@ -97,8 +123,8 @@ pub struct Session {
     input_limit: u64,
     /// Every file the run reads: the run file, source inputs, plugin libraries.
     inputs: Vec<PathBuf>,
-    /// The whole system's graph and Dulmage–Mendelsohn decomposition, computed once (the
-    /// system does not change after the sources are built).
+    /// The whole system's graph and Dulmage–Mendelsohn decomposition, computed once per
+    /// system (only a `Configure(...)` changes the system, and it replaces this too).
     graph: std::cell::OnceCell<crate::structural::SystemGraph>,
     /// Each committed edit, with the values and highlights before it, for undo.
     history: Vec<Step>,
@@ -115,6 +141,17 @@ impl Session {
     pub fn build(run_path: &Path, input_limit: u64) -> Result<Session, RunError> {
         let run =
             runfile::read(run_path, input_limit).map_err(|e| RunError::input(e.to_string()))?;
+        let mut session = Session::empty(run_path, run, input_limit);
+        let entries = session.run.sources.clone();
+        for entry in &entries {
+            session.build_source(entry, entry.config.text(), &ConfigPlace::RunFile)?;
+        }
+        session.initial = session.values.clone();
+        Ok(session)
+    }
+
+    /// A session of `run` with no source built yet.
+    fn empty(run_path: &Path, run: RunFile, input_limit: u64) -> Session {
         let base_dir = run_path
             .parent()
             .map(Path::to_path_buf)
@@ -124,7 +161,7 @@ impl Session {
             Simplify::Turner => Simplification::Turner,
             Simplify::None => Simplification::None,
         };
-        let mut session = Session {
+        Session {
             run_path: run_path.to_path_buf(),
             base_dir,
             tolerance: run.cross_check.map(|c| c.tolerance),
@@ -141,13 +178,15 @@ impl Session {
             undone: Vec::new(),
             generation: 0,
             last_highlight: BTreeMap::new(),
-        };
-        let entries = session.run.sources.clone();
-        for entry in &entries {
-            session.build_source(entry)?;
         }
-        session.initial = session.values.clone();
-        Ok(session)
+    }
+
+    /// Exchanges the built sources and system with `built`.
+    fn swap_build(&mut self, built: &mut Built) {
+        std::mem::swap(&mut self.sources, &mut built.sources);
+        std::mem::swap(&mut self.system, &mut built.system);
+        std::mem::swap(&mut self.initial, &mut built.initial);
+        std::mem::swap(&mut self.graph, &mut built.graph);
     }
 
     /// The graph of the whole system, built on first use.
@@ -182,32 +221,42 @@ impl Session {
         RunError::input(format!("{}:{at}: {message}", self.run_name()))
     }
 
-    fn build_source(&mut self, entry: &runfile::SourceEntry) -> Result<(), RunError> {
+    /// Builds source `entry` with configuration `config` (RON text: the entry's own, or a
+    /// replacement) on the system built so far; `place` says where errors in it are.
+    fn build_source(
+        &mut self,
+        entry: &runfile::SourceEntry,
+        config: &str,
+        place: &ConfigPlace,
+    ) -> Result<(), RunError> {
         let (mut source, origin) = registry::instantiate(&entry.plugin, &self.base_dir)
             .map_err(|e| self.at(entry.at, format!("source {:?}: {e}", entry.name)))?;
         let request = BuildRequest {
             schema: api::SCHEMA_VERSION,
             name: entry.name.clone(),
-            config: entry.config.text().to_string(),
+            config: config.to_string(),
             base_dir: self.base_dir.clone(),
             system: self.system.clone(),
             values: self.values.clone(),
             sources: self
                 .sources
                 .iter()
-                .zip(&self.run.sources)
-                .map(|(s, e)| SourceInfo {
+                .map(|s| SourceInfo {
                     name: s.name.clone(),
                     kind: s.kind.clone(),
-                    config: e.config.text().to_string(),
+                    config: s.config.clone(),
                 })
                 .collect(),
             input_limit: self.input_limit,
         };
         let context = format!("source {:?} (plugin {})", entry.name, entry.plugin);
-        let mut contribution = source
-            .build(&request)
-            .map_err(|e| self.source_error(&entry.config, &context, &e))?;
+        let mut contribution = source.build(&request).map_err(|e| match place {
+            ConfigPlace::RunFile => self.source_error(&entry.config, &context, &e),
+            ConfigPlace::At(file, fragment) => {
+                RunError::input(located_source_error(file, fragment, &context, &e))
+            }
+            ConfigPlace::Unplaced => RunError::input(format!("{context}: {}", e.message)),
+        })?;
         for (index, row) in contribution.rows.iter_mut().enumerate() {
             row.label = unique_label(&entry.name, index, &row.label);
         }
@@ -241,6 +290,7 @@ impl Session {
         self.sources.push(Loaded {
             name: entry.name.clone(),
             kind: source.kind().to_string(),
+            config: config.to_string(),
             source,
             report,
         });

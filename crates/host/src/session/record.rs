@@ -36,8 +36,6 @@ impl Session {
             runfile::read(path, self.input_limit).map_err(|e| RunError::input(e.to_string()))?;
         self.check_same_run(&file, &saved)?;
         self.check_edits(&file, &saved.edits)?;
-        let values = self.values.clone();
-        let highlight = self.last_highlight.clone();
         for (index, entry) in saved.edits.iter().enumerate() {
             let outcome = self.run_entry(&file, entry, index);
             let failure = match outcome {
@@ -50,10 +48,9 @@ impl Session {
                 Err(e) => Some(e),
             };
             if let Some(e) = failure {
-                self.values = values;
-                self.last_highlight = highlight;
-                self.history.clear();
-                self.generation += 1;
+                // Back to the state before the first repeated edit (configurations too).
+                while self.undo() {}
+                self.undone.clear();
                 return Err(e);
             }
         }
