@@ -509,3 +509,138 @@ fn drag_frames_travel_over_a_websocket_with_the_same_guard() {
     assert_eq!(committed["committed"], true, "{committed}");
     assert_eq!(exact(&state(&editor), "worm.v3"), ["36", "37/2"]);
 }
+
+/// A file loaded from the page, as the page sends it: the bytes as the body, what it replaces
+/// in the query.
+fn load(editor: &common::Editor, kind: &str, name: &str, bytes: &str) -> (u16, Value) {
+    let headers = [
+        format!("Host: 127.0.0.1:{}", editor.port),
+        format!("x-ecles-token: {}", editor.token),
+    ];
+    let path = format!("/api/load?source=worm&kind={kind}&name={name}");
+    let (status, answer) = common::request(editor, "POST", &path, &headers, bytes);
+    (
+        status,
+        serde_json::from_str(&answer).unwrap_or(Value::String(answer)),
+    )
+}
+
+/// The continuity switch (C1 → C0 keeps the deformation, C0 → C1 projects it onto the nearest
+/// smooth one), a bad reference mesh refused with its line and column and nothing kept, a
+/// model and a mesh loaded from the page: each a step of the session that undo takes back,
+/// and the saved session repeats all of it exactly.
+#[test]
+fn continuity_and_files_loaded_from_the_page_are_steps_of_the_session() {
+    let (dir, run) = worm_copy();
+    let editor = start_at(run, true);
+    commit_drag(&editor, &["v3"], 3, "0", "6");
+    let smooth = state(&editor);
+    let c1_rows = smooth["rows"].as_u64().expect("rows");
+    assert!(c1_rows > 0);
+
+    let (status, c0) = call(
+        &editor,
+        "POST",
+        "/api/continuity",
+        &json!({"source": "worm", "smoothness": 0}),
+    );
+    assert_eq!(status, 200, "{c0}");
+    assert_eq!(c0["sources"][0]["view"]["smoothness"], 0);
+    assert_eq!(
+        (c0["rows"].as_u64(), c0["committed"].as_u64()),
+        (Some(0), Some(2))
+    );
+    assert_eq!(c0["configured"]["projected"], 0);
+    assert_eq!(
+        c0["points"], smooth["points"],
+        "a C1 deformation is a C0 one"
+    );
+
+    // Under C0 a control point moves alone; back to C1, the nearest smooth deformation.
+    commit_drag(&editor, &["v5"], 0, "3", "0");
+    let rough = state(&editor);
+    assert_eq!(rough["violated_rows"], 0, "C0 has no rows to break");
+    let (status, c1) = call(
+        &editor,
+        "POST",
+        "/api/continuity",
+        &json!({"source": "worm", "smoothness": 1}),
+    );
+    assert_eq!(status, 200, "{c1}");
+    assert!(
+        c1["configured"]["projected"].as_u64() > Some(0),
+        "{}",
+        c1["configured"]
+    );
+    assert_eq!(
+        (c1["rows"].as_u64(), c1["violated_rows"].as_u64()),
+        (Some(c1_rows), Some(0))
+    );
+    let (status, refused) = call(
+        &editor,
+        "POST",
+        "/api/continuity",
+        &json!({"source": "worm", "smoothness": 5}),
+    );
+    assert_eq!(status, 422, "{refused}");
+    assert!(
+        refused["error"].as_str().is_some_and(|e| e.contains("C^5")),
+        "{refused}"
+    );
+
+    // A bad mesh: the reader's line and column, nothing kept, nothing changed.
+    let (status, bad) = load(&editor, "mesh", "bad.obj", "v 0 0 0\nv 9 0 0\nf 1 2 q\n");
+    assert_eq!(status, 422, "{bad}");
+    let message = bad["error"].as_str().expect("a message");
+    assert!(message.contains("bad.obj:3:"), "{message}");
+    assert!(!dir.path().join("worm.inputs").exists(), "nothing kept");
+    assert_eq!(state(&editor)["points"], c1["points"]);
+
+    // A model: kept beside the run file, drawn by the view, named by the saved session.
+    let (status, model) = load(
+        &editor,
+        "model",
+        "tri.obj",
+        "v 10 10\nv 20 10\nv 10 20\nf 1 2 3\n",
+    );
+    assert_eq!(status, 200, "{model}");
+    assert_eq!(model["loaded"], "worm.inputs/tri.obj");
+    let models = &model["sources"][0]["view"]["models"];
+    assert_eq!(models.as_array().map(Vec::len), Some(1), "{models}");
+    assert_eq!(model["points"], c1["points"], "a model changes no value");
+    let (status, saved) = call(&editor, "POST", "/api/save", &json!({"name": "mixed.ron"}));
+    assert_eq!(status, 200, "{saved}");
+    let text = std::fs::read_to_string(dir.path().join("mixed.ron")).expect("saved");
+    assert_eq!(
+        text.matches("Configure(source: \"worm\"").count(),
+        2,
+        "{text}"
+    );
+    assert!(text.contains("model: \"worm.inputs/tri.obj\""), "{text}");
+    let again = dir.path().join("again");
+    let status = std::process::Command::new(env!("CARGO_BIN_EXE_ecles"))
+        .args(["run", "--quiet", "--out"])
+        .arg(&again)
+        .arg(dir.path().join("mixed.ron"))
+        .status()
+        .expect("ecles runs");
+    assert!(status.success());
+    assert!(again.join("tri-deformed.obj").exists());
+
+    // Another reference mesh (the worm's own, under another name: every control point is the
+    // same, so the deformation is kept); undo takes it back.
+    let worm_mesh = std::fs::read_to_string(dir.path().join("meshes/worm.obj")).expect("mesh");
+    let (status, mesh) = load(&editor, "mesh", "worm-copy.obj", &worm_mesh);
+    assert_eq!(status, 200, "{mesh}");
+    assert_eq!(mesh["configured"]["restarted"], 0, "{}", mesh["configured"]);
+    assert_eq!(mesh["configured"]["projected"], 0);
+    assert_eq!(mesh["points"], c1["points"]);
+    assert_eq!(mesh["committed"], 5);
+    let (_, undone) = call(&editor, "POST", "/api/undo", &json!({}));
+    assert_eq!(undone["committed"], 4);
+    let (_, undone) = call(&editor, "POST", "/api/undo", &json!({}));
+    assert_eq!(undone["sources"][0]["view"]["smoothness"], 0);
+    assert_eq!(undone["rows"], 0);
+    assert_eq!(undone["points"], rough["points"]);
+    assert_ne!(rough["points"], c1["points"]);
+}

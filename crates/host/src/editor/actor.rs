@@ -3,12 +3,16 @@
 //! and one command runs at a time.
 //!
 //! Drags are made in [`super::frames`]; saving, the autosave and resuming in [`super::save`].
-//! The state the page draws is the sources' views (made once: they hold structure, not
-//! values) with the current values.
+//! The state the page draws is the sources' views (made once per build of the sources: they
+//! hold structure, not values) with the current values. A continuity switch and a loaded
+//! reference mesh rebuild the sources (a `Configure(...)` edit); a loaded model changes the
+//! outputs; files loaded from the page are kept beside the run file ([`super::uploads`]).
 
 use super::frames::{drag_frame, drawable_rows, prepare_linear_steps, refused, ActiveDrag};
 use super::motion::{DragRequest, Selection};
 use super::save;
+use super::uploads;
+use crate::config_text::set_field;
 use crate::error::RunError;
 use crate::session::{CheckedImage, Planning, Session};
 use api::{format_rational, ParamId, Values};
@@ -33,6 +37,36 @@ pub(crate) enum Command {
     Select(Selection, oneshot::Sender<Result<Value, String>>),
     /// The run file's target image: its bytes and media type.
     Image(oneshot::Sender<Option<(Vec<u8>, &'static str)>>),
+    /// Another continuity `C^r` for a source: a `Configure(...)` edit.
+    Continuity(ContinuityRequest, oneshot::Sender<Result<Value, String>>),
+    /// A reference mesh or model loaded from the page.
+    Load(LoadRequest, oneshot::Sender<Result<Value, String>>),
+}
+
+/// What `/api/continuity` takes: the source and its new smoothness `r` (`C^r`).
+#[derive(Debug, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct ContinuityRequest {
+    pub source: String,
+    pub smoothness: u32,
+}
+
+/// What a file loaded from the page replaces.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub(crate) enum LoadKind {
+    /// The source's reference mesh (its `mesh` configuration field): a `Configure(...)` edit.
+    Mesh,
+    /// The model its outputs deform (see [`Session::replace_model`]).
+    Model,
+}
+
+/// A file loaded from the page: its name, its bytes, what it replaces in which source.
+pub(crate) struct LoadRequest {
+    pub source: String,
+    pub kind: LoadKind,
+    pub name: String,
+    pub bytes: Vec<u8>,
 }
 
 /// The editor's side of the session: the session, the drag under way and the autosave.
@@ -48,8 +82,11 @@ pub(crate) struct Editor {
     autosave_error: Option<String>,
     /// The run file's target image (checked with the run, before serving).
     image: Option<CheckedImage>,
-    /// The sources' views as the page draws them ([`source_views`]), made once.
+    /// The sources' views as the page draws them ([`source_views`]), made once per build of
+    /// the sources (and when a model is replaced).
     views: Value,
+    /// The [`Session::build_generation`] the views were made at.
+    views_build: u64,
     input_limit: u64,
 }
 
@@ -66,6 +103,7 @@ impl Editor {
         let views = source_views(&session);
         Editor {
             views,
+            views_build: session.build_generation(),
             session,
             drag: None,
             autosave,
@@ -114,6 +152,12 @@ impl Editor {
                 Command::Select(selection, reply) => {
                     let _ = reply.send(select(&self.session, &selection));
                 }
+                Command::Continuity(request, reply) => {
+                    let _ = reply.send(self.continuity(&request));
+                }
+                Command::Load(request, reply) => {
+                    let _ = reply.send(self.load(&request));
+                }
                 Command::Image(reply) => {
                     let _ = reply.send(
                         self.image
@@ -125,14 +169,95 @@ impl Editor {
         }
     }
 
-    /// After a commit, undo, redo or resume: the offer lapses, the autosave is written.
+    /// After a commit, undo, redo or resume: the offer lapses, the views are made again if the
+    /// sources were rebuilt, the autosave is written.
     fn changed(&mut self) {
         self.offer = None;
+        if self.session.build_generation() != self.views_build {
+            self.views = source_views(&self.session);
+            self.views_build = self.session.build_generation();
+        }
         if let Some(path) = &self.autosave {
             self.autosave_error = save::autosave(&self.session, path)
                 .err()
                 .map(|e| e.to_string());
         }
+    }
+
+    /// Source `source` with continuity `C^r` from now on ([`Session::configure`]).
+    fn continuity(&mut self, request: &ContinuityRequest) -> Result<Value, String> {
+        let current = self
+            .session
+            .source_config(&request.source)
+            .map_err(|e| e.to_string())?;
+        let config = set_field(
+            current,
+            "smoothness",
+            &request.smoothness.to_string(),
+            "mesh",
+        )
+        .map_err(|e| format!("source {:?}: {e}", request.source))?;
+        let done = self
+            .session
+            .configure(&request.source, &config)
+            .map_err(|e| e.to_string())?;
+        self.rebuilt();
+        let mut answer = self.state();
+        answer["configured"] = configured(done);
+        Ok(answer)
+    }
+
+    /// A reference mesh or model loaded from the page: kept beside the run file
+    /// ([`uploads::store`]), then made the source's mesh (a `Configure(...)` edit) or its
+    /// outputs' model. Refused with the reader's message (the file, line and column) and
+    /// nothing kept or changed when the source refuses it.
+    fn load(&mut self, request: &LoadRequest) -> Result<Value, String> {
+        let stored = uploads::store(&self.session.run_path, &request.name, &request.bytes)?;
+        let path = serde_json::to_string(&stored.relative).map_err(|e| e.to_string())?;
+        let outcome = match request.kind {
+            LoadKind::Mesh => self
+                .session
+                .source_config(&request.source)
+                .map_err(|e| e.to_string())
+                .and_then(|current| {
+                    set_field(current, "mesh", &path, "mesh")
+                        .map_err(|e| format!("source {:?}: {e}", request.source))
+                })
+                .and_then(|config| {
+                    self.session
+                        .configure(&request.source, &config)
+                        .map(|done| Some(configured(done)))
+                        .map_err(|e| e.to_string())
+                }),
+            LoadKind::Model => self
+                .session
+                .replace_model(&request.source, &stored.relative)
+                .map(|()| None)
+                .map_err(|e| e.to_string()),
+        };
+        let done = match outcome {
+            Ok(done) => done,
+            Err(message) => {
+                uploads::discard(&stored);
+                return Err(format!("{} not loaded: {message}", request.name));
+            }
+        };
+        self.rebuilt();
+        let mut answer = self.state();
+        answer["loaded"] = json!(stored.relative);
+        if let Some(done) = done {
+            answer["configured"] = done;
+        }
+        Ok(answer)
+    }
+
+    /// After the sources or outputs changed: no drag goes on, the views are made again, the
+    /// autosave is written.
+    fn rebuilt(&mut self) {
+        self.drag = None;
+        self.views = source_views(&self.session);
+        self.views_build = self.session.build_generation();
+        self.changed();
     }
 
     /// Resumes the offered autosave, or declines it.
@@ -192,6 +317,15 @@ impl Editor {
     }
 }
 
+/// What a `Configure(...)` did with the values, for the page.
+fn configured(done: crate::session::Configured) -> Value {
+    json!({
+        "carried": done.carried,
+        "restarted": done.restarted,
+        "projected": done.projected,
+    })
+}
+
 /// Builds the session of `run` (on the caller's thread: the actor's own thread), or the error.
 pub(crate) fn build(run: &Path, max_input_bytes: u64) -> Result<Session, RunError> {
     let session = Session::build(run, max_input_bytes)?;
@@ -209,7 +343,7 @@ fn approx(values: &Values, id: ParamId) -> Vec<f64> {
 }
 
 /// Each source with its view as the page draws it. Views hold structure, not values: made once
-/// per session (a view places every model vertex in the reference mesh).
+/// per build of the sources (a view places every model vertex in the reference mesh).
 fn source_views(session: &Session) -> Value {
     let mut sources = Vec::new();
     for name in session.source_names() {

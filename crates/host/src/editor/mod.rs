@@ -15,13 +15,15 @@ mod actor;
 mod frames;
 mod motion;
 mod save;
+mod uploads;
 
 pub use motion::{DragRequest, Motion, Selection};
 pub use save::{autosave_offer, autosave_path, default_save_name, VALUES_FILE};
 
 use crate::error::RunError;
+use axum::body::Bytes;
 use axum::extract::ws::{Message, WebSocket, WebSocketUpgrade};
-use axum::extract::{Request, State};
+use axum::extract::{DefaultBodyLimit, Query, Request, State};
 use axum::http::{header, HeaderMap, HeaderValue, StatusCode};
 use axum::middleware::{self, Next};
 use axum::response::{Html, IntoResponse, Response};
@@ -57,6 +59,8 @@ struct Shared {
     commands: Mutex<mpsc::Sender<actor::Command>>,
     token: Option<String>,
     port: u16,
+    /// The largest file the page may load (the limit of every input of the run).
+    input_limit: u64,
 }
 
 /// A random token from the operating system's generator (128 bits, hex).
@@ -130,6 +134,7 @@ pub fn serve(
             commands: Mutex::new(commands),
             token,
             port,
+            input_limit: max_input_bytes,
         });
         let app = router(shared);
         ready(&url);
@@ -151,6 +156,13 @@ fn router(shared: Arc<Shared>) -> Router {
         .route("/api/resume", post(resume))
         .route("/api/select", post(select))
         .route("/api/image", get(target_image))
+        .route("/api/continuity", post(continuity))
+        .route(
+            "/api/load",
+            post(load).layer(DefaultBodyLimit::max(
+                usize::try_from(shared.input_limit).unwrap_or(usize::MAX),
+            )),
+        )
         .layer(middleware::from_fn_with_state(shared.clone(), guard))
         .with_state(shared)
 }
@@ -343,6 +355,36 @@ async fn resume(State(shared): State<Arc<Shared>>, Json(request): Json<ResumeReq
 
 async fn select(State(shared): State<Arc<Shared>>, Json(selection): Json<Selection>) -> Response {
     answered(ask(&shared, |reply| actor::Command::Select(selection, reply)).await)
+}
+
+async fn continuity(
+    State(shared): State<Arc<Shared>>,
+    Json(request): Json<actor::ContinuityRequest>,
+) -> Response {
+    answered(ask(&shared, |reply| actor::Command::Continuity(request, reply)).await)
+}
+
+/// The query of `/api/load`: which source, what the file replaces, the file's name. The body
+/// is the file's bytes, at most the run's input limit.
+#[derive(Debug, serde::Deserialize)]
+struct LoadQuery {
+    source: String,
+    kind: actor::LoadKind,
+    name: String,
+}
+
+async fn load(
+    State(shared): State<Arc<Shared>>,
+    Query(query): Query<LoadQuery>,
+    bytes: Bytes,
+) -> Response {
+    let request = actor::LoadRequest {
+        source: query.source,
+        kind: query.kind,
+        name: query.name,
+        bytes: bytes.to_vec(),
+    };
+    answered(ask(&shared, |reply| actor::Command::Load(request, reply)).await)
 }
 
 /// The run file's target image (404 when it names none).

@@ -19,11 +19,13 @@ mod check;
 mod configure;
 mod edit;
 mod float_twin;
+mod model_swap;
 mod record;
 mod render;
 mod target_image;
 
 pub use check::OutputsPlan;
+pub use configure::Configured;
 pub use edit::{ActiveEdit, PlannedEdit, Planning};
 pub use target_image::CheckedImage;
 
@@ -133,6 +135,8 @@ pub struct Session {
     undone: Vec<Step>,
     /// Counts commits and undos: an edit initialised at another generation is stale.
     generation: u64,
+    /// See [`Session::build_generation`].
+    builds: u64,
     last_highlight: BTreeMap<String, Highlight>,
 }
 impl Session {
@@ -177,12 +181,20 @@ impl Session {
             history: Vec::new(),
             undone: Vec::new(),
             generation: 0,
+            builds: 0,
             last_highlight: BTreeMap::new(),
         }
     }
 
+    /// Counts the times the sources and system were replaced ([`Session::configure`], its
+    /// undo and redo): what was made from them (an editor's views) is stale once it changes.
+    pub fn build_generation(&self) -> u64 {
+        self.builds
+    }
+
     /// Exchanges the built sources and system with `built`.
     fn swap_build(&mut self, built: &mut Built) {
+        self.builds += 1;
         std::mem::swap(&mut self.sources, &mut built.sources);
         std::mem::swap(&mut self.system, &mut built.system);
         std::mem::swap(&mut self.initial, &mut built.initial);

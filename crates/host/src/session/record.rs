@@ -20,7 +20,8 @@ impl Session {
     }
 
     /// Repeats the edits of `path`, a session saved from this run ([`Session::session_run_file`]),
-    /// on the initial values: each becomes a committed edit (undoable one by one). Refused,
+    /// on the initial values: each becomes a committed edit (undoable one by one), and its
+    /// outputs become the session's (they name the model loaded in an editor). Refused,
     /// with nothing changed, once an edit was committed here, when the file's sources or
     /// settings are not this run's, when an edit is bad input, or when an edit cannot be
     /// repeated (its refusal named with the file, line and column). Returns the number of
@@ -36,6 +37,12 @@ impl Session {
             runfile::read(path, self.input_limit).map_err(|e| RunError::input(e.to_string()))?;
         self.check_same_run(&file, &saved)?;
         self.check_edits(&file, &saved.edits)?;
+        // The session's outputs (a model loaded in the editor) come with it.
+        let outputs = std::mem::replace(&mut self.run.outputs, saved.outputs);
+        if let Err(e) = self.check() {
+            self.run.outputs = outputs;
+            return Err(e);
+        }
         for (index, entry) in saved.edits.iter().enumerate() {
             let outcome = self.run_entry(&file, entry, index);
             let failure = match outcome {
@@ -51,6 +58,7 @@ impl Session {
                 // Back to the state before the first repeated edit (configurations too).
                 while self.undo() {}
                 self.undone.clear();
+                self.run.outputs = outputs;
                 return Err(e);
             }
         }
