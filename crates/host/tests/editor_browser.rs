@@ -4,7 +4,9 @@
 //! state, and the page is refused without the token; a pinned point's drag shows the
 //! constraints in the way and changes nothing; a rotation about a right-clicked centre is
 //! exact; the session saved from the page reruns to the same values and an autosave is resumed
-//! from the page's banner.
+//! from the page's banner; the continuity is switched from the settings and a reference mesh
+//! and a model are loaded through the file chooser (a bad one refused with its line and
+//! column).
 //!
 //! Needs Chromium (`$CHROMIUM`, else `/usr/bin/chromium`); `.ci/run` installs it and runs
 //! these with `--ignored`.
@@ -345,4 +347,61 @@ fn a_terrain_height_dragged_up_in_z1_mode_commits_exactly_and_view_mode_turns_th
     mouse_drag(&mut browser, corner, (60.0, 0.0));
     let turned = browser.eval("camera.azimuth").as_f64().expect("azimuth");
     assert!((turned - azimuth).abs() > 10.0, "{azimuth} -> {turned}");
+}
+
+/// The settings' continuity switch (C1 → C0: the worm's rows are gone, a point then moves
+/// alone), a bad reference mesh chosen in the file chooser (refused: the panel names its line
+/// and column, nothing changes) and a model chosen there (drawn, kept beside the run file).
+#[test]
+#[ignore = "needs Chromium: .ci/run installs it and runs this with --ignored"]
+fn continuity_and_files_chosen_in_the_page_change_the_session() {
+    let (dir, run) = worm_copy();
+    let editor = start_at(run, false);
+    let mut browser = open(&editor);
+    browser.eval(
+        "(() => { const s = document.getElementById('continuity-worm'); s.value = '0'; \
+         s.dispatchEvent(new Event('change')); })()",
+    );
+    let c0 = wait_for_state(&editor, "C0", |s| s["rows"] == 0);
+    assert_eq!(c0["sources"][0]["view"]["smoothness"], 0);
+    browser.wait_for("document.getElementById('continuity-worm').value === '0'");
+
+    // Under C0 a control point dragged with the mouse moves alone.
+    browser.eval("document.getElementById('neighborhood').value = '0'");
+    let v5 = screen_position(&mut browser, "worm.v5");
+    mouse_drag(&mut browser, v5, (30.0, 0.0));
+    let moved = wait_for_state(&editor, "the drag's commit", |s| s["committed"] == 2);
+    let changed: Vec<&str> = moved["points"]
+        .as_array()
+        .expect("points")
+        .iter()
+        .zip(c0["points"].as_array().expect("points"))
+        .filter(|(a, b)| a["exact"] != b["exact"])
+        .map(|(a, _)| a["name"].as_str().expect("a name"))
+        .collect();
+    assert_eq!(changed, ["worm.v5"]);
+    browser.wait_for("drag === null");
+
+    let bad = dir.path().join("bad.obj");
+    std::fs::write(&bad, "v 0 0 0\nv 9 0 0\nf 1 2 q\n").expect("write");
+    browser.choose_file("load-mesh-worm", &bad);
+    browser.wait_for("document.getElementById('conflict').textContent.includes('bad.obj:3:')");
+    assert_eq!(state(&editor)["points"], moved["points"]);
+    assert!(!dir.path().join("worm.inputs").exists());
+
+    let model = dir.path().join("tri.obj");
+    std::fs::write(&model, "v 10 10\nv 20 10\nv 10 20\nf 1 2 3\n").expect("write");
+    browser.choose_file("load-model-worm", &model);
+    browser.wait_for(
+        "document.getElementById('conflict').textContent.includes('worm.inputs/tri.obj')",
+    );
+    let loaded = state(&editor);
+    assert_eq!(
+        loaded["sources"][0]["view"]["models"][0]["vertices"]
+            .as_array()
+            .map(Vec::len),
+        Some(3)
+    );
+    assert!(dir.path().join("worm.inputs/tri.obj").exists());
+    assert_eq!(browser.eval("models.length"), serde_json::json!(1));
 }

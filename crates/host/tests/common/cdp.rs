@@ -203,6 +203,21 @@ impl Browser {
         self.mouse("mouseReleased", x, y);
     }
 
+    /// Chooses `path` in the file input `id`, as a person does in the file chooser (the page
+    /// gets its `change` event).
+    pub fn choose_file(&mut self, id: &str, path: &std::path::Path) {
+        let document = self.call("DOM.getDocument", json!({}));
+        let node = self.call(
+            "DOM.querySelector",
+            json!({ "nodeId": document["root"]["nodeId"], "selector": format!("#{id}") }),
+        );
+        assert_ne!(node["nodeId"], 0, "no element #{id}");
+        self.call(
+            "DOM.setFileInputFiles",
+            json!({ "nodeId": node["nodeId"], "files": [path.display().to_string()] }),
+        );
+    }
+
     /// Loads `url` and waits until the document is complete.
     pub fn navigate(&mut self, url: &str) {
         self.call("Page.navigate", json!({ "url": url }));

@@ -51,19 +51,21 @@ async function withProgress(work) {
   }
 }
 
-function api(path, body) {
-  const headers = { "content-type": "application/json" };
+// A request with the token; the JSON answer, or the server's message as an error.
+function send(path, method, contentType, body) {
+  const headers = { "content-type": contentType };
   if (token) headers["x-ecles-token"] = token;
   return withProgress(async () => {
-    const response = await fetch(path, {
-      method: body === undefined ? "GET" : "POST",
-      headers,
-      body: body === undefined ? undefined : JSON.stringify(body),
-    });
+    const response = await fetch(path, { method, headers, body });
     const answer = await response.json().catch(() => ({ error: response.statusText }));
     if (!response.ok) throw new Error(answer.error || response.statusText);
     return answer;
   });
+}
+
+function api(path, body) {
+  if (body === undefined) return send(path, "GET", "application/json", undefined);
+  return send(path, "POST", "application/json", JSON.stringify(body));
 }
 
 // Drag frames travel over one WebSocket (no request overhead per frame); answers come in
@@ -136,10 +138,7 @@ function setState(next) {
   anchors = anchors.filter((id) => points.has(id) && points.get(id).source !== undefined);
   element("undo").disabled = !state.can_undo;
   element("redo").disabled = !state.can_redo;
-  element("sources").textContent = state.sources
-    .filter((s) => s.view && s.view.kind)
-    .map((s) => `${s.name}: degree ${s.view.degree}, C${s.view.smoothness}`)
-    .join("\n") || "no spline";
+  showSources();
   showOffer();
 }
 
@@ -663,7 +662,8 @@ const shortcuts = [
   ["T, R, S", "translate, rotate, scale"],
   ["+ / −, A", "δmax up / down, all points"],
   ["F", "fit to view"],
-  ["Ctrl+Z / Ctrl+Y", "undo / redo a committed edit"],
+  ["Ctrl+Z / Ctrl+Y", "undo / redo a committed edit (a continuity switch or a loaded mesh too)"],
+  ["Splines panel", "continuity C0…C(d−1); load a reference mesh or a model (kept beside the run file)"],
   ["Ctrl+S", "save the session (run file, outputs, exact values)"],
   ["Esc", "cancel the drag under way"],
   ["?", "this help"],
@@ -1001,6 +1001,99 @@ canvas.addEventListener("wheel", (e) => {
 // After a pan, zoom or fit: a drag's picture of what stays still is drawn again.
 function viewChanged() {
   if (moving !== null) beginMoving([...moving.ids]);
+  draw();
+}
+
+// --- the splines: continuity, loading a reference mesh or a model ---------------------
+
+// A button that opens the file chooser; `chosen(file)` gets the file picked.
+function fileButton(id, text, accept, chosen) {
+  const label = document.createElement("label");
+  label.className = "file";
+  const input = document.createElement("input");
+  input.type = "file";
+  input.id = id;
+  input.accept = accept;
+  input.addEventListener("change", () => {
+    if (input.files[0]) chosen(input.files[0]);
+    input.value = "";
+  });
+  label.append(text, input);
+  return label;
+}
+
+// Per spline: its degree, the continuity it keeps (C0 … C(d−1), what the source allows) and
+// the files it can take from this computer.
+function showSources() {
+  const box = element("sources");
+  box.textContent = "";
+  for (const s of state.sources) {
+    const v = s.view;
+    if (!v || !v.kind) continue;
+    const row = document.createElement("div");
+    row.className = "source";
+    const title = document.createElement("div");
+    title.textContent = `${s.name}: degree ${v.degree}`;
+    const continuity = document.createElement("select");
+    continuity.id = `continuity-${s.name}`;
+    for (let r = 0; r < Math.max(1, v.degree); r++) {
+      const option = document.createElement("option");
+      option.value = r;
+      option.textContent = `C${r}`;
+      option.selected = r === v.smoothness;
+      continuity.append(option);
+    }
+    continuity.addEventListener("change", () => setContinuity(s.name, Number(continuity.value)));
+    const label = document.createElement("label");
+    label.title = "The continuity the spline keeps between its patches (C0: none beyond meeting)";
+    label.append("continuity ", continuity);
+    row.append(
+      title,
+      label,
+      fileButton(`load-mesh-${s.name}`, "reference mesh… ", ".obj", (file) => loadFile(s.name, "mesh", file)),
+      fileButton(`load-model-${s.name}`, "model… ", ".obj,.asc", (file) => loadFile(s.name, "model", file)),
+    );
+    box.append(row);
+  }
+  if (box.childElementCount === 0) box.textContent = "no spline";
+}
+
+// After the sources were rebuilt: no selection or edit of the old system is kept.
+function clearEdit() {
+  anchors = []; derived = new Set(); relevant = []; blocked = null; last.counts = null;
+}
+
+async function setContinuity(source, smoothness) {
+  try {
+    const answer = await api("/api/continuity", { source, smoothness });
+    setState(answer);
+    clearEdit();
+    const moved = answer.configured.projected;
+    showMessage(moved > 0
+      ? `${source} is C${smoothness} now: the deformation was not, so ${moved} points moved to the nearest C${smoothness} one (Undo takes it back).`
+      : null);
+  } catch (e) {
+    showSources();
+    showMessage(`Continuity not changed: ${e.message || e}`);
+  }
+  report();
+  draw();
+}
+
+// A file from this computer as the reference mesh or the model of `source`; the server keeps a
+// copy beside the run file and checks it as `ecles run` would.
+async function loadFile(source, kind, file) {
+  const query = new URLSearchParams({ source, kind, name: file.name });
+  try {
+    const answer = await send(`/api/load?${query}`, "POST", "application/octet-stream", file);
+    setState(answer);
+    clearEdit();
+    if (kind === "mesh") fit();
+    showMessage(`Loaded ${file.name} as the ${kind === "mesh" ? "reference mesh" : "model"} of ${source} (kept as ${answer.loaded}).`);
+  } catch (e) {
+    showMessage(String(e.message || e));
+  }
+  report();
   draw();
 }
 
