@@ -3,8 +3,9 @@
 //! steps at 60 events a second, releases, and prints what the page measured with its
 //! performance clock: mouse-down to the first painted frame (2DSD Select, ExpandDerived and
 //! ECLES Initialize), each move to its painted frame (median, 90th percentile, worst), split
-//! into the request's round trip, the server's part, the model's deformation and the drawing,
-//! and the release to the committed state drawn.
+//! into the request's round trip, the server's part, the model's deformation and the drawing
+//! (moves drawn by the page from the drag's motion response have no round trip), and the
+//! release to the committed state drawn.
 //!
 //! ```text
 //! python3 tools/make_editor_bench.py /tmp/eb
@@ -125,6 +126,8 @@ fn main() {
         quantile(&total, 0.9),
         quantile(&total, 1.0)
     );
+    let local = frames.iter().filter(|f| f["local"] == true).count();
+    println!("  {local} of them drawn by the page from the motion response (no round trip)");
     for field in ["ready", "request", "server", "deform", "draw", "moved"] {
         let c = column(frames, field);
         println!(

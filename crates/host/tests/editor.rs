@@ -644,3 +644,76 @@ fn continuity_and_files_loaded_from_the_page_are_steps_of_the_session() {
     assert_eq!(undone["points"], rough["points"]);
     assert_ne!(rough["points"], c1["points"]);
 }
+
+/// Drag frames of a translation until an answer carries the motion response; the response.
+fn motion_response(editor: &common::Editor, frame: &dyn Fn(&str, &str, bool) -> Value) -> Value {
+    let (status, first) = call(editor, "POST", "/api/drag", &frame("0", "0", false));
+    assert_eq!(status, 200, "{first}");
+    for n in 1..200 {
+        let (status, answer) = call(
+            editor,
+            "POST",
+            "/api/drag",
+            &frame("0", &format!("{n}/64"), false),
+        );
+        assert_eq!(status, 200, "{answer}");
+        if !answer["affine"].is_null() {
+            return answer["affine"].clone();
+        }
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    panic!("no motion response");
+}
+
+/// A translation's motion response is the exact optimum's affine form: the page's frame at
+/// any displacement, `base + dx·along_x + dy·along_y`, is the committed exact value there (to
+/// rounding) — with optimum frames, and with snapped ones within the response's bound.
+#[test]
+fn a_translations_motion_response_predicts_the_committed_values() {
+    for snapped in [false, true] {
+        let (dir, run) = worm_copy();
+        if snapped {
+            let text = std::fs::read_to_string(&run).expect("run file");
+            std::fs::write(
+                &run,
+                text.replacen("edits:", "commit: Snapped(grid_bits: 24),\n    edits:", 1),
+            )
+            .expect("write");
+        }
+        let editor = start_at(run, false);
+        let frame = |dx: &str, dy: &str, commit: bool| json!({"selection": {"source": "worm", "anchors": ["v3"], "neighborhood": 3}, "motion": {"translate": {"dx": dx, "dy": dy}}, "commit": commit});
+        let response = motion_response(&editor, &frame);
+        let ids: Vec<u64> = serde_json::from_value(response["ids"].clone()).expect("ids");
+        let base: Vec<f64> = serde_json::from_value(response["base"].clone()).expect("base");
+        let along: Vec<Vec<f64>> =
+            serde_json::from_value(response["along"].clone()).expect("along");
+        let bound = response["bound"].as_f64().expect("a bound");
+        assert_eq!((response["dim"].as_u64(), along.len()), (Some(2), 2));
+        assert_eq!((base.len(), along[0].len()), (2 * ids.len(), 2 * ids.len()));
+        assert!(ids.len() > 1, "the anchor and its derived points");
+        assert!(if snapped { bound < 1e-9 } else { bound == 0.0 }, "{bound}");
+
+        let (status, committed) = call(&editor, "POST", "/api/drag", &frame("-5/8", "9/4", true));
+        assert_eq!(status, 200, "{committed}");
+        let after = state(&editor);
+        // A snapped commit is itself within its grid of the optimum.
+        let tolerance = if snapped { 1e-6 } else { 1e-12 };
+        for (i, id) in ids.iter().enumerate() {
+            let point = &after["points"][*id as usize];
+            assert_eq!(point["id"].as_u64(), Some(*id));
+            for k in 0..2 {
+                let exact = api::parse_rational(point["exact"][k].as_str().expect("exact"))
+                    .expect("a rational");
+                let exact = api::exact::rational_to_f64(&exact);
+                let predicted =
+                    base[2 * i + k] - 0.625 * along[0][2 * i + k] + 2.25 * along[1][2 * i + k];
+                assert!(
+                    (predicted - exact).abs() <= tolerance * exact.abs().max(1.0),
+                    "{} [{k}]: predicted {predicted}, committed {exact}",
+                    point["name"]
+                );
+            }
+        }
+        drop(dir);
+    }
+}

@@ -14,6 +14,12 @@
 //!   proved distance to the optimum, the same verdict). A frame that moves nothing (the
 //!   mouse-down frame) is the current values. A run whose commits are snapped draws snapped frames on its own grid, so
 //!   a frame is its commit. An impossible move is refused with the constraints in the way.
+//! * **The motion response** of a translation or lift: ECLES Update is affine in the step, and
+//!   the step is affine in the motion, so the exact optimum of every frame is
+//!   `P(c) = P(0) + Σ c_k·Δ_k` with `Δ_k = P(e_k) − P(0)`. Once the steps are affine, the
+//!   `Δ_k` are made by exact Updates on a thread of their own (the drag's frames go on
+//!   meanwhile) and sent, rounded, with the next frame ([`MotionResponse`]); the page then draws
+//!   every move itself, the exact optimum rounded, without a round trip.
 //! * **The release** plans the operation exactly at the final motion (not interpolated) and
 //!   commits the run's kind of update; the page shows how far the last frame was from it.
 
@@ -23,6 +29,7 @@ use crate::session::{ActiveEdit, PlannedEdit, Planning, Session};
 use api::{ParamId, PlannedStep, Rational};
 use num_traits::Zero;
 use serde_json::{json, Value};
+use std::sync::{mpsc, Arc};
 use std::time::{Duration, Instant};
 
 /// Frames show the exact optimum while one costs at most this; slower edits draw snapped
@@ -98,12 +105,124 @@ fn difference(a: &PlannedStep, b: &PlannedStep) -> PlannedStep {
     }
 }
 
+/// The response of a drag's optimum to its motion, for the page: its points, their values at
+/// the origin and their change per unit of each coordinate, rounded (as every frame is for
+/// drawing) and flattened point by point, with a bound on how far the drawn frames can be from
+/// the exact optimum beyond rounding.
+struct MotionResponse {
+    ids: Vec<u32>,
+    dim: usize,
+    base: Vec<f64>,
+    along: Vec<Vec<f64>>,
+    /// Every coordinate of `base + Σ c_k·along_k` is within `bound·(1 + Σ |c_k|)` of the exact
+    /// optimum at `c` (rounding aside).
+    bound: f64,
+}
+
+/// Points with exact values, in an edit's order (anchors, then derived parameters).
+type Points = Vec<(ParamId, Vec<Rational>)>;
+
+/// The motion at which a snapped response is taken: the snapped points' distance to the
+/// optimum does not grow with the motion, so divided by this it is negligible.
+const SNAPPED_RESPONSE_SCALE: i64 = 1 << 20;
+
+impl MotionResponse {
+    /// The response of `edit` to `linear`, with frames of kind `frames`: for optimum frames
+    /// `P(0)` and `P(e_k) − P(0)` by exact Updates; for snapped frames (large edits, whose
+    /// exact optimum is slow) `(S(s·e_k) − P(0))/s` with snapped Updates `S` at the motion
+    /// `s = 2^20`, each within its proved distance of the optimum, so the response is within
+    /// that distance divided by `s`. `P(0)` is `known_origin` when given (the current values,
+    /// when they are the optimum of the zero motion), else an Update too. `None` when an Update
+    /// is refused (some motions are impossible: frames stay Updates on the server, each with
+    /// its own verdict).
+    fn of(
+        edit: &ActiveEdit,
+        linear: &LinearSteps,
+        frames: FrameKind,
+        known_origin: Option<Points>,
+    ) -> Option<MotionResponse> {
+        let dimension = linear.along.len();
+        let scale = match frames {
+            FrameKind::Optimum => 1,
+            FrameKind::Snapped(_) => SNAPPED_RESPONSE_SCALE,
+        };
+        let at = |k: Option<usize>| -> Vec<Rational> {
+            (0..dimension)
+                .map(|j| Rational::from_integer(if Some(j) == k { scale } else { 0 }.into()))
+                .collect()
+        };
+        // The points' exact values at motion `c`, and their proved distance to the optimum.
+        let solve = |c: &[Rational]| -> Option<(Points, f64)> {
+            let step = linear.at(c);
+            let (result, bound) = match frames {
+                FrameKind::Optimum => (edit.update(&step).ok()?, 0.0),
+                FrameKind::Snapped(bits) => {
+                    let (result, summary) = edit.update_snapped(&step, bits).ok()?;
+                    (result, summary.distance_bound)
+                }
+            };
+            Some((
+                result.anchors.into_iter().chain(result.derived).collect(),
+                bound,
+            ))
+        };
+        let (origin, origin_bound) = match known_origin {
+            Some(origin) => (origin, 0.0),
+            None => solve(&at(None))?,
+        };
+        let dim = origin.first().map_or(0, |(_, v)| v.len());
+        if origin.iter().any(|(_, v)| v.len() != dim) {
+            return None;
+        }
+        let divisor = Rational::from_integer(scale.into());
+        let mut along = Vec::with_capacity(dimension);
+        let mut bound = origin_bound;
+        for k in 0..dimension {
+            let (unit, unit_bound) = solve(&at(Some(k)))?;
+            bound = bound.max((origin_bound + unit_bound) / scale as f64);
+            along.push(
+                unit.iter()
+                    .zip(&origin)
+                    .flat_map(|((_, u), (_, o))| {
+                        u.iter()
+                            .zip(o)
+                            .map(|(u, o)| api::exact::rational_to_f64(&((u - o) / &divisor)))
+                    })
+                    .collect(),
+            );
+        }
+        Some(MotionResponse {
+            ids: origin.iter().map(|(id, _)| id.0).collect(),
+            dim,
+            base: origin
+                .iter()
+                .flat_map(|(_, v)| v.iter().map(api::exact::rational_to_f64))
+                .collect(),
+            along,
+            bound,
+        })
+    }
+
+    fn to_json(&self) -> Value {
+        json!({
+            "ids": self.ids,
+            "dim": self.dim,
+            "base": self.base,
+            "along": self.along,
+            "bound": self.bound,
+        })
+    }
+}
+
 /// The drag under way: what it was planned for, its initialised edit and how its frames are
 /// made.
 pub(super) struct ActiveDrag {
     key: Selection,
     spec: ecles::EditSpec,
-    edit: ActiveEdit,
+    /// Shared with the thread that makes the motion response.
+    edit: Arc<ActiveEdit>,
+    /// The motion response being made: taken by the first frame after it is ready.
+    response: Option<mpsc::Receiver<Option<MotionResponse>>>,
     linear: Option<LinearSteps>,
     /// A translation or lift initialised but not yet made affine: its motion, plan and
     /// coordinates, for [`prepare_linear_steps`] after the mouse-down frame is answered.
@@ -287,7 +406,8 @@ pub(super) fn drag_frame(
                 *drag = Some(ActiveDrag {
                     key: selection.clone(),
                     spec: planned.spec.clone(),
-                    edit,
+                    edit: Arc::new(edit),
+                    response: None,
                     linear: None,
                     linear_pending: coordinates
                         .clone()
@@ -397,6 +517,16 @@ pub(super) fn drag_frame(
         "snap_bound": snap_bound,
         "planned": planned_text(active.linear.is_some() || active.linear_pending.is_some()),
     });
+    if let Some(response) = &active.response {
+        match response.try_recv() {
+            Ok(Some(response)) => {
+                answer["affine"] = response.to_json();
+                active.response = None;
+            }
+            Ok(None) | Err(mpsc::TryRecvError::Disconnected) => active.response = None,
+            Err(mpsc::TryRecvError::Empty) => {}
+        }
+    }
     if initialized {
         // Once per drag: which points are derived, and the non-redundant relevant constraints
         // (the rows the edit keeps), for drawing.
@@ -448,6 +578,53 @@ pub(super) fn prepare_linear_steps(session: &Session, drag: &mut Option<ActiveDr
     active.linear = linear_steps(session, &active.key, &motion, &planned, &at)
         .ok()
         .flatten();
+    if let Some(linear) = &active.linear {
+        // The steps at the origin and at unit motions, for the thread.
+        let steps = LinearSteps {
+            origin: linear.origin.clone(),
+            along: linear.along.clone(),
+        };
+        let edit = Arc::clone(&active.edit);
+        let frames = active.frames;
+        let known_origin = current_optimum(session, &active.edit, &linear.origin);
+        let (answer, response) = mpsc::channel();
+        let spawned = std::thread::Builder::new()
+            .name("ecles-motion-response".into())
+            .spawn(move || {
+                // The drag may be over before this is done: nobody listens then.
+                let _ = answer.send(MotionResponse::of(&edit, &steps, frames, known_origin));
+            });
+        active.response = spawned.ok().map(|_| response);
+    }
+}
+
+/// The optimum of `edit` at `step` when it is the current values: the step leaves the anchors
+/// where they are and hints the derived parameters' current values, and every row holds (the
+/// current values are then feasible and meet every hint). The points in the edit's order.
+fn current_optimum(
+    session: &Session,
+    edit: &ActiveEdit,
+    step: &PlannedStep,
+) -> Option<Points> {
+    let values = session.values();
+    let edit = edit.edit();
+    let unmoved = |ids: &[ParamId], wanted: &[Vec<Rational>]| {
+        ids.len() == wanted.len()
+            && ids
+                .iter()
+                .zip(wanted)
+                .all(|(id, w)| values.get(*id) == w.as_slice())
+    };
+    let still = unmoved(edit.anchors(), &step.anchors)
+        && unmoved(edit.derived(), &step.hints)
+        && session.system().violations(values).is_empty();
+    still.then(|| {
+        edit.anchors()
+            .iter()
+            .chain(edit.derived())
+            .map(|id| (*id, values.get(*id).to_vec()))
+            .collect()
+    })
 }
 
 /// How the frames' steps are made, for the page's status.

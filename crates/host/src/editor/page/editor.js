@@ -25,7 +25,7 @@ let drag = null;           // the drag under way, see startDrag
 let pan = null;
 let orbit = null;          // turning the 3D scene (view mode)
 let image = null;          // the target image: an HTMLImageElement
-let last = { frame: null, server: null, draw: null, deviation: null, counts: null };
+let last = { frame: null, server: null, draw: null, deviation: null, counts: null, local: false };
 // The last 1000 drag frames' times in ms, for the status bar and measurements: `total` from
 // the mouse event to the painted frame, `request` the round trip of its request, `server`
 // the server's part of it, `deform` the model's deformation, `draw` the drawing, `ready` from
@@ -592,7 +592,9 @@ function report() {
   } else if (anchors.length > 0) {
     parts.push(`|A| ${anchors.length} · |D| ${derived.size}`);
   }
-  if (last.frame !== null && last.server !== null) {
+  if (last.frame !== null && last.local) {
+    parts.push(`frame ${last.frame.toFixed(1)} ms (from the motion response, drawing ${last.draw.toFixed(1)})`);
+  } else if (last.frame !== null && last.server !== null) {
     parts.push(`frame ${last.frame.toFixed(1)} ms (server ${last.server.toFixed(1)}, drawing ${last.draw.toFixed(1)})`);
   }
   if (last.deviation !== null) parts.push(`float deviation ${last.deviation.toExponential(1)}`);
@@ -800,7 +802,11 @@ async function sendFrame(commit) {
     const requested = performance.now();
     const answer = await dragRequest({ selection: d.selection, motion: m, commit });
     const request = performance.now() - requested;
-    if (answer.ok) {
+    if (answer.affine) d.affine = answer.affine;
+    if (answer.ok && d.local > 0 && !commit) {
+      // The page drew a later move itself already: this frame is stale.
+      record = null;
+    } else if (answer.ok) {
       blocked = null;
       showMessage(null);
       if (answer.derived_ids) derived = new Set(answer.derived_ids);
@@ -851,8 +857,58 @@ async function sendFrame(commit) {
   }
   // Moves that came while this frame was computed: the latest is drawn before a release
   // commits it.
-  if (d.pending) { d.pending = false; d.eventTime = performance.now(); await sendFrame(false); return; }
+  if (d.pending) {
+    d.pending = false;
+    d.eventTime = performance.now();
+    if (d.affine && !d.released) localFrame(d); else { await sendFrame(false); return; }
+  }
   if (d.released) await sendFrame(true);
+}
+
+// Exact dyadic text `n/2^k` (or an integer) as a number: exact in floating point.
+const dyadicValue = (text) => {
+  const [n, s] = text.split("/");
+  return s === undefined ? Number(n) : Number(n) / Number(s);
+};
+
+// A move drawn by the page itself, once the server sent the drag's motion response (a
+// translation or lift): the exact optimum at motion c is base + Σ c_k · along_k, evaluated
+// here for the screen without a round trip. The release still commits on the server, exactly.
+function localFrame(d) {
+  const began = d.eventTime;
+  const m = motion(d);
+  const c = m.lift ? [dyadicValue(m.lift.dz)] : [dyadicValue(m.translate.dx), dyadicValue(m.translate.dy)];
+  const a = d.affine;
+  if (c.length !== a.along.length) return false;
+  const computing = performance.now();
+  const moved = new Array(a.ids.length);
+  for (let i = 0; i < a.ids.length; i++) {
+    const entry = [a.ids[i]];
+    for (let j = 0; j < a.dim; j++) {
+      const at = i * a.dim + j;
+      let v = a.base[at];
+      for (let k = 0; k < c.length; k++) if (c[k] !== 0) v += c[k] * a.along[k][at];
+      entry.push(v);
+    }
+    moved[i] = entry;
+  }
+  const vertices = applyMoved(moved);
+  const deform = performance.now() - computing;
+  d.lastValid = m;
+  d.local++;
+  blocked = null;
+  finishFrame(d, false, { first: false, request: 0, server: 0, deform, moved: vertices, local: true }, began);
+  return true;
+}
+
+// Runs `then` as a task of its own: after the paint of the frame whose animation-frame
+// callback calls this.
+const painted = new MessageChannel();
+const afterPaintQueue = [];
+painted.port1.onmessage = () => afterPaintQueue.shift()();
+function afterPaint(then) {
+  afterPaintQueue.push(then);
+  painted.port2.postMessage(null);
 }
 
 // Draws a frame of drag `d` and records its times.
@@ -862,26 +918,34 @@ function finishFrame(d, commit, record, began) {
     // picture, and the picture of what the drag leaves still is made once the frame is on
     // the screen (before the first move, unless that comes sooner).
     overlay(d.movingIds);
-    requestAnimationFrame(() => setTimeout(() => {
+    measure(record, began);
+    requestAnimationFrame(() => afterPaint(() => {
       if (drag === d && moving === null) beginMoving(d.movingIds);
-    }, 0));
+    }));
   } else {
     if (drag === d && !commit && d.movingIds && moving === null) beginMoving(d.movingIds);
     draw();
-  }
-  if (!commit && record !== null) {
-    record.draw = last.draw;
-    record.ready = performance.now() - began;
-    // Painted: the next animation frame runs after this one is on the screen.
-    requestAnimationFrame(() => {
-      record.total = performance.now() - began;
-      last.frame = record.total;
-      frames.push(record);
-      if (frames.length > 1000) frames.shift();
-      report();
-    });
+    if (!commit) measure(record, began);
   }
   report();
+}
+
+// Records the times of a frame drawn for an event at `began`: ready (drawn into the canvas)
+// now, and painted. The browser paints a frame right after its animation-frame callbacks; a
+// message posted from the callback is handled once that paint is done (and before work queued
+// after it, such as the still picture of a drag).
+function measure(record, began) {
+  if (record === null) return;
+  record.draw = last.draw;
+  record.ready = performance.now() - began;
+  requestAnimationFrame(() => afterPaint(() => {
+    record.total = performance.now() - began;
+    last.frame = record.total;
+    last.local = record.local === true;
+    frames.push(record);
+    if (frames.length > 1000) frames.shift();
+    report();
+  }));
 }
 
 // The values as the server keeps them (after a refused or failed release).
@@ -910,6 +974,8 @@ function startDrag(id, e) {
     grab: world,
     mouse: planeOf(id).slice(),
     lastValid: null,
+    affine: null,     // the motion response, once the server sent it (see localFrame)
+    local: 0,         // moves drawn by the page itself
     sent: 0,
     eventTime: performance.now(),
     inFlight: false,
@@ -976,6 +1042,7 @@ canvas.addEventListener("mousemove", (e) => {
   // The grabbed point follows the mouse: its start plus the mouse's displacement.
   drag.mouse = [drag.start[0] + world[0] - drag.grab[0], drag.start[1] + world[1] - drag.grab[1]];
   drag.eventTime = performance.now();
+  if (drag.affine && localFrame(drag)) return;
   sendFrame(false);
 });
 
