@@ -881,18 +881,18 @@ function localFrame(d) {
   const a = d.affine;
   if (c.length !== a.along.length) return false;
   const computing = performance.now();
-  const moved = new Array(a.ids.length);
+  // In place: a drag's frames allocate nothing per point (no collector pauses mid-drag).
   for (let i = 0; i < a.ids.length; i++) {
-    const entry = [a.ids[i]];
+    const value = points.get(a.ids[i]).value;
     for (let j = 0; j < a.dim; j++) {
       const at = i * a.dim + j;
       let v = a.base[at];
       for (let k = 0; k < c.length; k++) if (c[k] !== 0) v += c[k] * a.along[k][at];
-      entry.push(v);
+      value[j] = v;
     }
-    moved[i] = entry;
   }
-  const vertices = applyMoved(moved);
+  let vertices = 0;
+  for (const model of models) vertices += model.update(at, a.ids);
   const deform = performance.now() - computing;
   d.lastValid = m;
   d.local++;

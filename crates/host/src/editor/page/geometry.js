@@ -124,12 +124,15 @@ class EmbeddedModel {
     }
   }
 
-  // The triangles whose vertices a move of `movedIds` changes (every triangle when null).
+  // The triangles whose vertices a move of `movedIds` changes (every triangle when null);
+  // the last answer is kept, since a drag moves the same points frame after frame.
   trianglesMovedBy(movedIds) {
     if (movedIds === null) return this.view.triangles.map((_, t) => t);
+    if (this.lastMoved && this.lastMoved.ids === movedIds) return this.lastMoved.triangles;
     const set = new Set();
     for (const id of movedIds) for (const t of this.trianglesOf.get(id) || []) set.add(t);
-    return [...set];
+    this.lastMoved = { ids: movedIds, triangles: [...set] };
+    return this.lastMoved.triangles;
   }
 }
 
