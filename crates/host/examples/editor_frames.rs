@@ -131,9 +131,18 @@ fn main() {
         .filter(|f| f["first"] == false)
         .enumerate()
         .filter(|(_, f)| f["total"].as_f64().is_some_and(|t| t > 1000.0 / 60.0))
-        .map(|(i, f)| format!("{}: {:.0} ms", i + 1, f["total"].as_f64().unwrap_or(f64::NAN)))
+        .map(|(i, f)| {
+            format!(
+                "{}: {:.0} ms",
+                i + 1,
+                f["total"].as_f64().unwrap_or(f64::NAN)
+            )
+        })
         .collect();
-    println!("  moves painted later than 16.7 ms (move: time): {}", slow.join(", "));
+    println!(
+        "  moves painted later than 16.7 ms (move: time): {}",
+        slow.join(", ")
+    );
     let local = frames.iter().filter(|f| f["local"] == true).count();
     println!("  {local} of them drawn by the page from the motion response (no round trip)");
     for field in ["ready", "request", "server", "deform", "draw", "moved"] {

@@ -601,11 +601,7 @@ pub(super) fn prepare_linear_steps(session: &Session, drag: &mut Option<ActiveDr
 /// The optimum of `edit` at `step` when it is the current values: the step leaves the anchors
 /// where they are and hints the derived parameters' current values, and every row holds (the
 /// current values are then feasible and meet every hint). The points in the edit's order.
-fn current_optimum(
-    session: &Session,
-    edit: &ActiveEdit,
-    step: &PlannedStep,
-) -> Option<Points> {
+fn current_optimum(session: &Session, edit: &ActiveEdit, step: &PlannedStep) -> Option<Points> {
     let values = session.values();
     let edit = edit.edit();
     let unmoved = |ids: &[ParamId], wanted: &[Vec<Rational>]| {
