@@ -124,6 +124,81 @@ fn model_vertices_outside_the_mesh_are_reported() {
     );
 }
 
+/// A textured, smooth-shaded model with quads comes back as its own file: every comment,
+/// `mtllib`, `usemtl`, `o`, `g`, `s`, `vt` and face line as written (quads stay quads, index
+/// forms and CRLF kept), the vertices the edit does not reach byte for byte (`3.0e1` stays
+/// `3.0e1`), the moved ones and their normals written again, and an unedited run gives the
+/// file back unchanged.
+#[test]
+fn a_deformed_obj_keeps_the_models_structure() {
+    let model = "# exported\r\nmtllib skin.mtl\r\no sheet\r\n\
+        v 10 10 0\r\nv 20 10 0\r\nv 20 20 0\r\nv 10 20 0\r\n\
+        v 3.0e1 35 1\r\nv 39 35 1\r\nv 39 39 1\r\n\
+        vt 0 0\r\nvt 1 0\r\nvt 1 1\r\nvt 0 1\r\n\
+        vn 0 0 1\r\nvn 0.6 0.8 0\r\n\
+        g front\r\nusemtl skin\r\ns 1\r\n\
+        f 1/1/1 2/2/1 3/3/2 4/4/1\r\nf -3/1/1 -2/2/2 -1/3/1\r\n";
+    let run = |edits: &str| {
+        let (dir, run, out) = run_file(&format!(
+            r#"(
+                sources: [(name: "g", plugin: "spline2d", config: (mesh: {mesh:?}))],
+                edits: [{edits}],
+                outputs: [(source: "g", output: (model: "skin.obj"))],
+            )"#,
+            mesh = root()
+                .join("examples/meshes/grid.obj")
+                .display()
+                .to_string()
+        ));
+        std::fs::write(dir.path().join("skin.obj"), model).expect("write model");
+        let o = ecles(&[
+            "run",
+            &run.display().to_string(),
+            "--out",
+            &out.display().to_string(),
+        ]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let text = std::fs::read_to_string(out.join("skin-deformed.obj")).expect("written");
+        (dir, text)
+    };
+    let (_dir, unchanged) = run("");
+    assert_eq!(unchanged, model);
+
+    let (_dir, text) = run(
+        r#"Source(source: "g", operation: (anchors: ["v0"], neighborhood: 1, translate: ("2", "1")))"#,
+    );
+    let (lines, original): (Vec<&str>, Vec<&str>) =
+        (text.split("\r\n").collect(), model.split("\r\n").collect());
+    assert_eq!(lines.len(), original.len(), "{text}");
+    let mut moved = 0;
+    for (out, was) in lines.iter().zip(&original) {
+        if out != was {
+            assert!(
+                (out.starts_with("v ") && was.starts_with("v "))
+                    || (out.starts_with("vn ") && was.starts_with("vn ")),
+                "only positions and normals change: {out:?} was {was:?}"
+            );
+            moved += usize::from(out.starts_with("v "));
+        }
+    }
+    assert!(moved > 0, "the edit moves the sheet: {text}");
+    assert!(
+        text.contains("v 3.0e1 35 1\r\nv 39 35 1\r\nv 39 39 1\r\n"),
+        "far away: {text}"
+    );
+    for kept in [
+        "mtllib skin.mtl",
+        "usemtl skin",
+        "g front",
+        "s 1",
+        "vt 1 1",
+        "f 1/1/1 2/2/1 3/3/2 4/4/1",
+        "f -3/1/1 -2/2/2 -1/3/1",
+    ] {
+        assert!(text.contains(kept), "{kept}: {text}");
+    }
+}
+
 #[test]
 fn float_and_exact_disagree_on_the_near_degenerate_mesh() {
     let o = ecles(&["analyze", "examples/near-degenerate.ron", "--json"]);

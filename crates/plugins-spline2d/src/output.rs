@@ -18,8 +18,8 @@ use api::{OutputFile, RenderRequest, SourceError, ViewModel, ViewModels};
 use serde::Deserialize;
 use spline2d::eval::{FloatSpline, Locator};
 use spline2d::model::{
-    deform_model, deformed_name, left_in_place_note, load_model, locate_vertices, write_obj,
-    Deformed, Model,
+    deform_model, deformed_name, left_in_place_note, load_model_with_source, locate_vertices,
+    plane_jacobian, Deformed, Model, ObjSource,
 };
 use std::path::{Path, PathBuf};
 
@@ -71,7 +71,7 @@ pub(crate) fn check_output(
     text: &str,
     base_dir: &Path,
     limit: u64,
-) -> Result<(CheckedOutput, Option<Model>), SourceError> {
+) -> Result<(CheckedOutput, Option<(Model, ObjSource)>), SourceError> {
     let what = format!("{} output", built.name);
     let config: OutputConfig = from_ron(text, &what)?;
     let error = |message: String| SourceError::new(format!("{what}: {message}"));
@@ -81,7 +81,7 @@ pub(crate) fn check_output(
     let (model, loaded) = match &config.model {
         Some(path) => {
             let full = base_dir.join(path);
-            let model = load_model(&full, limit).map_err(|e| error(e.to_string()))?;
+            let model = load_model_with_source(&full, limit).map_err(|e| error(e.to_string()))?;
             (Some((deformed_name(path), full)), Some(model))
         }
         None => (None, None),
@@ -120,17 +120,28 @@ pub(crate) fn render(
     let error = |e: &dyn std::fmt::Display| SourceError::new(format!("{what}: {e}"));
     let after = built.params.positions(&request.values);
     let mut files = Vec::new();
+    let (model, source) = match model {
+        Some((model, source)) => (Some(model), Some(source)),
+        None => (None, None),
+    };
     let deformed = match &model {
         Some(model) => {
             let spline = FloatSpline::new(&built.spline, &after).map_err(|e| error(&e))?;
             let locator = Locator::new(built.spline.mesh());
-            Some(deform_model(model, &spline, &locator).map_err(|e| error(&e))?)
+            let deformed = deform_model(model, &spline, &locator).map_err(|e| error(&e))?;
+            if let (Some((name, _)), Some(source)) = (&checked.model, &source) {
+                let bytes = source
+                    .write_deformed(model, &deformed.model, |v| {
+                        let p = model.positions[v];
+                        plane_jacobian(&spline, &locator, [p[0], p[1]])
+                    })
+                    .map_err(|e| error(&e))?;
+                files.push(deformed_file(name, bytes, &deformed));
+            }
+            Some(deformed)
         }
         None => None,
     };
-    if let (Some((name, _)), Some(deformed)) = (&checked.model, &deformed) {
-        files.push(deformed_file(name, deformed).map_err(|e| error(&e))?);
-    }
     if let Some(name) = &checked.config.picture {
         let svg = picture(
             built,
@@ -166,7 +177,7 @@ pub(crate) fn view_models(
     let mut locator = None;
     for text in outputs {
         let (checked, model) = check_output(built, text, &built.base_dir, built.input_limit)?;
-        let (Some(name), Some(model)) = (checked.config.model, model) else {
+        let (Some(name), Some((model, _))) = (checked.config.model, model) else {
             continue;
         };
         let error = |message: String| {
@@ -189,27 +200,16 @@ pub(crate) fn view_models(
     Ok(models.into_models())
 }
 
-/// The deformed model as an OBJ file named `name`: a first line listing the vertices left in
-/// place outside the reference mesh (if any), and a note on them for the report.
-fn deformed_file(name: &str, deformed: &Deformed) -> std::io::Result<OutputFile> {
-    let mut bytes = Vec::new();
-    if !deformed.outside.is_empty() {
-        bytes.extend(
-            format!(
-                "# {} vertices lie outside the reference mesh and were left in place: {:?}\n",
-                deformed.outside.len(),
-                deformed.outside
-            )
-            .into_bytes(),
-        );
-    }
-    write_obj(&deformed.model, &mut bytes)?;
+/// The deformed model as an OBJ file named `name` (`bytes`: the model's own file with what
+/// moved written again), with a note for the report on the vertices left in place outside the
+/// reference mesh.
+fn deformed_file(name: &str, bytes: Vec<u8>, deformed: &Deformed) -> OutputFile {
     let mut file = OutputFile::new(name.to_string(), bytes);
     file.notes.extend(left_in_place_note(
         &deformed.outside,
         "outside the reference mesh",
     ));
-    Ok(file)
+    file
 }
 
 /// The before/after picture: the spline at its initial and its current (`after`) positions,

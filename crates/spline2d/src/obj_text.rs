@@ -133,6 +133,23 @@ impl<'a> FaceCorner<'a> {
     }
 }
 
+impl FaceCorner<'_> {
+    /// The 0-based normal the corner names when `defined` normals precede the face (`i/t/n`,
+    /// `i//n`; a negative index is relative), `None` when it names none; an error when the
+    /// normal index is not an integer, is 0 or reaches before the first normal. Whether it
+    /// names a normal defined at all is the caller's check.
+    pub(crate) fn normal_index(&self, defined: usize) -> Option<Result<usize, IndexError>> {
+        let (_, normal) = self.references?.split_once('/')?;
+        if normal.is_empty() {
+            return None;
+        }
+        Some(match FaceCorner::new(normal).vertex(defined) {
+            Ok(i) => usize::try_from(i).map_err(|_| IndexError::Zero),
+            Err(e) => Err(e),
+        })
+    }
+}
+
 /// True for `[+-]digits`.
 fn is_integer_text(text: &str) -> bool {
     let digits = text.strip_prefix(['+', '-']).unwrap_or(text);

@@ -6,7 +6,9 @@ use exact_ldu::ExactLdu;
 use spline2d::eval::{evaluate_exact, evaluate_in_triangle, locate_exact, FloatSpline, Locator};
 use spline2d::mesh::{Mesh, Point};
 use spline2d::mesh_io::{from_points, MeshOptions};
-use spline2d::model::{deform_model, load_model, parse_model, write_obj, Model, ModelError};
+use spline2d::model::{
+    deform_model, load_model, parse_model, plane_jacobian, write_obj, Model, ModelError,
+};
 use spline2d::spline::Spline;
 use std::path::PathBuf;
 use std::time::Instant;
@@ -381,6 +383,17 @@ fn models_load_deform_and_round_trip() {
     assert!((got[0] - (1.5 * x + 0.25 * y)).abs() < 1e-12);
     assert!((got[1] - (y - 2.0)).abs() < 1e-12);
     assert_eq!(got[2], z);
+    // Its Jacobian is the linear part, everywhere in the mesh; none outside.
+    for p in [[1.0, 1.0], [10.0, 8.0], [19.5, 0.5]] {
+        let j = plane_jacobian(&affine, &locator, p).expect("inside");
+        let want = [[1.5, 0.25, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+        for (row, want_row) in j.iter().zip(want) {
+            for (got, want) in row.iter().zip(want_row) {
+                assert!((got - want).abs() < 1e-12, "{j:?} at {p:?}");
+            }
+        }
+    }
+    assert!(plane_jacobian(&affine, &locator, [30.0, 30.0]).is_none());
 
     // Round trip through text and through a file.
     let mut text = Vec::new();

@@ -1,14 +1,14 @@
 //! Outputs of the terrain source: checking them (the model read and validated, the files
 //! announced), rendering the deformed model and the shaded-relief pictures.
 
-use super::{load_terrain, Built, TerrainSource};
+use super::{load_terrain_with_source, Built, TerrainSource};
 use crate::deform::{DeformedModel, Psi};
 use crate::relief::{self, Marker, Panel, View};
 use api::config::{check_output_file_name, from_ron};
 use api::exact::rational_to_f64;
 use api::{OutputFile, ParamId, RenderRequest, SourceError, Values};
 use serde::Deserialize;
-use spline2d::model::{deformed_name, write_obj, Model};
+use spline2d::model::{deformed_name, write_obj, Model, ObjSource};
 use std::path::{Path, PathBuf};
 
 #[derive(Debug, Clone, Deserialize)]
@@ -36,6 +36,8 @@ fn default_true() -> bool {
 pub(super) struct CheckedOutput {
     config: OutputConfig,
     pub(super) model: Model,
+    /// An OBJ model's text and layout (`None` for a grid, written as a new OBJ).
+    source: Option<ObjSource>,
     /// The model file as the output names it (relative to the run file, as written).
     pub(super) model_name: String,
     pub(super) model_path: PathBuf,
@@ -86,11 +88,12 @@ impl TerrainSource {
         };
         relief::check_width(config.size).map_err(|e| error(&e))?;
         let full = base_dir.join(&model_path);
-        let model = load_terrain(&full, limit).map_err(|e| error(&e))?;
+        let (model, source) = load_terrain_with_source(&full, limit).map_err(|e| error(&e))?;
         let checked = CheckedOutput {
             model_file: deformed_name(&model_path),
             config,
             model,
+            source,
             model_name: model_path,
             model_path: full,
             picture,
@@ -118,10 +121,18 @@ impl TerrainSource {
         let before = built.psi(&request.initial)?;
         let after = built.psi(&request.values)?;
         let deformed = after.deform(model);
-        let mut model_file = OutputFile::new(
-            checked.model_file.clone(),
-            deformed_obj(built, &deformed).map_err(|e| error(&e))?,
-        );
+        let bytes = match &checked.source {
+            // The model's own file with what moved written again, normals by ψ's Jacobian.
+            Some(source) => source
+                .write_deformed(model, &deformed.model, |v| {
+                    let p = model.positions[v];
+                    let (t, _, _) = after.locate(p).ok()?;
+                    after.jacobian_in(t, p).map(|(_, j)| j)
+                })
+                .map_err(|e| error(&e))?,
+            None => deformed_grid_obj(built, &deformed).map_err(|e| error(&e))?,
+        };
+        let mut model_file = OutputFile::new(checked.model_file.clone(), bytes);
         model_file.notes.extend(
             outside_lists(&deformed)
                 .into_iter()
@@ -171,8 +182,8 @@ impl TerrainSource {
     }
 }
 
-/// The deformed model as OBJ, with a header naming the vertices left in place.
-fn deformed_obj(built: &Built, deformed: &DeformedModel) -> std::io::Result<Vec<u8>> {
+/// A deformed grid as OBJ, with a header naming the vertices left in place.
+fn deformed_grid_obj(built: &Built, deformed: &DeformedModel) -> std::io::Result<Vec<u8>> {
     let mut bytes = format!(
         "# {}: deformed by the 2.5D map psi (prisms between z = {} and z = {})\n",
         built.name,

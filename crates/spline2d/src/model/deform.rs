@@ -51,6 +51,32 @@ pub fn deform_model(
     })
 }
 
+/// The Jacobian of `ψ(x, y, z) = (φ(x, y), z)` at `p` (row `r`, column `c`: `∂ψ_r/∂x_c`),
+/// for transforming normals; `None` outside the mesh. `φ`'s derivatives along `x` and `y` are
+/// `Σ_a ∂φ/∂β_a · ∂β_a/∂u`, with the barycentric coordinates' gradients taken from the
+/// locator (they are affine, so a unit step gives them).
+pub fn plane_jacobian(
+    spline: &FloatSpline,
+    locator: &Locator,
+    p: [f64; 2],
+) -> Option<[[f64; 3]; 3]> {
+    if spline.dim() != 2 {
+        return None;
+    }
+    let (t, beta) = locator.locate(p)?;
+    let (_, partials) = spline.evaluate_with_derivatives(t, beta)?;
+    let at_x = locator.barycentric(t, [p[0] + 1.0, p[1]])?;
+    let at_y = locator.barycentric(t, [p[0], p[1] + 1.0])?;
+    let gradient = |a: usize| [at_x[a] - beta[a], at_y[a] - beta[a]];
+    let derivative =
+        |c: usize, axis: usize| -> f64 { (0..3).map(|a| partials[a][c] * gradient(a)[axis]).sum() };
+    Some([
+        [derivative(0, 0), derivative(0, 1), 0.0],
+        [derivative(1, 0), derivative(1, 1), 0.0],
+        [0.0, 0.0, 1.0],
+    ])
+}
+
 /// Where [`deform_model`] evaluates each vertex of `model`: the triangle of the reference mesh
 /// (as seen by `locator`, built from the spline's mesh) and the vertex's barycentric
 /// coordinates there, or `None` for a vertex outside the mesh, which the deformation leaves in

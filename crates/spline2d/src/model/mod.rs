@@ -1,8 +1,9 @@
 //! Deforming a model (a triangle mesh or point cloud in `f64`) by a spline deformation `φ` of
 //! the plane: every vertex `(x, y, z)` becomes `(φ(x, y), z)`.
 //!
-//! Models are read from Wavefront OBJ ([`load_model`], [`parse_model`]) and written back with
-//! the same vertex numbering and topology ([`write_obj`]). The reader is a small one of its
+//! Models are read from Wavefront OBJ ([`load_model`], [`parse_model`]); a deformed model is
+//! written back as the same file with its moved vertices and their normals changed
+//! ([`ObjSource::write_deformed`]), or as a plain triangle mesh ([`write_obj`]). The reader is a small one of its
 //! own rather than `tobj`: `tobj` rejects 2D vertices (`v x y`), drops vertices used by no
 //! face (so point clouds come back empty), renumbers vertices, and stores `f32` unless its
 //! `use_f64` feature is on; a model's vertex numbers must survive the round trip so that
@@ -13,11 +14,13 @@
 //! re-exported here.
 
 mod deform;
+mod obj_source;
 mod read;
 mod write;
 
-pub use deform::{deform_model, left_in_place_note, locate_vertices};
-pub use read::{load_model, parse_model};
+pub use deform::{deform_model, left_in_place_note, locate_vertices, plane_jacobian};
+pub use obj_source::ObjSource;
+pub use read::{load_model, load_model_with_source, parse_model};
 pub use write::{deformed_name, write_obj};
 
 use std::path::PathBuf;

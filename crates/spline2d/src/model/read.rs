@@ -1,13 +1,29 @@
 //! Reading a model from Wavefront OBJ into `f64` positions and triangles, keeping the file's
 //! vertex numbering (point clouds included).
 
-use super::{Model, ModelError};
+use super::{Model, ModelError, ObjSource};
 use crate::obj_text::{statements, tokens, FaceCorner};
 use std::path::Path;
 
 /// Reads a model from an OBJ file of at most `limit` bytes (see [`parse_model`] for what is
 /// understood). Only regular text files are read (see [`api::input`]).
 pub fn load_model(path: &Path, limit: u64) -> Result<Model, ModelError> {
+    let text = read_model_text(path, limit)?;
+    parse_model(&text, &path.display().to_string())
+}
+
+/// [`load_model`] with the file's text and layout, for writing the deformed model back as the
+/// same file ([`ObjSource::write_deformed`]).
+pub fn load_model_with_source(path: &Path, limit: u64) -> Result<(Model, ObjSource), ModelError> {
+    let text = read_model_text(path, limit)?;
+    let file = path.display().to_string();
+    let model = parse_model(&text, &file)?;
+    let source = ObjSource::parse(text, &file)?;
+    Ok((model, source))
+}
+
+/// The text of the model file at `path` (at most `limit` bytes).
+fn read_model_text(path: &Path, limit: u64) -> Result<String, ModelError> {
     let text =
         api::input::read_text_file(path, "model", limit).map_err(|e| match e.position() {
             Some((line, column)) => ModelError::Parse {
@@ -20,7 +36,7 @@ pub fn load_model(path: &Path, limit: u64) -> Result<Model, ModelError> {
                 reason: e.reason(),
             },
         })?;
-    parse_model(&text, &path.display().to_string())
+    Ok(text)
 }
 
 /// Statements of the OBJ format that [`parse_model`] accepts without using them: the rest of
