@@ -7,14 +7,19 @@
 //! nrows         33
 //! xllcorner     -0.625      (or xllcenter: the centre of the lower-left sample)
 //! yllcorner     -0.625      (or yllcenter)
-//! cellsize      1.25
-//! NODATA_value  -9999       (optional)
+//! cellsize      1.25        (or dx and dy: cells that are not square, as GDAL writes them)
+//! NODATA_value  -9999       (optional; `nan` as GDAL writes it for float grids)
 //! 3.5 3.75 ...              nrows × ncols heights, the first row is the northernmost
 //! ```
 //! Keywords are case-insensitive and may come in any order before the data. Heights are samples
 //! at the cell centres: with `xllcorner` the centre of the lower-left cell is at
-//! `xllcorner + cellsize/2`. Values may be split over lines freely; exactly `nrows · ncols`
-//! values must follow the header.
+//! `xllcorner + cellsize/2` (`+ dx/2`, `+ dy/2`). Values may be split over lines freely;
+//! exactly `nrows · ncols` values must follow the header.
+//!
+//! Missing samples: a value equal to `NODATA_value` (exactly), and `nan` (any case, with or
+//! without a sign) wherever it appears. Without `NODATA_value` no number is special — as GDAL
+//! reads such a grid, `-9999` is then a height — while `nan`, which is not a height at all, is
+//! still a missing sample (GDAL gives it as a NaN value, which no terrain can use).
 //!
 //! # Plain grid
 //! One row of heights per line, every row with the same number of values, the first line the
@@ -89,8 +94,9 @@ pub struct HeightField {
     pub rows: usize,
     /// Position of the south-west sample, exact.
     pub origin: [Rational; 2],
-    /// Distance between neighbouring samples, exact and positive.
-    pub cell: Rational,
+    /// Distance between neighbouring samples west to east and south to north, exact and
+    /// positive (equal for square cells).
+    pub cell: [Rational; 2],
     /// Heights row by row from the south-west sample (`rows · columns` entries), `None` where
     /// the file has `NODATA_value`.
     pub heights: Vec<Option<f64>>,
@@ -179,11 +185,14 @@ impl HeightField {
         for (number, line) in text.lines().enumerate() {
             let toks = tokens(line, number + 1, false);
             let Some(first) = toks.first() else { continue };
+            // A row of data may begin with `nan`; anything else that begins with a letter is
+            // a header line (unknown keywords are refused below).
             let is_keyword = first
                 .text
                 .chars()
                 .next()
-                .is_some_and(|c| c.is_ascii_alphabetic());
+                .is_some_and(|c| c.is_ascii_alphabetic())
+                && !is_nan(first.text);
             if !is_keyword {
                 data.extend(toks);
                 continue;
@@ -231,6 +240,8 @@ impl HeightField {
             "yllcorner",
             "yllcenter",
             "cellsize",
+            "dx",
+            "dy",
             "nodata_value",
         ];
         if let Some((_, k, _)) = header
@@ -241,7 +252,7 @@ impl HeightField {
                 k,
                 format!(
                     "unknown header keyword {:?} (expected ncols, nrows, xllcorner or xllcenter, \
-                     yllcorner or yllcenter, cellsize, NODATA_value)",
+                     yllcorner or yllcenter, cellsize or dx and dy, NODATA_value)",
                     k.text
                 ),
             ));
@@ -274,14 +285,31 @@ impl HeightField {
                 message: format!("invalid number {:?}: {}", v.text, e.message),
             })
         };
-        let cell_token = find("cellsize").ok_or_else(|| missing("cellsize"))?;
-        let cell = number(&cell_token)?;
-        if !cell.is_positive() {
-            return Err(syntax(&cell_token, "cellsize must be positive".into()));
-        }
-        let half = &cell / Rational::from_integer(2.into());
+        let positive = |token: Token<'_>, key: &str| -> Result<Rational, HeightFieldError> {
+            let value = number(&token)?;
+            if value.is_positive() {
+                Ok(value)
+            } else {
+                Err(syntax(&token, format!("{key} must be positive")))
+            }
+        };
+        let cell = match (find("cellsize"), find("dx"), find("dy")) {
+            (Some(c), None, None) => {
+                let c = positive(c, "cellsize")?;
+                [c.clone(), c]
+            }
+            (None, Some(dx), Some(dy)) => [positive(dx, "dx")?, positive(dy, "dy")?],
+            (Some(_), Some(d), _) | (Some(_), _, Some(d)) => {
+                return Err(syntax(&d, "give cellsize or dx and dy, not both".into()))
+            }
+            (None, Some(_), None) => return Err(missing("dy (dx is given)")),
+            (None, None, Some(_)) => return Err(missing("dx (dy is given)")),
+            (None, None, None) => return Err(missing("cellsize (or dx and dy)")),
+        };
+        let two = Rational::from_integer(2.into());
         let mut origin = Vec::with_capacity(2);
-        for axis in ["x", "y"] {
+        for (axis, step) in ["x", "y"].into_iter().zip(&cell) {
+            let half = step / &two;
             let corner = find(&format!("{axis}llcorner"));
             let center = find(&format!("{axis}llcenter"));
             origin.push(match (corner, center) {
@@ -296,8 +324,10 @@ impl HeightField {
                 (None, None) => return Err(missing(&format!("{axis}llcorner or {axis}llcenter"))),
             });
         }
+        // `None`: no value is special; `Some(None)`: NaN (only `nan` is missing).
         let nodata = match find("nodata_value") {
-            Some(v) => Some(number(&v)?),
+            Some(v) if is_nan(v.text) => Some(None),
+            Some(v) => Some(Some(number(&v)?)),
             None => None,
         };
         let expected =
@@ -326,14 +356,14 @@ impl HeightField {
         // The file lists rows from the north; store them from the south.
         let mut heights = vec![None; expected];
         for (k, token) in data.iter().enumerate() {
-            let value = number(token)?;
             let (row_from_top, column) = (k / columns, k % columns);
             let row = rows - 1 - row_from_top;
-            heights[row * columns + column] = if nodata.as_ref() == Some(&value) {
-                None
-            } else {
-                Some(rational_to_f64(&value))
-            };
+            if is_nan(token.text) {
+                continue;
+            }
+            let value = number(token)?;
+            let missing = matches!(&nodata, Some(Some(n)) if *n == value);
+            heights[row * columns + column] = (!missing).then(|| rational_to_f64(&value));
         }
         let [x, y]: [Rational; 2] = [origin[0].clone(), origin[1].clone()];
         Ok(HeightField {
@@ -407,15 +437,21 @@ impl HeightField {
             columns,
             rows,
             origin: [Rational::zero(), Rational::zero()],
-            cell: Rational::from_integer(1.into()),
+            cell: [
+                Rational::from_integer(1.into()),
+                Rational::from_integer(1.into()),
+            ],
             heights,
         })
     }
 
     /// The exact position of the sample in `column` (from the west) and `row` (from the south).
     pub fn position_exact(&self, column: usize, row: usize) -> [Rational; 2] {
-        let step = |k: usize| &self.cell * Rational::from_integer(k.into());
-        [&self.origin[0] + step(column), &self.origin[1] + step(row)]
+        let step = |axis: usize, k: usize| &self.cell[axis] * Rational::from_integer(k.into());
+        [
+            &self.origin[0] + step(0, column),
+            &self.origin[1] + step(1, row),
+        ]
     }
 
     /// The sample position rounded to `f64` (once, from the exact value).
@@ -468,6 +504,14 @@ impl HeightField {
     }
 }
 
+/// True for `nan` in any case, with or without a sign (as GDAL and C libraries write NaN).
+fn is_nan(token: &str) -> bool {
+    token
+        .strip_prefix(['-', '+'])
+        .unwrap_or(token)
+        .eq_ignore_ascii_case("nan")
+}
+
 /// True for a path with the extension `.asc` (any case).
 pub fn is_esri(path: &Path) -> bool {
     path.extension()
@@ -491,7 +535,7 @@ mod tests {
         assert_eq!((field.columns, field.rows), (3, 2));
         // xllcorner -0.625 + 1.25/2 = 0 exactly.
         assert_eq!(field.origin, [q(0, 1), q(10, 1)]);
-        assert_eq!(field.cell, q(5, 4));
+        assert_eq!(field.cell, [q(5, 4), q(5, 4)]);
         // Rows are stored from the south: the last line of the file is row 0.
         assert_eq!(
             field.heights,
@@ -521,6 +565,28 @@ mod tests {
         assert_eq!(model.positions.len(), 1089);
         assert_eq!(model.triangles.len(), 2048);
         assert_eq!(model.positions[1088], [40.0, 40.0, 32.5]);
+    }
+
+    /// Grids as GDAL writes them: `NODATA_value nan` and rows of `nan` (a row may begin with
+    /// one), `dx`/`dy` for cells that are not square; without `NODATA_value`, `-9999` is a
+    /// height and `nan` still a missing sample.
+    #[test]
+    fn reads_gdal_grids_with_nan_and_rectangular_cells() {
+        let text = "ncols 3\nnrows 2\nxllcorner 0\nyllcorner 10\ndx 2\ndy 0.5\nNODATA_value nan\n\
+                    nan NaN -nan\n1 2.5 -9999\n";
+        let field = HeightField::parse_esri(text, "gdal.asc").expect("read");
+        assert_eq!(field.cell, [q(2, 1), q(1, 2)]);
+        assert_eq!(
+            field.heights,
+            vec![Some(1.0), Some(2.5), Some(-9999.0), None, None, None]
+        );
+        assert_eq!(field.position(1, 1), [3.0, 10.75]);
+        let plain = text
+            .replace("NODATA_value nan\n", "")
+            .replace("nan NaN -nan", "7 8 nan");
+        let field = HeightField::parse_esri(&plain, "gdal.asc").expect("read");
+        assert_eq!(field.heights[3..], [Some(7.0), Some(8.0), None]);
+        assert_eq!(field.heights[2], Some(-9999.0));
     }
 
     #[test]
@@ -566,7 +632,7 @@ mod tests {
             ),
             (
                 header.replace("cellsize 1\n", ""),
-                "bad.asc: the header has no cellsize",
+                "bad.asc: the header has no cellsize (or dx and dy)",
             ),
             (
                 header.replace("ncols 2", "ncols 2\nncols 3"),
@@ -577,8 +643,24 @@ mod tests {
                 "bad.asc:4:11: give xllcorner or xllcenter",
             ),
             (
-                header.replace("yllcorner 0", "dy 1"),
-                "bad.asc:4:1: unknown header keyword \"dy\"",
+                header.replace("yllcorner 0", "dz 1"),
+                "bad.asc:4:1: unknown header keyword \"dz\"",
+            ),
+            (
+                header.replace("cellsize 1", "dx 1"),
+                "bad.asc: the header has no dy (dx is given)",
+            ),
+            (
+                header.replace("cellsize 1", "cellsize 1\ndy 2"),
+                "bad.asc:6:4: give cellsize or dx and dy, not both",
+            ),
+            (
+                header.replace("cellsize 1", "dx 1\ndy 0"),
+                "bad.asc:6:4: dy must be positive",
+            ),
+            (
+                format!("{header}1 2\n3 nanx\n"),
+                "bad.asc:7:3: invalid number \"nanx\"",
             ),
             (
                 header.replace("yllcorner 0", ""),
