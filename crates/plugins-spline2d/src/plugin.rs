@@ -183,7 +183,7 @@ impl ConstraintSource for Spline2dSource {
             ("conditions", contribution.rows.len()),
         ]);
         contribution.summary = SummaryItem::sorted(summary);
-        contribution.warnings = warnings.iter().map(|w| w.to_string()).collect();
+        contribution.warnings = spline2d::mesh_io::summarize_warnings(&warnings);
         contribution.inputs = file.into_iter().collect();
         self.built = Some(Built {
             name: request.name.clone(),

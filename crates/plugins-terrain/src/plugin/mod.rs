@@ -303,7 +303,7 @@ impl ConstraintSource for TerrainSource {
             ("conditions_per_surface", contribution.rows.len() / surfaces),
         ]);
         contribution.summary = SummaryItem::sorted(summary);
-        contribution.warnings = warnings.iter().map(|w| w.to_string()).collect();
+        contribution.warnings = spline2d::mesh_io::summarize_warnings(&warnings);
         contribution.inputs = file.into_iter().collect();
         self.built = Some(Built {
             name: name.clone(),

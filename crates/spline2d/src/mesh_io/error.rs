@@ -41,6 +41,58 @@ impl fmt::Display for MeshWarning {
     }
 }
 
+/// How many warnings of one kind are given one by one; the rest are counted
+/// ([`summarize_warnings`]).
+pub const WARNINGS_SHOWN: usize = 5;
+
+/// The warnings of a mesh as lines for a report: each warning while a kind has at most
+/// [`WARNINGS_SHOWN`]; beyond that, one line per kind with the count and the first few (a mesh
+/// whose every face is reversed gives one line, not one per triangle).
+pub fn summarize_warnings(warnings: &[MeshWarning]) -> Vec<String> {
+    let flipped: Vec<&MeshWarning> = warnings
+        .iter()
+        .filter(|w| matches!(w, MeshWarning::Flipped { .. }))
+        .collect();
+    let unused: Vec<&MeshWarning> = warnings
+        .iter()
+        .filter(|w| matches!(w, MeshWarning::UnusedVertex { .. }))
+        .collect();
+    let mut lines = Vec::new();
+    for (kind, what) in [
+        (
+            unused,
+            "vertices are in no triangle; they are kept but the spline ignores them",
+        ),
+        (
+            flipped,
+            "triangles were clockwise and have been flipped to counter-clockwise",
+        ),
+    ] {
+        if kind.len() <= WARNINGS_SHOWN {
+            lines.extend(kind.iter().map(|w| w.to_string()));
+            continue;
+        }
+        let first: Vec<String> = kind[..WARNINGS_SHOWN]
+            .iter()
+            .map(|w| match w {
+                MeshWarning::UnusedVertex { vertex, line } => {
+                    format!("vertex {vertex}{}", line_note(line))
+                }
+                MeshWarning::Flipped { triangle, line } => {
+                    format!("triangle {triangle}{}", line_note(line))
+                }
+            })
+            .collect();
+        lines.push(format!(
+            "{} {what}: {}, and {} more",
+            kind.len(),
+            first.join(", "),
+            kind.len() - WARNINGS_SHOWN
+        ));
+    }
+    lines
+}
+
 /// Why a mesh could not be read, and where.
 ///
 /// Displayed as `source:line:column: element message`, leaving out the parts that are unknown,
@@ -260,5 +312,47 @@ impl Origins {
             Some(format!("triangle {t}")),
             kind,
         )
+    }
+}
+
+#[cfg(test)]
+mod summary_tests {
+    use super::*;
+
+    #[test]
+    fn many_warnings_of_a_kind_become_one_line() {
+        let flipped: Vec<MeshWarning> = (0..1267)
+            .map(|t| MeshWarning::Flipped {
+                triangle: t,
+                line: Some(t + 700),
+            })
+            .collect();
+        let mut all = flipped.clone();
+        all.push(MeshWarning::UnusedVertex {
+            vertex: 3,
+            line: Some(4),
+        });
+        let lines = summarize_warnings(&all);
+        assert_eq!(lines.len(), 2, "{lines:?}");
+        assert_eq!(lines[0], all[1267].to_string());
+        assert!(
+            lines[1].starts_with("1267 triangles were clockwise and have been flipped to counter-clockwise: triangle 0 (line 700), triangle 1 (line 701),"),
+            "{}",
+            lines[1]
+        );
+        assert!(
+            lines[1].ends_with("triangle 4 (line 704), and 1262 more"),
+            "{}",
+            lines[1]
+        );
+        // Few warnings are given one by one.
+        let few = summarize_warnings(&flipped[..WARNINGS_SHOWN]);
+        assert_eq!(
+            few,
+            flipped[..WARNINGS_SHOWN]
+                .iter()
+                .map(ToString::to_string)
+                .collect::<Vec<_>>()
+        );
     }
 }

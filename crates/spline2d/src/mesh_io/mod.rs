@@ -34,7 +34,7 @@ mod inline;
 mod obj;
 mod validate;
 
-pub use error::{MeshError, MeshErrorKind, MeshWarning};
+pub use error::{summarize_warnings, MeshError, MeshErrorKind, MeshWarning, WARNINGS_SHOWN};
 pub use inline::{from_points, from_text};
 pub use obj::{parse_obj, read_obj};
 
