@@ -304,6 +304,7 @@ fn analyze_with(
         .filter(|red| red.inconsistent_columns.is_empty())
         .map(|red| RedundantRow {
             row: shape.labels[red.row].clone(),
+            equations: shape.copies,
             combination: red.combination.as_ref().map(|w| terms(w, &shape.labels)),
         })
         .collect();

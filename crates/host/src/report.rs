@@ -13,9 +13,9 @@ pub struct Report {
     pub run: String,
     /// Number of scalar parameters (coordinates).
     pub parameters: usize,
-    /// Number of scalar constraint rows.
+    /// Number of scalar constraint rows (equations).
     pub constraints: usize,
-    /// Exact rank of the constraint matrix.
+    /// Exact rank of the constraint matrix, in scalar equations.
     pub rank: usize,
     /// Degrees of freedom `parameters − rank`.
     pub dof: usize,
@@ -60,6 +60,11 @@ pub struct OutputNote {
 pub struct RedundantRow {
     /// Its label (with `[k]` for coordinate `k` of a vector row split per coordinate).
     pub row: String,
+    /// How many scalar equations it stands for: a vector row analysed once for all its
+    /// coordinates (a spline's x and y) counts its dimension, any other row 1. Counts in the
+    /// report (`constraints`, `rank`, an edit's `relevant`, `rank`, `redundant`) are scalar
+    /// equations throughout.
+    pub equations: usize,
     /// `row = Σ coefficient · independent row`, exact, whatever its length (combinations of
     /// more than `analysis::COMPACT_ABOVE` terms are written compactly).
     pub combination: Option<Vec<Term>>,
@@ -147,13 +152,13 @@ pub struct EditReport {
     pub anchors: Vec<String>,
     /// Derived names.
     pub derived: Vec<String>,
-    /// Number of relevant constraints.
+    /// Number of relevant constraints, in scalar equations.
     pub relevant: usize,
     /// Names of the fixed relevant parameters.
     pub fixed_relevant: Vec<String>,
-    /// Rank of `R_ED`.
+    /// Rank of `R_ED`, in scalar equations.
     pub rank: usize,
-    /// Redundant relevant rows.
+    /// Redundant relevant equations (scalar).
     pub redundant: usize,
     /// Whether every step was solvable.
     pub solvable: bool,

@@ -228,7 +228,8 @@ pub(super) struct ActiveDrag {
     /// coordinates, for [`prepare_linear_steps`] after the mouse-down frame is answered.
     linear_pending: Option<(Motion, PlannedEdit, Vec<Rational>)>,
     frames: FrameKind,
-    /// Rank of `R_ED` and its redundant rows (from the edit's report, made once).
+    /// Rank of `R_ED` and its redundant rows in scalar equations (from the edit's report, made
+    /// once).
     rank: usize,
     redundant: usize,
 }
@@ -403,6 +404,8 @@ pub(super) fn drag_frame(
                     }
                 };
                 let report = edit.edit().report();
+                let (_, rank, redundant) =
+                    crate::session::equation_counts(session.system(), &report);
                 *drag = Some(ActiveDrag {
                     key: selection.clone(),
                     spec: planned.spec.clone(),
@@ -413,8 +416,8 @@ pub(super) fn drag_frame(
                         .clone()
                         .map(|at| (motion.clone(), planned.clone(), at)),
                     frames: first_frame_kind(session.commit_policy(), initializing.elapsed()),
-                    rank: report.rank,
-                    redundant: report.redundant.len(),
+                    rank,
+                    redundant,
                 });
                 initialized = true;
             }

@@ -637,6 +637,32 @@ impl ActiveEdit {
     }
 }
 
+/// An initialised edit's relevant rows, rank and redundant rows in scalar equations (the unit
+/// of every count in reports): a vector row stands for one equation per coordinate, and so do
+/// the rank and redundant rows of an edit factored once for all coordinates (vector layout).
+pub fn equation_counts<S>(
+    system: &ConstraintSystem,
+    report: &ecles::InitReport<S>,
+) -> (usize, usize, usize) {
+    let copies = match report.layout {
+        ecles::Layout::Vector { dim } => dim,
+        ecles::Layout::Scalar => 1,
+    };
+    let relevant = report
+        .relevant
+        .iter()
+        .map(|r| match &system.rows()[r.index()].body {
+            api::RowBody::Vector { rhs, .. } => rhs.len(),
+            api::RowBody::Scalar { .. } => 1,
+        })
+        .sum();
+    (
+        relevant,
+        report.rank * copies,
+        report.redundant.len() * copies,
+    )
+}
+
 /// What initialising an edit found.
 pub(super) struct InitFacts {
     pub(super) relevant: usize,
@@ -679,11 +705,12 @@ pub(super) fn execute<B: LinearBackend>(
         }
     };
     let report = edit.report();
+    let (relevant, rank, redundant) = equation_counts(system, &report);
     let init = InitFacts {
-        relevant: report.relevant.len(),
+        relevant,
         fixed: report.fixed_relevant.clone(),
-        rank: report.rank,
-        redundant: report.redundant.len(),
+        rank,
+        redundant,
         independent: {
             let mut rows: Vec<api::RowId> = report.independent.iter().map(|r| r.row).collect();
             rows.sort();

@@ -56,11 +56,16 @@ pub(crate) fn execute_sparse(
         Ok(prepared) => prepared,
         Err(e) => return failed(e),
     };
+    // In scalar equations, as the exact backend's counts (see `equation_counts`).
+    let copies = match reduced.layout() {
+        Layout::Vector { dim } => dim,
+        Layout::Scalar => 1,
+    };
     let init = InitFacts {
         relevant: 0,
         fixed: Vec::new(),
-        rank: rank.rank,
-        redundant: reduced.r_ed().rows() - rank.rank,
+        rank: rank.rank * copies,
+        redundant: (reduced.r_ed().rows() - rank.rank) * copies,
         independent: Vec::new(),
     };
     let family = reduced.family();

@@ -26,7 +26,7 @@ mod target_image;
 
 pub use check::OutputsPlan;
 pub use configure::Configured;
-pub use edit::{ActiveEdit, PlannedEdit, Planning};
+pub use edit::{equation_counts, ActiveEdit, PlannedEdit, Planning};
 pub use target_image::CheckedImage;
 
 /// The label of row `index` (0-based) of source `source` in the system and in reports:
@@ -487,14 +487,16 @@ fn split_coordinate(name: &str) -> (&str, Option<usize>) {
     (name, None)
 }
 
-/// A one-line description of a system report.
+/// A one-line description of a system report; every count in scalar equations and scalar
+/// parameters (coordinates).
 pub fn describe(report: &Report) -> String {
+    let redundant: usize = report.redundant.iter().map(|r| r.equations).sum();
     format!(
         "{} parameters, {} constraints, rank {}, {} redundant, {}",
         report.parameters,
         report.constraints,
         report.rank,
-        report.redundant.len(),
+        redundant,
         if report.consistent {
             "consistent".to_string()
         } else {
