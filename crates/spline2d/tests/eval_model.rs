@@ -437,7 +437,7 @@ fn models_in_2d_and_point_clouds() {
     let e = parse_model("root:x:0:0:root:/root:/bin/bash\n", "/etc/passwd").expect_err("not OBJ");
     assert!(
         e.to_string().starts_with(
-            "/etc/passwd:1: column 1: \"root:x:0:0:root:/root:/bin/bash\" is not an OBJ statement"
+            "/etc/passwd:1:1: \"root:x:0:0:root:/root:/bin/bash\" is not an OBJ statement"
         ),
         "{e}"
     );
@@ -459,7 +459,7 @@ fn models_in_2d_and_point_clouds() {
     let e = parse_model("v 1 2\nf 1 2 3\n", "broken.obj").expect_err("bad face");
     assert_eq!(
         e.to_string(),
-        "broken.obj:2: face refers to vertex 2 but the file defines 1"
+        "broken.obj:2:5: face refers to vertex 2 but the file defines 1"
     );
 }
 
@@ -522,4 +522,29 @@ fn float_path_speed() {
         deformed.outside.len(),
     );
     assert_eq!(inside + deformed.outside.len(), count);
+}
+
+/// One rule for both OBJ readers (the exact reference-mesh reader and the model reader): bytes
+/// that are not UTF-8 are accepted in comments and refused in numbers, with the line and the
+/// column.
+#[test]
+fn both_obj_readers_take_latin1_comments_and_refuse_it_in_numbers() {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("latin1");
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let good = dir.join("good.obj");
+    std::fs::write(
+        &good,
+        b"# caf\xe9\nv 0 0\nv 10 0\nv 0 10 # \xe9t\xe9\nf 1 2 3\n",
+    )
+    .expect("write");
+    let bad = dir.join("bad.obj");
+    std::fs::write(&bad, b"# caf\xe9\nv 0 0\nv 1\xe9 0\nv 0 10\nf 1 2 3\n").expect("write");
+    let options = spline2d::mesh_io::MeshOptions::default();
+    assert!(spline2d::mesh_io::read_obj(&good, &options, LIMIT).is_ok());
+    assert_eq!(load_model(&good, LIMIT).expect("model").positions.len(), 3);
+    let mesh = spline2d::mesh_io::read_obj(&bad, &options, LIMIT).expect_err("mesh");
+    let model = load_model(&bad, LIMIT).expect_err("model");
+    for e in [mesh.to_string(), model.to_string()] {
+        assert!(e.contains("bad.obj:3:4:"), "{e}");
+    }
 }

@@ -63,12 +63,14 @@ pub enum ModelError {
         file: String,
     },
     /// The OBJ text is malformed.
-    #[error("{file}:{line}: {message}")]
+    #[error("{file}:{line}:{column}: {message}")]
     Parse {
         /// The file (or the name given to [`parse_model`]).
         file: String,
         /// 1-based line number.
         line: usize,
+        /// 1-based column (in characters) of the offending item (1 for a whole line).
+        column: usize,
         /// What is wrong.
         message: String,
     },

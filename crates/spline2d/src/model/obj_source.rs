@@ -54,9 +54,10 @@ impl ObjSource {
     /// Reads where things are in `text`, an OBJ file that [`super::parse_model`] accepted
     /// (`file` names it in errors).
     pub fn parse(text: String, file: &str) -> Result<ObjSource, ModelError> {
-        let error = |line: usize, message: String| ModelError::Parse {
+        let error = |line: usize, column: usize, message: String| ModelError::Parse {
             file: file.to_string(),
             line,
+            column,
             message,
         };
         let mut vertices = Vec::new();
@@ -71,24 +72,31 @@ impl ObjSource {
                 Some((_, "vn")) => {
                     let mut value = [0.0; 3];
                     let mut count = 0;
-                    for (_, word) in words {
+                    for (column, word) in words {
                         let x = word.parse::<f64>().ok().filter(|x| x.is_finite());
                         match (x, value.get_mut(count)) {
                             (Some(x), Some(slot)) => *slot = x,
-                            _ => return Err(error(line, format!("invalid normal {statement:?}"))),
+                            _ => {
+                                return Err(error(
+                                    line,
+                                    column,
+                                    format!("invalid normal coordinate {word:?}"),
+                                ))
+                            }
                         }
                         count += 1;
                     }
                     if count != 3 {
                         return Err(error(
                             line,
+                            1,
                             format!("a normal needs 3 coordinates, got {count}"),
                         ));
                     }
                     normals.push((range_in(&text, statement), value));
                 }
                 Some((_, "f")) => {
-                    for (_, word) in words {
+                    for (column, word) in words {
                         let corner = FaceCorner::new(word);
                         let Some(normal) = corner.normal_index(normals.len()) else {
                             continue;
@@ -103,7 +111,13 @@ impl ObjSource {
                                 vertex,
                                 normal,
                             }),
-                            _ => return Err(error(line, format!("invalid face corner {word:?}"))),
+                            _ => {
+                                return Err(error(
+                                    line,
+                                    column,
+                                    format!("invalid face corner {word:?}"),
+                                ))
+                            }
                         }
                     }
                 }
@@ -114,9 +128,11 @@ impl ObjSource {
             .iter()
             .find(|c| c.normal >= normals.len() || c.vertex >= vertices.len())
         {
+            let before = &text[..c.token.start];
             return Err(ModelError::Parse {
                 file: file.to_string(),
-                line: text[..c.token.start].lines().count(),
+                line: before.matches('\n').count() + 1,
+                column: before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1,
                 message: format!(
                     "face corner {:?} refers to a vertex or normal the file does not define",
                     &text[c.token.clone()]

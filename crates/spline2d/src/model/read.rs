@@ -29,7 +29,8 @@ fn read_model_text(path: &Path, limit: u64) -> Result<String, ModelError> {
             Some((line, column)) => ModelError::Parse {
                 file: path.display().to_string(),
                 line,
-                message: format!("column {column}: the model {}", e.reason()),
+                column,
+                message: format!("the model {}", e.reason()),
             },
             None => ModelError::Input {
                 path: path.to_path_buf(),
@@ -63,14 +64,15 @@ const IGNORED_STATEMENTS: [&str; 31] = [
 ///   with vertices only is a point cloud. Any other statement is an error naming its line and
 ///   column, and so is a file without vertices.
 pub fn parse_model(text: &str, file: &str) -> Result<Model, ModelError> {
-    let error = |line: usize, message: String| ModelError::Parse {
+    let error = |line: usize, column: usize, message: String| ModelError::Parse {
         file: file.to_string(),
         line,
+        column,
         message,
     };
     let mut positions: Vec<[f64; 3]> = Vec::new();
-    // (line, corner indices 0-based but not yet range-checked)
-    let mut faces: Vec<(usize, Vec<i64>)> = Vec::new();
+    // (line, (column, corner index 0-based but not yet range-checked))
+    let mut faces: Vec<(usize, Vec<(usize, i64)>)> = Vec::new();
     for (line, content) in statements(text) {
         let mut tokens = tokens(content);
         match tokens.next() {
@@ -78,12 +80,23 @@ pub fn parse_model(text: &str, file: &str) -> Result<Model, ModelError> {
                 // At most 7 numbers (x y z and a colour with alpha); no allocation per line.
                 let mut buffer = [0.0f64; 7];
                 let mut found = 0;
-                for (_, tok) in tokens {
+                for (column, tok) in tokens {
                     let value = tok
                         .parse::<f64>()
                         .ok()
                         .filter(|x| x.is_finite())
-                        .ok_or_else(|| error(line, format!("invalid vertex coordinate {tok:?}")))?;
+                        .ok_or_else(|| {
+                            // At the first character no number has (as the mesh reader points).
+                            let at = tok
+                                .chars()
+                                .position(|c| !(c.is_ascii_digit() || "+-.eE".contains(c)))
+                                .unwrap_or(0);
+                            error(
+                                line,
+                                column + at,
+                                format!("invalid vertex coordinate {tok:?}"),
+                            )
+                        })?;
                     if found < buffer.len() {
                         buffer[found] = value;
                     }
@@ -99,13 +112,14 @@ pub fn parse_model(text: &str, file: &str) -> Result<Model, ModelError> {
                     [x, y, z] | [x, y, z, _, _, _] | [x, y, z, _, _, _, _] => [*x, *y, *z],
                     [x, y, z, w] => {
                         if *w == 0.0 {
-                            return Err(error(line, "vertex weight w is 0".into()));
+                            return Err(error(line, 1, "vertex weight w is 0".into()));
                         }
                         [x / w, y / w, z / w]
                     }
                     _ => {
                         return Err(error(
                             line,
+                            1,
                             format!(
                                 "a vertex needs 2 to 4 coordinates (or x y z and a colour), got {found}"
                             ),
@@ -116,19 +130,22 @@ pub fn parse_model(text: &str, file: &str) -> Result<Model, ModelError> {
             }
             Some((_, "f")) => {
                 let defined = positions.len();
-                let corners: Vec<i64> = tokens
-                    .map(|(_, tok)| {
-                        FaceCorner::new(tok).vertex(defined).map_err(|_| {
+                let corners: Vec<(usize, i64)> = tokens
+                    .map(|(column, tok)| {
+                        let vertex = FaceCorner::new(tok).vertex(defined).map_err(|_| {
                             error(
                                 line,
+                                column,
                                 format!("invalid face corner {tok:?} (vertex indices start at 1)"),
                             )
-                        })
+                        })?;
+                        Ok((column, vertex))
                     })
                     .collect::<Result<_, _>>()?;
                 if corners.len() < 3 {
                     return Err(error(
                         line,
+                        1,
                         format!("a face needs at least 3 corners, got {}", corners.len()),
                     ));
                 }
@@ -139,8 +156,9 @@ pub fn parse_model(text: &str, file: &str) -> Result<Model, ModelError> {
                 let shown: String = keyword.chars().take(40).collect();
                 return Err(error(
                     line,
+                    column,
                     format!(
-                        "column {column}: {shown:?} is not an OBJ statement (this does not look like an OBJ model)"
+                        "{shown:?} is not an OBJ statement (this does not look like an OBJ model)"
                     ),
                 ));
             }
@@ -156,12 +174,13 @@ pub fn parse_model(text: &str, file: &str) -> Result<Model, ModelError> {
     let mut triangles = Vec::new();
     for (line, corners) in faces {
         let mut vertices = Vec::with_capacity(corners.len());
-        for c in corners {
+        for (column, c) in corners {
             match usize::try_from(c) {
                 Ok(v) if v < count => vertices.push(v),
                 _ => {
                     return Err(error(
                         line,
+                        column,
                         format!(
                             "face refers to vertex {} but the file defines {count}",
                             if c < 0 { c } else { c + 1 }
@@ -203,25 +222,29 @@ mod tests {
     #[test]
     fn malformed_files_name_file_and_line() {
         for (text, needle) in [
-            ("v 0 0\nv 1 x\n", "bad.obj:2: invalid vertex coordinate"),
-            ("v 0 0\nv 1 nan\n", "bad.obj:2: invalid vertex coordinate"),
-            ("v 0\n", "bad.obj:1: a vertex needs"),
+            ("v 0 0\nv 1 x\n", "bad.obj:2:5: invalid vertex coordinate"),
+            ("v 0 0\nv 1 nan\n", "bad.obj:2:5: invalid vertex coordinate"),
+            (
+                "v 0 0\nv 1\u{fffd} 0\n",
+                "bad.obj:2:4: invalid vertex coordinate",
+            ),
+            ("v 0\n", "bad.obj:1:1: a vertex needs"),
             (
                 "v 1 2 3 4 5\n",
-                "bad.obj:1: a vertex needs 2 to 4 coordinates (or x y z and a colour), got 5",
+                "bad.obj:1:1: a vertex needs 2 to 4 coordinates (or x y z and a colour), got 5",
             ),
             (
                 "v 1 2 3 4 5 6 7 8\n",
-                "bad.obj:1: a vertex needs 2 to 4 coordinates (or x y z and a colour), got 8",
+                "bad.obj:1:1: a vertex needs 2 to 4 coordinates (or x y z and a colour), got 8",
             ),
-            ("v 0 0\nf 1 2\n", "bad.obj:2: a face needs at least 3"),
+            ("v 0 0\nf 1 2\n", "bad.obj:2:1: a face needs at least 3"),
             (
                 "v 0 0\nf 1 2 3\nv 1 1\n",
-                "bad.obj:2: face refers to vertex 3",
+                "bad.obj:2:7: face refers to vertex 3",
             ),
-            ("v 0 0\nf 0 1 1\n", "bad.obj:2: invalid face corner"),
-            ("v 0 0\nf -3 1 1\n", "bad.obj:2: face refers to vertex -2"),
-            ("v 0 0 0 0\n", "bad.obj:1: vertex weight"),
+            ("v 0 0\nf 0 1 1\n", "bad.obj:2:3: invalid face corner"),
+            ("v 0 0\nf -3 1 1\n", "bad.obj:2:3: face refers to vertex -2"),
+            ("v 0 0 0 0\n", "bad.obj:1:1: vertex weight"),
         ] {
             let e = parse_model(text, "bad.obj").expect_err(text);
             assert!(e.to_string().starts_with(needle), "{e}");
