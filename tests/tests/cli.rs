@@ -199,6 +199,52 @@ fn a_deformed_obj_keeps_the_models_structure() {
     }
 }
 
+/// A spline picture named `.png` is the SVG's drawing rasterised: a PNG twice the SVG's size,
+/// ink where the mesh is, the same bytes on every run.
+#[test]
+fn a_png_picture_is_the_drawing_rasterised() {
+    let run = || {
+        let (dir, run, out) = run_file(&format!(
+            r#"(
+                sources: [(name: "worm", plugin: "spline2d", config: (mesh: {mesh:?}))],
+                edits: [Source(source: "worm", operation: (anchors: ["v3"], neighborhood: 3, translate: ("0", "6")))],
+                outputs: [(source: "worm", output: (picture: "worm.png")), (source: "worm", output: (picture: "worm.svg"))],
+            )"#,
+            mesh = root()
+                .join("examples/meshes/worm.obj")
+                .display()
+                .to_string()
+        ));
+        let o = ecles(&[
+            "run",
+            &run.display().to_string(),
+            "--out",
+            &out.display().to_string(),
+        ]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let png = std::fs::read(out.join("worm.png")).expect("written");
+        let svg = std::fs::read_to_string(out.join("worm.svg")).expect("written");
+        drop(dir);
+        (png, svg)
+    };
+    let (png, svg) = run();
+    assert!(png.starts_with(b"\x89PNG\r\n\x1a\n"));
+    let width: f64 = svg
+        .split("width=\"")
+        .nth(1)
+        .and_then(|rest| rest.split('"').next())
+        .and_then(|w| w.parse().ok())
+        .expect("the SVG's width");
+    let decoder = png::Decoder::new(std::io::Cursor::new(&png));
+    let mut reader = decoder.read_info().expect("a PNG");
+    let mut pixels = vec![0; reader.output_buffer_size().expect("size")];
+    let info = reader.next_frame(&mut pixels).expect("pixels");
+    assert_eq!(f64::from(info.width), 2.0 * width.round());
+    let dark = pixels.chunks(4).filter(|p| p[0] < 128).count();
+    assert!(dark > 1000, "the mesh is drawn: {dark} dark pixels");
+    assert_eq!(run().0, png, "deterministic");
+}
+
 #[test]
 fn float_and_exact_disagree_on_the_near_degenerate_mesh() {
     let o = ecles(&["analyze", "examples/near-degenerate.ron", "--json"]);

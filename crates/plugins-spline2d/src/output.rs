@@ -27,7 +27,8 @@ use std::path::{Path, PathBuf};
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct OutputConfig {
-    /// Before/after picture file name (`.svg`).
+    /// Before/after picture file name: `.svg`, or `.png` (the same drawing rasterised, see
+    /// [`crate::svg::raster`]).
     #[serde(default)]
     picture: Option<String>,
     /// A model to deform (OBJ, relative to the run file); written as `<stem>-deformed.obj`.
@@ -76,7 +77,13 @@ pub(crate) fn check_output(
     let config: OutputConfig = from_ron(text, &what)?;
     let error = |message: String| SourceError::new(format!("{what}: {message}"));
     if let Some(name) = &config.picture {
-        check_output_file_name(name, "picture", "svg").map_err(error)?;
+        check_output_file_name(name, "picture", "svg")
+            .or_else(|_| check_output_file_name(name, "picture", "png"))
+            .map_err(|_| {
+                error(format!(
+                    "picture {name:?} must be a plain file name ending in .svg or .png"
+                ))
+            })?;
     }
     let (model, loaded) = match &config.model {
         Some(path) => {
@@ -152,7 +159,12 @@ pub(crate) fn render(
             deformed.as_ref(),
         )
         .map_err(|e| error(&e))?;
-        files.push(OutputFile::new(name.clone(), svg.into_bytes()));
+        let bytes = if is_png(name) {
+            crate::svg::raster::svg_to_png(&svg).map_err(|e| error(&e))?
+        } else {
+            svg.into_bytes()
+        };
+        files.push(OutputFile::new(name.clone(), bytes));
     }
     if files.is_empty() {
         return Err(SourceError::new(format!(
@@ -210,6 +222,13 @@ fn deformed_file(name: &str, bytes: Vec<u8>, deformed: &Deformed) -> OutputFile 
         "outside the reference mesh",
     ));
     file
+}
+
+/// Whether a picture is written as PNG (its name ends in `.png`, any case).
+fn is_png(name: &str) -> bool {
+    Path::new(name)
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("png"))
 }
 
 /// The before/after picture: the spline at its initial and its current (`after`) positions,

@@ -513,8 +513,12 @@ mod tests {
             out(r#"(picture: "a.svg")"#).map(|c| c.files),
             Ok(vec!["a.svg".to_string()])
         );
+        assert_eq!(
+            out(r#"(picture: "a.PNG")"#).map(|c| c.files),
+            Ok(vec!["a.PNG".to_string()])
+        );
         for (text, needle) in [
-            (r#"(picture: "a.png")"#, "must end in .svg"),
+            (r#"(picture: "a.gif")"#, "ending in .svg or .png"),
             (r#"(picture: "../a.svg")"#, "plain file name"),
             (r#"(picture: ".svg")"#, "plain file name"),
             (r#"(model: "/etc/passwd")"#, "is not an OBJ statement"),

@@ -22,6 +22,7 @@
 //! ```
 
 mod layers;
+pub mod raster;
 mod scene;
 
 use api::exact::rational_to_f64;
