@@ -245,6 +245,80 @@ fn a_png_picture_is_the_drawing_rasterised() {
     assert_eq!(run().0, png, "deterministic");
 }
 
+/// The bundled image example: the checkerboard deformed where the edit reaches and the same,
+/// pixel for pixel, where it does not; deterministic. A file that is not an image, or a bad
+/// fill colour, is bad input (exit 2, named, nothing written).
+#[test]
+fn an_image_is_deformed_where_the_spline_moves_it() {
+    let run = |out: &std::path::Path| {
+        let o = ecles(&[
+            "run",
+            "examples/image.ron",
+            "--quiet",
+            "--out",
+            &out.display().to_string(),
+        ]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        std::fs::read(out.join("checker-deformed.png")).expect("written")
+    };
+    let dir = temp();
+    let bytes = run(&dir.path().join("a"));
+    assert_eq!(run(&dir.path().join("b")), bytes, "deterministic");
+    let decode = |bytes: &[u8]| {
+        let mut reader = png::Decoder::new(std::io::Cursor::new(bytes.to_vec()))
+            .read_info()
+            .expect("a PNG");
+        let mut pixels = vec![0; reader.output_buffer_size().expect("size")];
+        let info = reader.next_frame(&mut pixels).expect("pixels");
+        let channels = pixels.len() / (info.width * info.height) as usize;
+        (info.width, info.height, channels, pixels)
+    };
+    let (w, h, c, out) = decode(&bytes);
+    let (wi, hi, ci, input) =
+        decode(&std::fs::read(root().join("examples/images/checker.png")).expect("input"));
+    assert_eq!((w, h, wi, hi), (400, 400, 400, 400));
+    let rgb = |pixels: &[u8], channels: usize, i: usize, j: usize| {
+        pixels[channels * (j * 400 + i)..channels * (j * 400 + i) + 3].to_vec()
+    };
+    // The edit (v4 at the centre, δ_max 3) reaches every triangle of this small grid but not
+    // the mesh's corners, whose control points stay: unchanged there; changed at the centre.
+    for (i, j) in [(2, 2), (397, 2), (2, 397), (397, 397)] {
+        assert_eq!(
+            rgb(&out, c, i, j),
+            rgb(&input, ci, i, j),
+            "corner ({i}, {j})"
+        );
+    }
+    let changed = (0..400 * 400)
+        .filter(|k| rgb(&out, c, k % 400, k / 400) != rgb(&input, ci, k % 400, k / 400))
+        .count();
+    assert!(changed > 10_000, "{changed} pixels changed");
+
+    let mesh = root()
+        .join("examples/meshes/grid.obj")
+        .display()
+        .to_string();
+    let not_an_image = root().join("examples/worm.ron").display().to_string();
+    expect_bad_input(
+        &format!(
+            r#"(sources: [(name: "g", plugin: "spline2d", config: (mesh: {mesh:?}))],
+                outputs: [(source: "g", output: (image: (file: {not_an_image:?})))])"#
+        ),
+        &["worm.ron", "not a PNG or JPEG"],
+    );
+    let image = root()
+        .join("examples/images/checker.png")
+        .display()
+        .to_string();
+    expect_bad_input(
+        &format!(
+            r#"(sources: [(name: "g", plugin: "spline2d", config: (mesh: {mesh:?}))],
+                outputs: [(source: "g", output: (image: (file: {image:?}, fill: "white")))])"#
+        ),
+        &["fill \"white\""],
+    );
+}
+
 #[test]
 fn float_and_exact_disagree_on_the_near_degenerate_mesh() {
     let o = ecles(&["analyze", "examples/near-degenerate.ron", "--json"]);

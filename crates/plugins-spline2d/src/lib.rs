@@ -11,6 +11,7 @@
 //! * [`svg`]: deterministic SVG pictures (meshes, control net, anchors, conditions, models,
 //!   before/after), the source's picture output.
 
+mod image_output;
 mod output;
 pub mod plugin;
 pub mod svg;

@@ -8,9 +8,11 @@
 //!     model: "models/worm-model.obj",    // optional: deform this model, write <stem>-deformed.obj
 //!     control_net: true,                 // draw the control net (default true)
 //!     parts: false,                      // colour by Dulmage–Mendelsohn part
+//!     image: (file: "photo.png"),        // optional: deform a raster image, see image_output
 //! )
 //! ```
 
+use crate::image_output::{check_image, render_image, CheckedImage, ImageConfig};
 use crate::plugin::Built;
 use crate::svg::{before_after, Picture};
 use api::config::{check_output_file_name, from_ron};
@@ -41,6 +43,9 @@ struct OutputConfig {
     /// conditions red, well-determined orange (default false).
     #[serde(default)]
     parts: bool,
+    /// A raster image to deform (see [`crate::image_output`]).
+    #[serde(default)]
+    image: Option<ImageConfig>,
 }
 
 fn default_true() -> bool {
@@ -53,6 +58,8 @@ pub(crate) struct CheckedOutput {
     /// `<stem>-deformed.obj` with the model's full path.
     pub(crate) model: Option<(String, PathBuf)>,
     picture: Option<String>,
+    /// The image to deform, read and checked.
+    image: Option<CheckedImage>,
 }
 
 impl CheckedOutput {
@@ -62,6 +69,7 @@ impl CheckedOutput {
             .iter()
             .map(|(name, _)| name.clone())
             .chain(self.picture.clone())
+            .chain(self.image.as_ref().map(|i| i.name.clone()))
             .collect()
     }
 }
@@ -93,20 +101,31 @@ pub(crate) fn check_output(
         }
         None => (None, None),
     };
-    if config.picture.is_none() && model.is_none() {
-        return Err(error("nothing to render; give picture and/or model".into()));
+    let image = match &config.image {
+        Some(image) => Some(check_image(image, base_dir, limit).map_err(error)?),
+        None => None,
+    };
+    if config.picture.is_none() && model.is_none() && image.is_none() {
+        return Err(error(
+            "nothing to render; give picture, model and/or image".into(),
+        ));
     }
     let checked = CheckedOutput {
         picture: config.picture.clone(),
         config,
         model,
+        image,
     };
-    if let [first, second] = checked.files().as_slice() {
-        if first == second {
-            return Err(error(format!(
-                "picture and deformed model are both named {first:?}"
-            )));
-        }
+    let files = checked.files();
+    if let Some((k, name)) = files
+        .iter()
+        .enumerate()
+        .find(|(k, name)| files[..*k].contains(name))
+    {
+        return Err(error(format!(
+            "two of its files (the deformed model, the picture, the deformed image) are named {name:?} (file {})",
+            k + 1
+        )));
     }
     Ok((checked, loaded))
 }
@@ -166,9 +185,13 @@ pub(crate) fn render(
         };
         files.push(OutputFile::new(name.clone(), bytes));
     }
+    if let Some(image) = &checked.image {
+        let spline = FloatSpline::new(&built.spline, &after).map_err(|e| error(&e))?;
+        files.push(render_image(image, &built.spline, &spline).map_err(|e| error(&e))?);
+    }
     if files.is_empty() {
         return Err(SourceError::new(format!(
-            "{what}: nothing to render; give picture and/or model"
+            "{what}: nothing to render; give picture, model and/or image"
         )));
     }
     Ok(files)

@@ -20,6 +20,7 @@
 pub mod config;
 pub mod edit;
 pub mod eval;
+pub mod image;
 pub mod mesh;
 pub mod mesh_io;
 pub mod model;
