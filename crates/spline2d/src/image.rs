@@ -44,7 +44,7 @@ pub struct Placement {
 impl Placement {
     /// The pixel coordinates (column, row; pixel `(i, j)` spans `[i, i+1) × [j, j+1)`) of the
     /// model point `p`.
-    fn to_pixels(&self, p: [f64; 2]) -> [f64; 2] {
+    fn pixel_of(&self, p: [f64; 2]) -> [f64; 2] {
         [
             (p[0] - self.left) / self.units_per_pixel,
             (self.top - p[1]) / self.units_per_pixel,
@@ -191,7 +191,7 @@ pub fn deform_image(
     let displaced: Vec<usize> = (0..triangles.len())
         .filter(|&t| spline.is_displaced(t))
         .collect();
-    let pixel = |p: [f64; 2]| placement.to_pixels(p);
+    let pixel = |p: [f64; 2]| placement.pixel_of(p);
     // What the displaced triangles covered is uncovered, unless a deformed triangle covers it.
     for &t in &displaced {
         let corners = triangles[t].map(pixel);
