@@ -175,7 +175,7 @@ pub fn deform_image(
         });
     }
     let finite = placement.left.is_finite() && placement.top.is_finite();
-    if !finite || !(placement.units_per_pixel > 0.0 && placement.units_per_pixel.is_finite()) {
+    if !(finite && placement.units_per_pixel > 0.0 && placement.units_per_pixel.is_finite()) {
         return Err(ImageError::Placement);
     }
     if spline.dim() != 2 {
