@@ -199,6 +199,81 @@ fn a_deformed_obj_keeps_the_models_structure() {
     }
 }
 
+/// An STL model comes back as STL, binary as binary (its 80-byte header, though it begins
+/// with "solid ", and each facet's attribute bytes kept) and ASCII as ASCII: facets the edit
+/// does not reach byte for byte, moved ones with their corners and normals written again.
+#[test]
+fn a_deformed_stl_stays_the_same_stl() {
+    // Two facets near the grid's corner vertex v0 (which the edit moves) and one in the far
+    // cell, which the edit does not reach.
+    let facets = [
+        [[2.0f32, 2.0, 0.0], [6.0, 2.0, 0.0], [6.0, 6.0, 1.0]],
+        [[2.0, 2.0, 0.0], [6.0, 6.0, 1.0], [2.0, 6.0, 0.0]],
+        [[30.0, 35.0, 0.0], [39.0, 35.0, 0.0], [39.0, 39.0, 0.0]],
+    ];
+    let mut binary = b"solid exported".to_vec();
+    binary.resize(80, 0);
+    binary.extend(3u32.to_le_bytes());
+    let mut ascii = String::from("solid part\n");
+    for (k, corners) in facets.iter().enumerate() {
+        for x in [0.0f32, 0.0, 1.0].iter().chain(corners.iter().flatten()) {
+            binary.extend(x.to_le_bytes());
+        }
+        binary.extend((k as u16 + 40).to_le_bytes());
+        ascii.push_str(" facet normal 0 0 1\n  outer loop\n");
+        for c in corners {
+            ascii.push_str(&format!("   vertex {} {} {}\n", c[0], c[1], c[2]));
+        }
+        ascii.push_str("  endloop\n endfacet\n");
+    }
+    ascii.push_str("endsolid part\n");
+    for (name, bytes) in [("bin.stl", binary), ("text.stl", ascii.into_bytes())] {
+        let (dir, run, out) = run_file(&format!(
+            r#"(
+                sources: [(name: "g", plugin: "spline2d", config: (mesh: {mesh:?}))],
+                edits: [Source(source: "g", operation: (anchors: ["v0"], neighborhood: 1, translate: ("2", "1")))],
+                outputs: [(source: "g", output: (model: {name:?}))],
+            )"#,
+            mesh = root()
+                .join("examples/meshes/grid.obj")
+                .display()
+                .to_string()
+        ));
+        std::fs::write(dir.path().join(name), &bytes).expect("write model");
+        let o = ecles(&[
+            "run",
+            &run.display().to_string(),
+            "--out",
+            &out.display().to_string(),
+        ]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let stem = name.trim_end_matches(".stl");
+        let written = std::fs::read(out.join(format!("{stem}-deformed.stl"))).expect("written");
+        assert_ne!(written, bytes, "{name}: the edit moves the first facets");
+        if name == "bin.stl" {
+            assert_eq!(written.len(), bytes.len());
+            assert_eq!(written[..84], bytes[..84], "the header");
+            for k in 0..3 {
+                let attribute = 84 + 50 * k + 48;
+                assert_eq!(
+                    written[attribute..attribute + 2],
+                    bytes[attribute..attribute + 2]
+                );
+            }
+            assert_eq!(written[84 + 100..], bytes[84 + 100..], "the corner facet");
+        } else {
+            let (w, b) = (
+                String::from_utf8(written).expect("text"),
+                String::from_utf8(bytes).expect("text"),
+            );
+            assert_eq!(w.lines().count(), b.lines().count());
+            let tail = |t: &str| t.lines().skip(14).collect::<Vec<_>>().join("\n");
+            assert_eq!(tail(&w), tail(&b), "the corner facet and endsolid");
+            assert!(w.starts_with("solid part\n"));
+        }
+    }
+}
+
 /// A spline picture named `.png` is the SVG's drawing rasterised: a PNG twice the SVG's size,
 /// ink where the mesh is, the same bytes on every run.
 #[test]

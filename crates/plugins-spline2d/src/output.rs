@@ -21,7 +21,7 @@ use serde::Deserialize;
 use spline2d::eval::{FloatSpline, Locator};
 use spline2d::model::{
     deform_model, deformed_name, left_in_place_note, load_model_with_source, locate_vertices,
-    plane_jacobian, Deformed, Model, ObjSource,
+    plane_jacobian, Deformed, Model, ModelSource,
 };
 use std::path::{Path, PathBuf};
 
@@ -80,7 +80,7 @@ pub(crate) fn check_output(
     text: &str,
     base_dir: &Path,
     limit: u64,
-) -> Result<(CheckedOutput, Option<(Model, ObjSource)>), SourceError> {
+) -> Result<(CheckedOutput, Option<(Model, ModelSource)>), SourceError> {
     let what = format!("{} output", built.name);
     let config: OutputConfig = from_ron(text, &what)?;
     let error = |message: String| SourceError::new(format!("{what}: {message}"));

@@ -79,7 +79,7 @@ use api::{
 use serde::Deserialize;
 use spline2d::config::{spline_from_config, SplineConfig, SplineRead};
 use spline2d::edit::{SelectError, SplineEditor};
-use spline2d::model::{load_model_with_source, Model, ObjSource};
+use spline2d::model::{load_model_with_source, Model, ModelSource};
 use spline2d::net::ControlNet;
 use spline2d::operation::operation_plan;
 use spline2d::params::SplineParams;
@@ -185,21 +185,22 @@ impl TerrainSource {
 }
 
 /// Reads the terrain or model to deform, of at most `limit` bytes: an ESRI grid (`.asc`), an
-/// OBJ model (`.obj`) or a plain grid (anything else).
+/// OBJ or STL model (`.obj`, `.stl`) or a plain grid (anything else).
 pub fn load_terrain(path: &Path, limit: u64) -> Result<Model, String> {
     load_terrain_with_source(path, limit).map(|(model, _)| model)
 }
 
-/// [`load_terrain`] with, for an OBJ model, its text and layout (to write the deformed model
-/// back as the same file).
+/// [`load_terrain`] with, for a model, the file itself (to write the deformed model back as
+/// the same file, in its format).
 pub fn load_terrain_with_source(
     path: &Path,
     limit: u64,
-) -> Result<(Model, Option<ObjSource>), String> {
-    let is_obj = path
-        .extension()
-        .is_some_and(|e| e.to_string_lossy().eq_ignore_ascii_case("obj"));
-    if is_obj {
+) -> Result<(Model, Option<ModelSource>), String> {
+    let is_model = path.extension().is_some_and(|e| {
+        let e = e.to_string_lossy();
+        e.eq_ignore_ascii_case("obj") || e.eq_ignore_ascii_case("stl")
+    });
+    if is_model {
         load_model_with_source(path, limit)
             .map(|(model, source)| (model, Some(source)))
             .map_err(|e| e.to_string())

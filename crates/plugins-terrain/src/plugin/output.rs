@@ -8,7 +8,7 @@ use api::config::{check_output_file_name, from_ron};
 use api::exact::rational_to_f64;
 use api::{OutputFile, ParamId, RenderRequest, SourceError, Values};
 use serde::Deserialize;
-use spline2d::model::{deformed_name, write_obj, Model, ObjSource};
+use spline2d::model::{deformed_name, write_obj, Model, ModelSource};
 use std::path::{Path, PathBuf};
 
 #[derive(Debug, Clone, Deserialize)]
@@ -36,8 +36,8 @@ fn default_true() -> bool {
 pub(super) struct CheckedOutput {
     config: OutputConfig,
     pub(super) model: Model,
-    /// An OBJ model's text and layout (`None` for a grid, written as a new OBJ).
-    source: Option<ObjSource>,
+    /// A model's file (`None` for a grid, written as a new OBJ).
+    source: Option<ModelSource>,
     /// The model file as the output names it (relative to the run file, as written).
     pub(super) model_name: String,
     pub(super) model_path: PathBuf,

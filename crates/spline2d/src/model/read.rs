@@ -1,7 +1,7 @@
 //! Reading a model from Wavefront OBJ into `f64` positions and triangles, keeping the file's
 //! vertex numbering (point clouds included).
 
-use super::{Model, ModelError, ObjSource};
+use super::{Model, ModelError, ObjSource, StlSource};
 use crate::obj_text::{statements, tokens, FaceCorner};
 use std::path::Path;
 
@@ -12,14 +12,56 @@ pub fn load_model(path: &Path, limit: u64) -> Result<Model, ModelError> {
     parse_model(&text, &path.display().to_string())
 }
 
-/// [`load_model`] with the file's text and layout, for writing the deformed model back as the
-/// same file ([`ObjSource::write_deformed`]).
-pub fn load_model_with_source(path: &Path, limit: u64) -> Result<(Model, ObjSource), ModelError> {
-    let text = read_model_text(path, limit)?;
+/// A model file as read, for writing the deformed model back as the same file, in its format.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ModelSource {
+    /// Wavefront OBJ.
+    Obj(ObjSource),
+    /// STL, binary or ASCII.
+    Stl(StlSource),
+}
+
+impl ModelSource {
+    /// The file again with the positions of `deformed` (the model read from it, deformed) and,
+    /// for OBJ, its normals transformed by `jacobian(v)` (see [`ObjSource::write_deformed`]);
+    /// an STL facet's normal is the deformed facet's own.
+    pub fn write_deformed(
+        &self,
+        original: &Model,
+        deformed: &Model,
+        jacobian: impl Fn(usize) -> Option<[[f64; 3]; 3]>,
+    ) -> Result<Vec<u8>, String> {
+        match self {
+            ModelSource::Obj(obj) => obj.write_deformed(original, deformed, jacobian),
+            ModelSource::Stl(stl) => stl.write_deformed(original, deformed),
+        }
+    }
+}
+
+/// Whether `path` names an STL file (extension `.stl`, any case); any other model is OBJ.
+pub fn is_stl(path: &Path) -> bool {
+    path.extension()
+        .is_some_and(|e| e.to_string_lossy().eq_ignore_ascii_case("stl"))
+}
+
+/// Reads a model of at most `limit` bytes in its format (STL for `.stl`, else OBJ, see
+/// [`load_model`]) with the file itself, for writing the deformed model back as the same file
+/// ([`ModelSource::write_deformed`]).
+pub fn load_model_with_source(path: &Path, limit: u64) -> Result<(Model, ModelSource), ModelError> {
     let file = path.display().to_string();
+    if is_stl(path) {
+        let bytes =
+            api::input::read_regular_file(path, "model", limit).map_err(|e| ModelError::Input {
+                path: path.to_path_buf(),
+                reason: e.reason(),
+            })?;
+        let (model, source) = StlSource::parse(bytes, &file)?;
+        return Ok((model, ModelSource::Stl(source)));
+    }
+    let text = read_model_text(path, limit)?;
     let model = parse_model(&text, &file)?;
     let source = ObjSource::parse(text, &file)?;
-    Ok((model, source))
+    Ok((model, ModelSource::Obj(source)))
 }
 
 /// The text of the model file at `path` (at most `limit` bytes).

@@ -72,16 +72,22 @@ pub fn write_obj(model: &Model, writer: &mut impl Write) -> io::Result<()> {
     flush(&mut text, writer)
 }
 
-/// The output file name of a deformed model: `<stem>-deformed.obj` for the model at `path`
-/// (`model-deformed.obj` when the path has no usable stem), so the deformed model lands in the
-/// output directory next to the report, never over its input.
+/// The output file name of a deformed model: `<stem>-deformed.stl` for an STL model at
+/// `path`, `<stem>-deformed.obj` for any other (`model-deformed…` when the path has no usable
+/// stem), so the deformed model lands in the output directory next to the report, in its own
+/// format, never over its input.
 pub fn deformed_name(path: &str) -> String {
     let stem = Path::new(path)
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
         .filter(|s| !s.is_empty() && !s.starts_with('.'))
         .unwrap_or_else(|| "model".into());
-    format!("{stem}-deformed.obj")
+    let extension = if super::read::is_stl(Path::new(path)) {
+        "stl"
+    } else {
+        "obj"
+    };
+    format!("{stem}-deformed.{extension}")
 }
 
 #[cfg(test)]
