@@ -212,27 +212,51 @@ impl Picture<'_> {
     }
 }
 
-/// A model's triangle edges (each once), thin blue.
+/// Most model edges a picture draws one by one. A model with more is drawn by its outline in
+/// the picture's plane — its boundary edges and its silhouette, the edges between a face seen
+/// from above and one seen from below (and edges of more than two faces) — so that a picture of a
+/// real model (a scanned statue of 100 000 triangles) stays a drawing of a few megabytes that a
+/// browser renders at once, not a solid blob.
+pub const MODEL_EDGE_BUDGET: usize = 50_000;
+
+/// A model's triangle edges (each once), thin blue; beyond [`MODEL_EDGE_BUDGET`] edges, its
+/// outline only (group `model-outline`).
 pub(super) fn model_edges_layer(model: &Model) -> Result<StyledGroup, SvgError> {
     let count = model.positions.len();
-    let mut edges = BTreeSet::new();
+    let xy = |v: usize| [model.positions[v][0], model.positions[v][1]];
+    // Per edge: its faces and the sides (sign of the area in the plane) they are seen from.
+    let mut edges: std::collections::BTreeMap<(usize, usize), (usize, i8, bool)> =
+        std::collections::BTreeMap::new();
     for tri in &model.triangles {
+        if let Some(&v) = tri.iter().find(|&&v| v >= count) {
+            return Err(SvgError::NoSuchPoint { point: v, count });
+        }
+        let [a, b, c] = tri.map(xy);
+        let area = (b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]);
+        let side: i8 = if area > 0.0 {
+            1
+        } else if area < 0.0 {
+            -1
+        } else {
+            0
+        };
         for k in 0..3 {
             let (a, b) = (tri[k], tri[(k + 1) % 3]);
-            if a.max(b) >= count {
-                return Err(SvgError::NoSuchPoint {
-                    point: a.max(b),
-                    count,
-                });
-            }
             if a != b {
-                edges.insert((a.min(b), a.max(b)));
+                let entry = edges
+                    .entry((a.min(b), a.max(b)))
+                    .or_insert((0, side, false));
+                entry.0 += 1;
+                entry.2 |= entry.1 != side;
             }
         }
     }
-    let xy = |v: usize| [model.positions[v][0], model.positions[v][1]];
-    let mut shapes = Vec::with_capacity(edges.len());
-    for (a, b) in edges {
+    let outline = edges.len() > MODEL_EDGE_BUDGET;
+    let mut shapes = Vec::new();
+    for ((a, b), (faces, _, sides_differ)) in edges {
+        if outline && faces == 2 && !sides_differ {
+            continue;
+        }
         let (pa, pb) = (xy(a), xy(b));
         if !(finite(&pa) && finite(&pb)) {
             return Err(SvgError::NotFinite {
@@ -242,7 +266,11 @@ pub(super) fn model_edges_layer(model: &Model) -> Result<StyledGroup, SvgError> 
         shapes.push(SvgElement::Line(pa, pb));
     }
     Ok(StyledGroup::new(
-        "model-edges",
+        if outline {
+            "model-outline"
+        } else {
+            "model-edges"
+        },
         r##"fill="none" stroke="#4a7fb5" stroke-width="0.5""##,
         shapes,
     ))
@@ -304,5 +332,42 @@ mod tests {
         assert_eq!(p, vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]);
         assert_eq!(num(-0.001), "0.00");
         assert_eq!(num(2.5), "2.50");
+    }
+}
+
+#[cfg(test)]
+mod model_tests {
+    use super::*;
+
+    /// A model too large to draw edge by edge is drawn by its outline: for a flat grid of
+    /// triangles, its border.
+    #[test]
+    fn large_models_are_outlined() {
+        let n = 170; // 170 × 170 squares: 86 870 edges, beyond the budget.
+        let at = |i: usize, j: usize| j * (n + 1) + i;
+        let positions: Vec<[f64; 3]> = (0..=n)
+            .flat_map(|j| (0..=n).map(move |i| [i as f64, j as f64, 0.0]))
+            .collect();
+        let mut triangles = Vec::new();
+        for j in 0..n {
+            for i in 0..n {
+                triangles.push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
+                triangles.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
+            }
+        }
+        let big = Model {
+            positions,
+            triangles,
+        };
+        let layer = model_edges_layer(&big).expect("drawn");
+        assert_eq!(layer.name(), "model-outline");
+        assert_eq!(layer.len(), 4 * n, "the border only");
+        // A small model is drawn edge by edge.
+        let small = Model {
+            positions: big.positions[..].to_vec(),
+            triangles: big.triangles[..2].to_vec(),
+        };
+        let layer = model_edges_layer(&small).expect("drawn");
+        assert_eq!((layer.name(), layer.len()), ("model-edges", 5));
     }
 }

@@ -44,6 +44,18 @@ impl StyledGroup {
             shapes,
         }
     }
+
+    /// The group's class (what it draws), for tests.
+    #[cfg(test)]
+    pub(super) fn name(&self) -> &str {
+        &self.class
+    }
+
+    /// Its number of shapes, for tests.
+    #[cfg(test)]
+    pub(super) fn len(&self) -> usize {
+        self.shapes.len()
+    }
 }
 
 /// Axis-aligned bounds of world coordinates; empty when `lo > hi`.
