@@ -8,7 +8,7 @@ use api::exact::rational_to_f64;
 use spline2d::eval::FloatSpline;
 use spline2d::model::Model;
 use spline2d::net::ControlNet;
-use std::collections::BTreeSet;
+use std::collections::BTreeMap;
 
 impl Picture<'_> {
     /// The reference mesh: thin grey straight edges.
@@ -225,8 +225,7 @@ pub(super) fn model_edges_layer(model: &Model) -> Result<StyledGroup, SvgError> 
     let count = model.positions.len();
     let xy = |v: usize| [model.positions[v][0], model.positions[v][1]];
     // Per edge: its faces and the sides (sign of the area in the plane) they are seen from.
-    let mut edges: std::collections::BTreeMap<(usize, usize), (usize, i8, bool)> =
-        std::collections::BTreeMap::new();
+    let mut edges: BTreeMap<(usize, usize), (usize, i8, bool)> = BTreeMap::new();
     for tri in &model.triangles {
         if let Some(&v) = tri.iter().find(|&&v| v >= count) {
             return Err(SvgError::NoSuchPoint { point: v, count });
