@@ -82,6 +82,39 @@ pub struct View {
     /// Heights mapped to the first and last tint.
     low: f64,
     high: f64,
+    /// What one unit of x, y and z is in the common length the light sees (see
+    /// [`Shading`]): the normals are those of the surface scaled by these.
+    shading: [f64; 3],
+}
+
+/// How the surface is scaled for its light: a vertical exaggeration, and the length of one
+/// horizontal unit in height units (1 when both are metres; for a geographic grid, whose
+/// positions are degrees and heights metres, the metres of a degree at the grid's latitude).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Shading {
+    /// Heights are multiplied by this for the light (positive).
+    pub exaggeration: f64,
+    /// Whether positions are degrees of longitude (x) and latitude (y) and heights metres.
+    pub degrees: bool,
+}
+
+impl Default for Shading {
+    fn default() -> Self {
+        Shading {
+            exaggeration: 1.0,
+            degrees: false,
+        }
+    }
+}
+
+/// Metres per degree of longitude and of latitude at latitude `phi` (degrees), on the WGS 84
+/// ellipsoid (the usual series, good to a metre per degree).
+pub fn metres_per_degree(phi: f64) -> [f64; 2] {
+    let r = phi.to_radians();
+    [
+        111_412.84 * r.cos() - 93.5 * (3.0 * r).cos() + 0.118 * (5.0 * r).cos(),
+        111_132.92 - 559.82 * (2.0 * r).cos() + 1.175 * (4.0 * r).cos() - 0.0023 * (6.0 * r).cos(),
+    ]
 }
 
 /// Checks a picture width: between 16 and 8192 pixels (the height follows the terrain's shape
@@ -137,7 +170,21 @@ impl View {
             height: height as u32,
             low,
             high,
+            shading: [1.0, 1.0, 1.0],
         })
+    }
+
+    /// The view with the surface lit as `shading` says; a geographic grid's degrees are turned
+    /// into metres at the latitude of the view's centre.
+    pub fn with_shading(mut self, shading: Shading) -> View {
+        let [x, y] = if shading.degrees {
+            let middle = self.top - 0.5 * f64::from(self.height) / self.scale;
+            metres_per_degree(middle)
+        } else {
+            [1.0, 1.0]
+        };
+        self.shading = [x, y, shading.exaggeration];
+        self
     }
 
     /// Picture size in pixels.
@@ -155,11 +202,15 @@ impl View {
 }
 
 /// Unit normals per vertex: the area-weighted sum of the normals of the vertex's triangles,
-/// each turned to face up (a surface seen from above).
-fn vertex_normals(model: &Model) -> Vec<[f64; 3]> {
+/// each turned to face up (a surface seen from above), of the surface scaled by `scale` per
+/// axis (see [`Shading`]).
+fn vertex_normals(model: &Model, scale: [f64; 3]) -> Vec<[f64; 3]> {
     let mut normals = vec![[0.0f64; 3]; model.positions.len()];
     for tri in &model.triangles {
-        let [a, b, c] = tri.map(|v| model.positions[v]);
+        let [a, b, c] = tri.map(|v| {
+            let p = model.positions[v];
+            [p[0] * scale[0], p[1] * scale[1], p[2] * scale[2]]
+        });
         let (u, v) = (
             [0, 1, 2].map(|k| b[k] - a[k]),
             [0, 1, 2].map(|k| c[k] - a[k]),
@@ -217,7 +268,7 @@ fn rasterise(model: &Model, view: &View) -> Raster {
             normals: None,
         };
     }
-    let vertex_normals = vertex_normals(model);
+    let vertex_normals = vertex_normals(model, view.shading);
     let mut normals = vec![[0.0f64; 3]; w * h];
     for tri in &model.triangles {
         let corners = tri.map(|v| model.positions[v]);
@@ -299,7 +350,12 @@ fn slope_normal(heights: &[f64], view: &View, i: usize, j: usize) -> [f64; 3] {
     // Rows grow southwards, so north is dj = −1.
     let north = (z(-1, -1) + 2.0 * z(0, -1) + z(1, -1)) - (z(-1, 1) + 2.0 * z(0, 1) + z(1, 1));
     let pixel = 1.0 / view.scale;
-    [-east / (8.0 * pixel), -north / (8.0 * pixel), 1.0]
+    let [sx, sy, sz] = view.shading;
+    [
+        -sz * east / (8.0 * pixel * sx),
+        -sz * north / (8.0 * pixel * sy),
+        1.0,
+    ]
 }
 
 /// Hillshade and height colours, as RGB.
@@ -502,6 +558,55 @@ mod tests {
             &[214, 39, 40]
         );
         assert_eq!(&pixels[0..3], &BACKGROUND);
+    }
+
+    /// The mean brightness of the pyramid's picture (the tint's range is the same).
+    fn mean_brightness(model: &Model, shading: Shading) -> f64 {
+        let panel = Panel {
+            model,
+            lines: &[],
+            markers: &[],
+        };
+        let view = View::fit(&[panel], 64).expect("view").with_shading(shading);
+        let (_, _, pixels) = decode(&render(&panel, &view).expect("png"));
+        pixels.iter().map(|&p| f64::from(p)).sum::<f64>() / pixels.len() as f64
+    }
+
+    /// A geographic grid (degrees across, metres up) is nearly black when degrees are taken
+    /// for metres, and lit as it should once they are metres; a vertical exaggeration steepens
+    /// the light's contrast.
+    #[test]
+    fn geographic_grids_and_exaggeration_change_the_light() {
+        // 0.01° across, 200 m high: as steep as a 1.1 km wide, 200 m high hill.
+        let mut hill = pyramid(200.0);
+        for p in &mut hill.positions {
+            p[0] = 7.0 + p[0] / 1000.0;
+            p[1] = 46.0 + p[1] / 1000.0;
+        }
+        let as_metres = mean_brightness(&hill, Shading::default());
+        let as_degrees = mean_brightness(
+            &hill,
+            Shading {
+                exaggeration: 1.0,
+                degrees: true,
+            },
+        );
+        assert!(as_degrees > as_metres + 20.0, "{as_degrees} vs {as_metres}");
+        let [x, y] = metres_per_degree(46.0);
+        assert!(
+            (x - 77_465.0).abs() < 100.0 && (y - 111_152.0).abs() < 100.0,
+            "{x} {y}"
+        );
+        let flat = pyramid(1.0);
+        let plain = mean_brightness(&flat, Shading::default());
+        let steep = mean_brightness(
+            &flat,
+            Shading {
+                exaggeration: 8.0,
+                degrees: false,
+            },
+        );
+        assert!((plain - steep).abs() > 1.0, "{plain} vs {steep}");
     }
 
     #[test]

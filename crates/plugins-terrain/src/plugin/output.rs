@@ -3,7 +3,7 @@
 
 use super::{load_terrain_with_source, Built, TerrainSource};
 use crate::deform::{DeformedModel, Psi};
-use crate::relief::{self, Marker, Panel, View};
+use crate::relief::{self, Marker, Panel, Shading, View};
 use api::config::{check_output_file_name, from_ron};
 use api::exact::rational_to_f64;
 use api::{OutputFile, ParamId, RenderRequest, SourceError, Values};
@@ -22,6 +22,45 @@ struct OutputConfig {
     size: u32,
     #[serde(default = "default_true")]
     reference_mesh: bool,
+    /// Vertical exaggeration of the relief's light (default 1).
+    #[serde(default)]
+    exaggeration: Option<api::exact::Exact>,
+    /// `"same"` (default: positions in the heights' unit) or `"degrees"` (a geographic grid:
+    /// positions in degrees of longitude and latitude, heights in metres).
+    #[serde(default)]
+    horizontal_units: Option<String>,
+}
+
+impl OutputConfig {
+    /// How the pictures light the surface; `Err` for an exaggeration that is not positive or
+    /// units other than `"same"` and `"degrees"`.
+    fn shading(&self) -> Result<Shading, String> {
+        let exaggeration = match &self.exaggeration {
+            Some(e) if e.0 > api::Rational::from_integer(0.into()) => {
+                api::exact::rational_to_f64(&e.0)
+            }
+            Some(e) => {
+                return Err(format!(
+                    "exaggeration {} must be positive",
+                    api::format_rational(&e.0)
+                ))
+            }
+            None => 1.0,
+        };
+        let degrees = match self.horizontal_units.as_deref() {
+            None | Some("same") => false,
+            Some("degrees") => true,
+            Some(other) => {
+                return Err(format!(
+                    "horizontal_units {other:?} must be \"same\" or \"degrees\""
+                ))
+            }
+        };
+        Ok(Shading {
+            exaggeration,
+            degrees,
+        })
+    }
 }
 
 fn default_size() -> u32 {
@@ -87,6 +126,7 @@ impl TerrainSource {
             None => None,
         };
         relief::check_width(config.size).map_err(|e| error(&e))?;
+        config.shading().map_err(|e| error(&e))?;
         let full = base_dir.join(&model_path);
         let (model, source) = load_terrain_with_source(&full, limit).map_err(|e| error(&e))?;
         let checked = CheckedOutput {
@@ -170,7 +210,10 @@ impl TerrainSource {
                     markers: &markers_after,
                 },
             ];
-            let view = View::fit(&panels, config.size).map_err(|e| error(&e))?;
+            let shading = config.shading().map_err(|e| error(&e))?;
+            let view = View::fit(&panels, config.size)
+                .map_err(|e| error(&e))?
+                .with_shading(shading);
             for (panel, when) in panels.iter().zip(["before", "after"]) {
                 files.push(OutputFile::new(
                     format!("{picture}-{when}.png"),

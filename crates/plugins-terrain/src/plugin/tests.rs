@@ -522,7 +522,27 @@ fn renders_the_deformed_model_and_pictures() {
             structure: None,
         })
     };
+    // The light's options: checked, and they change the pictures.
+    for (bad, needle) in [
+        (
+            r#"(model: "t.asc", picture: "t.png", exaggeration: "0")"#,
+            "must be positive",
+        ),
+        (
+            r#"(model: "t.asc", picture: "t.png", horizontal_units: "feet")"#,
+            "\"same\" or \"degrees\"",
+        ),
+    ] {
+        let e = render(bad).expect_err(bad);
+        assert!(e.message.contains(needle), "{}", e.message);
+    }
+    let steep = render(r#"(model: "t.asc", picture: "t.png", size: 64, exaggeration: "5/2", horizontal_units: "same")"#)
+        .expect("render");
     let files = render(r#"(model: "t.asc", picture: "t.png", size: 64)"#).expect("render");
+    assert_ne!(
+        steep[2].bytes, files[2].bytes,
+        "an exaggerated relief is lit differently"
+    );
     let names: Vec<&str> = files.iter().map(|f| f.name.as_str()).collect();
     assert_eq!(names, ["t-deformed.obj", "t-before.png", "t-after.png"]);
     let obj = String::from_utf8(files[0].bytes.clone()).expect("utf8");
