@@ -274,6 +274,52 @@ fn a_deformed_stl_stays_the_same_stl() {
     }
 }
 
+/// A PLY model comes back as PLY with every property: the header as it was (comments,
+/// elements, property types), colours kept, the vertex the edit does not reach as it was, the
+/// moved ones changed.
+#[test]
+fn a_deformed_ply_keeps_its_properties() {
+    let ply = "ply\nformat ascii 1.0\ncomment scanned\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\nproperty uchar red\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n2 2 0 11\n6 2 0 22\n6 6 1 33\n35 35 0 44\n3 0 1 2\n";
+    let (dir, run, out) = run_file(&format!(
+        r#"(
+            sources: [(name: "g", plugin: "spline2d", config: (mesh: {mesh:?}))],
+            edits: [Source(source: "g", operation: (anchors: ["v0"], neighborhood: 1, translate: ("2", "1")))],
+            outputs: [(source: "g", output: (model: "scan.ply"))],
+        )"#,
+        mesh = root()
+            .join("examples/meshes/grid.obj")
+            .display()
+            .to_string()
+    ));
+    std::fs::write(dir.path().join("scan.ply"), ply).expect("write model");
+    let o = ecles(&[
+        "run",
+        &run.display().to_string(),
+        "--out",
+        &out.display().to_string(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = std::fs::read_to_string(out.join("scan-deformed.ply")).expect("written");
+    let (header, body) = text.split_once("end_header\n").expect("a header");
+    let (old_header, old_body) = ply.split_once("end_header\n").expect("a header");
+    assert_eq!(header, old_header);
+    // ply-rs ends each data line with a space: the same values, not the same bytes.
+    let (lines, old_lines): (Vec<&str>, Vec<&str>) = (
+        body.lines().map(str::trim_end).collect(),
+        old_body.lines().collect(),
+    );
+    assert_eq!(lines.len(), old_lines.len());
+    assert_eq!(lines[3..], old_lines[3..], "the far vertex and the face");
+    for (line, colour) in lines[..3].iter().zip(["11", "22", "33"]) {
+        assert!(line.ends_with(&format!(" {colour}")), "{line}");
+    }
+    assert_ne!(
+        lines[..3],
+        old_lines[..3],
+        "the edit moves the first vertices"
+    );
+}
+
 /// A spline picture named `.png` is the SVG's drawing rasterised: a PNG twice the SVG's size,
 /// ink where the mesh is, the same bytes on every run.
 #[test]

@@ -185,7 +185,7 @@ impl TerrainSource {
 }
 
 /// Reads the terrain or model to deform, of at most `limit` bytes: an ESRI grid (`.asc`), an
-/// OBJ or STL model (`.obj`, `.stl`) or a plain grid (anything else).
+/// OBJ, STL or PLY model (`.obj`, `.stl`, `.ply`) or a plain grid (anything else).
 pub fn load_terrain(path: &Path, limit: u64) -> Result<Model, String> {
     load_terrain_with_source(path, limit).map(|(model, _)| model)
 }
@@ -198,7 +198,9 @@ pub fn load_terrain_with_source(
 ) -> Result<(Model, Option<ModelSource>), String> {
     let is_model = path.extension().is_some_and(|e| {
         let e = e.to_string_lossy();
-        e.eq_ignore_ascii_case("obj") || e.eq_ignore_ascii_case("stl")
+        ["obj", "stl", "ply"]
+            .iter()
+            .any(|model| e.eq_ignore_ascii_case(model))
     });
     if is_model {
         load_model_with_source(path, limit)

@@ -15,12 +15,14 @@
 
 mod deform;
 mod obj_source;
+mod ply_source;
 mod read;
 mod stl_source;
 mod write;
 
 pub use deform::{deform_model, left_in_place_note, locate_vertices, plane_jacobian};
 pub use obj_source::ObjSource;
+pub use ply_source::PlySource;
 pub use read::{load_model, load_model_with_source, parse_model, ModelSource};
 pub use stl_source::StlSource;
 pub use write::{deformed_name, write_obj};

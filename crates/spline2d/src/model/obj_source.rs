@@ -293,7 +293,7 @@ impl ObjSource {
 
 /// `J^{−T} n` rescaled to the length of `n`; `None` when `J` is singular or the result is not
 /// finite.
-fn transform_normal(j: &[[f64; 3]; 3], n: [f64; 3]) -> Option<[f64; 3]> {
+pub(super) fn transform_normal(j: &[[f64; 3]; 3], n: [f64; 3]) -> Option<[f64; 3]> {
     // The cofactor matrix C of J: J^{-T} = C / det J.
     let c = |r: usize, k: usize| -> f64 {
         let (r1, r2) = ((r + 1) % 3, (r + 2) % 3);

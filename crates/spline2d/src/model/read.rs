@@ -1,7 +1,7 @@
 //! Reading a model from Wavefront OBJ into `f64` positions and triangles, keeping the file's
 //! vertex numbering (point clouds included).
 
-use super::{Model, ModelError, ObjSource, StlSource};
+use super::{Model, ModelError, ObjSource, PlySource, StlSource};
 use crate::obj_text::{statements, tokens, FaceCorner};
 use std::path::Path;
 
@@ -19,6 +19,8 @@ pub enum ModelSource {
     Obj(ObjSource),
     /// STL, binary or ASCII.
     Stl(StlSource),
+    /// PLY, ASCII or binary.
+    Ply(PlySource),
 }
 
 impl ModelSource {
@@ -34,27 +36,42 @@ impl ModelSource {
         match self {
             ModelSource::Obj(obj) => obj.write_deformed(original, deformed, jacobian),
             ModelSource::Stl(stl) => stl.write_deformed(original, deformed),
+            ModelSource::Ply(ply) => ply.write_deformed(original, deformed, jacobian),
         }
     }
 }
 
-/// Whether `path` names an STL file (extension `.stl`, any case); any other model is OBJ.
+/// Whether `path` names an STL file (extension `.stl`, any case).
 pub fn is_stl(path: &Path) -> bool {
-    path.extension()
-        .is_some_and(|e| e.to_string_lossy().eq_ignore_ascii_case("stl"))
+    has_extension(path, "stl")
 }
 
-/// Reads a model of at most `limit` bytes in its format (STL for `.stl`, else OBJ, see
+/// Whether `path` names a PLY file (extension `.ply`, any case).
+pub fn is_ply(path: &Path) -> bool {
+    has_extension(path, "ply")
+}
+
+fn has_extension(path: &Path, extension: &str) -> bool {
+    path.extension()
+        .is_some_and(|e| e.to_string_lossy().eq_ignore_ascii_case(extension))
+}
+
+/// Reads a model of at most `limit` bytes in its format (STL for `.stl`, PLY for `.ply`, else
+/// OBJ, see
 /// [`load_model`]) with the file itself, for writing the deformed model back as the same file
 /// ([`ModelSource::write_deformed`]).
 pub fn load_model_with_source(path: &Path, limit: u64) -> Result<(Model, ModelSource), ModelError> {
     let file = path.display().to_string();
-    if is_stl(path) {
+    if is_stl(path) || is_ply(path) {
         let bytes =
             api::input::read_regular_file(path, "model", limit).map_err(|e| ModelError::Input {
                 path: path.to_path_buf(),
                 reason: e.reason(),
             })?;
+        if is_ply(path) {
+            let (model, source) = PlySource::parse(&bytes, &file)?;
+            return Ok((model, ModelSource::Ply(source)));
+        }
         let (model, source) = StlSource::parse(bytes, &file)?;
         return Ok((model, ModelSource::Stl(source)));
     }

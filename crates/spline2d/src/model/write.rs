@@ -73,7 +73,7 @@ pub fn write_obj(model: &Model, writer: &mut impl Write) -> io::Result<()> {
 }
 
 /// The output file name of a deformed model: `<stem>-deformed.stl` for an STL model at
-/// `path`, `<stem>-deformed.obj` for any other (`model-deformed…` when the path has no usable
+/// `path`, `.ply` for a PLY model, `<stem>-deformed.obj` for any other (`model-deformed…` when the path has no usable
 /// stem), so the deformed model lands in the output directory next to the report, in its own
 /// format, never over its input.
 pub fn deformed_name(path: &str) -> String {
@@ -84,6 +84,8 @@ pub fn deformed_name(path: &str) -> String {
         .unwrap_or_else(|| "model".into());
     let extension = if super::read::is_stl(Path::new(path)) {
         "stl"
+    } else if super::read::is_ply(Path::new(path)) {
+        "ply"
     } else {
         "obj"
     };
