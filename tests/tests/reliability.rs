@@ -475,9 +475,15 @@ fn files_that_are_not_models_or_would_be_overwritten_are_refused() {
         assert!(stderr(&o).contains(needle), "{model}: {}", stderr(&o));
         assert!(!out.join("report.json").exists());
     }
-    // An SVG picture named .png, and an output that would overwrite the run file.
-    refused(&worm_with("worm.svg", "worm.png"), &["must end in .svg"]);
-    refused(&worm_with("worm.svg", "run.ron"), &["must end in .svg"]);
+    // A picture named .gif, and an output that would overwrite the run file.
+    refused(
+        &worm_with("worm.svg", "worm.gif"),
+        &["ending in .svg or .png"],
+    );
+    refused(
+        &worm_with("worm.svg", "run.ron"),
+        &["ending in .svg or .png"],
+    );
     // The mesh itself (an OBJ named .svg) as the picture, written into its own directory.
     let (dir, path, _) = beside_examples(
         &worm_with("meshes/worm.obj", "mesh.svg").replace("\"worm.svg\"", "\"mesh.svg\""),
