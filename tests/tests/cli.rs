@@ -124,6 +124,37 @@ fn model_vertices_outside_the_mesh_are_reported() {
     );
 }
 
+/// The edit the model tests make on the example grid: its corner vertex `v0` moved by (2, 1)
+/// with its neighbourhood 1 (the grid's far cell, 20 < x, y < 40, is not reached).
+const CORNER_EDIT: &str =
+    r#"Source(source: "g", operation: (anchors: ["v0"], neighborhood: 1, translate: ("2", "1")))"#;
+
+/// `ecles run` of the example grid with `edits` and `bytes` as its output's model `name`; the
+/// deformed model's bytes (`<stem>-deformed.<extension>`).
+fn deformed_model_file(name: &str, bytes: &[u8], edits: &str) -> Vec<u8> {
+    let (dir, run, out) = run_file(&format!(
+        r#"(
+            sources: [(name: "g", plugin: "spline2d", config: (mesh: {mesh:?}))],
+            edits: [{edits}],
+            outputs: [(source: "g", output: (model: {name:?}))],
+        )"#,
+        mesh = root()
+            .join("examples/meshes/grid.obj")
+            .display()
+            .to_string()
+    ));
+    std::fs::write(dir.path().join(name), bytes).expect("write model");
+    let o = ecles(&[
+        "run",
+        &run.display().to_string(),
+        "--out",
+        &out.display().to_string(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let (stem, extension) = name.rsplit_once('.').expect("an extension");
+    std::fs::read(out.join(format!("{stem}-deformed.{extension}"))).expect("written")
+}
+
 /// A textured, smooth-shaded model with quads comes back as its own file: every comment,
 /// `mtllib`, `usemtl`, `o`, `g`, `s`, `vt` and face line as written (quads stay quads, index
 /// forms and CRLF kept), the vertices the edit does not reach byte for byte (`3.0e1` stays
@@ -139,34 +170,11 @@ fn a_deformed_obj_keeps_the_models_structure() {
         g front\r\nusemtl skin\r\ns 1\r\n\
         f 1/1/1 2/2/1 3/3/2 4/4/1\r\nf -3/1/1 -2/2/2 -1/3/1\r\n";
     let run = |edits: &str| {
-        let (dir, run, out) = run_file(&format!(
-            r#"(
-                sources: [(name: "g", plugin: "spline2d", config: (mesh: {mesh:?}))],
-                edits: [{edits}],
-                outputs: [(source: "g", output: (model: "skin.obj"))],
-            )"#,
-            mesh = root()
-                .join("examples/meshes/grid.obj")
-                .display()
-                .to_string()
-        ));
-        std::fs::write(dir.path().join("skin.obj"), model).expect("write model");
-        let o = ecles(&[
-            "run",
-            &run.display().to_string(),
-            "--out",
-            &out.display().to_string(),
-        ]);
-        assert!(o.status.success(), "{}", stderr(&o));
-        let text = std::fs::read_to_string(out.join("skin-deformed.obj")).expect("written");
-        (dir, text)
+        String::from_utf8(deformed_model_file("skin.obj", model.as_bytes(), edits)).expect("text")
     };
-    let (_dir, unchanged) = run("");
-    assert_eq!(unchanged, model);
+    assert_eq!(run(""), model);
 
-    let (_dir, text) = run(
-        r#"Source(source: "g", operation: (anchors: ["v0"], neighborhood: 1, translate: ("2", "1")))"#,
-    );
+    let text = run(CORNER_EDIT);
     let (lines, original): (Vec<&str>, Vec<&str>) =
         (text.split("\r\n").collect(), model.split("\r\n").collect());
     assert_eq!(lines.len(), original.len(), "{text}");
@@ -228,27 +236,7 @@ fn a_deformed_stl_stays_the_same_stl() {
     }
     ascii.push_str("endsolid part\n");
     for (name, bytes) in [("bin.stl", binary), ("text.stl", ascii.into_bytes())] {
-        let (dir, run, out) = run_file(&format!(
-            r#"(
-                sources: [(name: "g", plugin: "spline2d", config: (mesh: {mesh:?}))],
-                edits: [Source(source: "g", operation: (anchors: ["v0"], neighborhood: 1, translate: ("2", "1")))],
-                outputs: [(source: "g", output: (model: {name:?}))],
-            )"#,
-            mesh = root()
-                .join("examples/meshes/grid.obj")
-                .display()
-                .to_string()
-        ));
-        std::fs::write(dir.path().join(name), &bytes).expect("write model");
-        let o = ecles(&[
-            "run",
-            &run.display().to_string(),
-            "--out",
-            &out.display().to_string(),
-        ]);
-        assert!(o.status.success(), "{}", stderr(&o));
-        let stem = name.trim_end_matches(".stl");
-        let written = std::fs::read(out.join(format!("{stem}-deformed.stl"))).expect("written");
+        let written = deformed_model_file(name, &bytes, CORNER_EDIT);
         assert_ne!(written, bytes, "{name}: the edit moves the first facets");
         if name == "bin.stl" {
             assert_eq!(written.len(), bytes.len());
@@ -280,26 +268,8 @@ fn a_deformed_stl_stays_the_same_stl() {
 #[test]
 fn a_deformed_ply_keeps_its_properties() {
     let ply = "ply\nformat ascii 1.0\ncomment scanned\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\nproperty uchar red\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n2 2 0 11\n6 2 0 22\n6 6 1 33\n35 35 0 44\n3 0 1 2\n";
-    let (dir, run, out) = run_file(&format!(
-        r#"(
-            sources: [(name: "g", plugin: "spline2d", config: (mesh: {mesh:?}))],
-            edits: [Source(source: "g", operation: (anchors: ["v0"], neighborhood: 1, translate: ("2", "1")))],
-            outputs: [(source: "g", output: (model: "scan.ply"))],
-        )"#,
-        mesh = root()
-            .join("examples/meshes/grid.obj")
-            .display()
-            .to_string()
-    ));
-    std::fs::write(dir.path().join("scan.ply"), ply).expect("write model");
-    let o = ecles(&[
-        "run",
-        &run.display().to_string(),
-        "--out",
-        &out.display().to_string(),
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let text = std::fs::read_to_string(out.join("scan-deformed.ply")).expect("written");
+    let text = String::from_utf8(deformed_model_file("scan.ply", ply.as_bytes(), CORNER_EDIT))
+        .expect("text");
     let (header, body) = text.split_once("end_header\n").expect("a header");
     let (old_header, old_body) = ply.split_once("end_header\n").expect("a header");
     assert_eq!(header, old_header);

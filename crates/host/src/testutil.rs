@@ -4,7 +4,7 @@
 use crate::commands::PreparedRun;
 use crate::error::RunError;
 use crate::report::Report;
-use crate::session::Session;
+use crate::session::{Planning, Session};
 use std::path::{Path, PathBuf};
 
 /// The bundled examples directory.
@@ -46,4 +46,17 @@ pub fn session(run_text: &str) -> (tempfile::TempDir, Session) {
 /// The text of a bundled run file.
 pub fn example(name: &str) -> String {
     std::fs::read_to_string(examples().join(name)).expect("bundled run file")
+}
+
+/// Commits `operation` (RON text) of source `source` as the editor does: planned, initialised,
+/// committed under the run's policy and recorded as a `Source(...)` entry.
+pub fn commit_operation(session: &mut Session, source: &str, operation: &str) {
+    let Planning::Planned(plan) = session.plan_operation(source, operation).expect("plans") else {
+        panic!("refused: {operation}");
+    };
+    let edit = session.initialize(&plan).expect("initialises");
+    let step = plan.steps.last().expect("a step");
+    let result = session.committed_update(&edit, step).expect("solvable");
+    let entry = format!("Source(source: {source:?}, operation: {operation})");
+    session.apply(&edit, &result, entry).expect("applies");
 }

@@ -213,7 +213,6 @@ fn ron_string(text: &str) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::session::Planning;
     use crate::testutil::session;
 
     const WORM: &str = r#"(sources: [(name: "worm", plugin: "spline2d", config: (mesh: "meshes/worm.obj", degree: 5, smoothness: 1))],
@@ -221,15 +220,7 @@ mod tests {
 
     /// Commits `operation` of the worm as the editor does.
     fn commit(session: &mut Session, operation: &str) {
-        let Planning::Planned(plan) = session.plan_operation("worm", operation).expect("plans")
-        else {
-            panic!("refused");
-        };
-        let edit = session.initialize(&plan).expect("initialises");
-        let step = plan.steps.last().expect("a step");
-        let result = session.committed_update(&edit, step).expect("solvable");
-        let entry = format!("Source(source: \"worm\", operation: {operation})");
-        session.apply(&edit, &result, entry).expect("applies");
+        crate::testutil::commit_operation(session, "worm", operation);
     }
 
     fn config(session: &Session, smoothness: &str) -> String {
