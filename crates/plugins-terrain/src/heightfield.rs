@@ -27,11 +27,12 @@
 //! lower-left sample is at `(0, 0)`. Empty lines and `#` comments are ignored.
 //!
 //! Every number (header and heights) is read exactly ([`api::parse_rational`]): sample
-//! positions `x0 + column · cellsize` are computed exactly and rounded to `f64` once, and a
-//! height equals `NODATA_value` exactly or not at all. Errors name the file, the line and the
+//! positions `x0 + column · cellsize` are computed exactly and rounded to the nearest `f64`
+//! once, heights likewise (so a height written back as its shortest decimal reads back to the
+//! same `f64`), and a height equals `NODATA_value` exactly or not at all. Errors name the file, the line and the
 //! column.
 
-use api::exact::rational_to_f64;
+use api::exact::rational_to_f64_nearest;
 use api::{parse_rational, Rational};
 use num_traits::{Signed, Zero};
 use spline2d::model::Model;
@@ -100,6 +101,9 @@ pub struct HeightField {
     /// Heights row by row from the south-west sample (`rows · columns` entries), `None` where
     /// the file has `NODATA_value`.
     pub heights: Vec<Option<f64>>,
+    /// An ESRI grid's text and where each value is in it (file order: the northernmost row
+    /// first), for writing the grid back with other heights ([`HeightField::write_esri`]).
+    esri: Option<(String, Vec<std::ops::Range<usize>>)>,
 }
 
 /// A token of the text with its 1-based line and column.
@@ -363,15 +367,23 @@ impl HeightField {
             }
             let value = number(token)?;
             let missing = matches!(&nodata, Some(Some(n)) if *n == value);
-            heights[row * columns + column] = (!missing).then(|| rational_to_f64(&value));
+            heights[row * columns + column] = (!missing).then(|| rational_to_f64_nearest(&value));
         }
         let [x, y]: [Rational; 2] = [origin[0].clone(), origin[1].clone()];
+        let ranges = data
+            .iter()
+            .map(|t| {
+                let start = t.text.as_ptr() as usize - text.as_ptr() as usize;
+                start..start + t.text.len()
+            })
+            .collect();
         Ok(HeightField {
             columns,
             rows,
             origin: [x, y],
             cell,
             heights,
+            esri: Some((text.to_string(), ranges)),
         })
     }
 
@@ -430,7 +442,7 @@ impl HeightField {
                     column: token.column + e.column - 1,
                     message: format!("invalid height {:?}: {}", token.text, e.message),
                 })?;
-                heights[row * columns + column] = Some(rational_to_f64(&value));
+                heights[row * columns + column] = Some(rational_to_f64_nearest(&value));
             }
         }
         Ok(HeightField {
@@ -442,6 +454,7 @@ impl HeightField {
                 Rational::from_integer(1.into()),
             ],
             heights,
+            esri: None,
         })
     }
 
@@ -457,7 +470,38 @@ impl HeightField {
     /// The sample position rounded to `f64` (once, from the exact value).
     pub fn position(&self, column: usize, row: usize) -> [f64; 2] {
         self.position_exact(column, row)
-            .map(|c| rational_to_f64(&c))
+            .map(|c| rational_to_f64_nearest(&c))
+    }
+
+    /// The ESRI grid this field was read from, with `heights` (row by row from the south-west,
+    /// as [`HeightField::heights`]) in place of its own: the header, layout and every value
+    /// whose height did not change as written (byte for byte), a changed height as the
+    /// shortest decimal that reads back to it. `None` for a plain grid, or when `heights` has
+    /// another length or gives a height to a sample without data (or takes one away).
+    pub fn write_esri(&self, heights: &[Option<f64>]) -> Option<String> {
+        let (text, ranges) = self.esri.as_ref()?;
+        if heights.len() != self.heights.len() {
+            return None;
+        }
+        let mut out = String::with_capacity(text.len());
+        let mut at = 0;
+        for (k, range) in ranges.iter().enumerate() {
+            let (row_from_top, column) = (k / self.columns, k % self.columns);
+            let sample = (self.rows - 1 - row_from_top) * self.columns + column;
+            match (self.heights[sample], heights[sample]) {
+                (None, None) => continue,
+                (Some(old), Some(new)) if old.to_bits() == new.to_bits() => continue,
+                (Some(_), Some(new)) if new.is_finite() => {
+                    out.push_str(&text[at..range.start]);
+                    let new = if new == 0.0 { 0.0 } else { new };
+                    out.push_str(&format!("{new}"));
+                    at = range.end;
+                }
+                _ => return None,
+            }
+        }
+        out.push_str(&text[at..]);
+        Some(out)
     }
 
     /// Number of samples without data.
@@ -587,6 +631,30 @@ mod tests {
         let field = HeightField::parse_esri(&plain, "gdal.asc").expect("read");
         assert_eq!(field.heights[3..], [Some(7.0), Some(8.0), None]);
         assert_eq!(field.heights[2], Some(-9999.0));
+    }
+
+    /// An ESRI grid written back: unchanged, byte for byte; with new heights, only those
+    /// values change; a plain grid or a sample gaining data cannot be written.
+    #[test]
+    fn esri_grids_are_written_back_with_their_own_text() {
+        let field = HeightField::parse_esri(SMALL, "s.asc").expect("read");
+        assert_eq!(field.write_esri(&field.heights).as_deref(), Some(SMALL));
+        let mut heights = field.heights.clone();
+        // The south-west sample (4.5 in the file's last row) and the north-east one (3).
+        heights[0] = Some(4.75);
+        heights[5] = Some(-0.0);
+        assert_eq!(
+            field.write_esri(&heights).as_deref(),
+            Some(SMALL.replace("1 2 3\n4.5", "1 2 0\n4.75").as_str())
+        );
+        heights[1] = Some(1.0);
+        assert_eq!(
+            field.write_esri(&heights),
+            None,
+            "a missing sample stays missing"
+        );
+        let plain = HeightField::parse_plain("1 2\n3 4\n", "p.txt").expect("read");
+        assert_eq!(plain.write_esri(&plain.heights), None);
     }
 
     #[test]

@@ -190,12 +190,19 @@ pub fn load_terrain(path: &Path, limit: u64) -> Result<Model, String> {
     load_terrain_with_source(path, limit).map(|(model, _)| model)
 }
 
-/// [`load_terrain`] with, for a model, the file itself (to write the deformed model back as
-/// the same file, in its format).
-pub fn load_terrain_with_source(
-    path: &Path,
-    limit: u64,
-) -> Result<(Model, Option<ModelSource>), String> {
+/// A terrain or model file as read, for writing the deformed one back.
+#[derive(Debug, Clone, PartialEq)]
+pub enum TerrainFile {
+    /// An OBJ, STL or PLY model, written back as the same file.
+    Model(ModelSource),
+    /// A height field (`.asc` or a plain grid), written as a new OBJ (and an ESRI grid back as
+    /// the same ESRI grid when the terrain has no φ, see the output's documentation).
+    Grid(HeightField),
+}
+
+/// [`load_terrain`] with the file itself (to write the deformed model back as the same file, in
+/// its format).
+pub fn load_terrain_with_source(path: &Path, limit: u64) -> Result<(Model, TerrainFile), String> {
     let is_model = path.extension().is_some_and(|e| {
         let e = e.to_string_lossy();
         ["obj", "stl", "ply"]
@@ -204,11 +211,11 @@ pub fn load_terrain_with_source(
     });
     if is_model {
         load_model_with_source(path, limit)
-            .map(|(model, source)| (model, Some(source)))
+            .map(|(model, source)| (model, TerrainFile::Model(source)))
             .map_err(|e| e.to_string())
     } else {
         HeightField::read(path, limit)
-            .map(|field| (field.to_model(), None))
+            .map(|field| (field.to_model(), TerrainFile::Grid(field)))
             .map_err(|e| e.to_string())
     }
 }

@@ -1,14 +1,14 @@
 //! Outputs of the terrain source: checking them (the model read and validated, the files
 //! announced), rendering the deformed model and the shaded-relief pictures.
 
-use super::{load_terrain_with_source, Built, TerrainSource};
+use super::{load_terrain_with_source, Built, TerrainFile, TerrainSource};
 use crate::deform::{DeformedModel, Psi};
 use crate::relief::{self, Marker, Panel, Shading, View};
 use api::config::{check_output_file_name, from_ron};
 use api::exact::rational_to_f64;
 use api::{OutputFile, ParamId, RenderRequest, SourceError, Values};
 use serde::Deserialize;
-use spline2d::model::{deformed_name, write_obj, Model, ModelSource};
+use spline2d::model::{deformed_name, write_obj, Model};
 use std::path::{Path, PathBuf};
 
 #[derive(Debug, Clone, Deserialize)]
@@ -75,8 +75,11 @@ fn default_true() -> bool {
 pub(super) struct CheckedOutput {
     config: OutputConfig,
     pub(super) model: Model,
-    /// A model's file (`None` for a grid, written as a new OBJ).
-    source: Option<ModelSource>,
+    /// The model's or grid's file.
+    source: TerrainFile,
+    /// `<stem>-deformed.asc`: an ESRI grid of a terrain without φ is also written back as the
+    /// same grid with its new heights (φ would move the samples off the grid).
+    grid_file: Option<String>,
     /// The model file as the output names it (relative to the run file, as written).
     pub(super) model_name: String,
     pub(super) model_path: PathBuf,
@@ -89,6 +92,7 @@ pub(super) struct CheckedOutput {
 impl CheckedOutput {
     pub(super) fn files(&self) -> Vec<String> {
         let mut files = vec![self.model_file.clone()];
+        files.extend(self.grid_file.clone());
         if let Some(stem) = &self.picture {
             files.push(format!("{stem}-before.png"));
             files.push(format!("{stem}-after.png"));
@@ -129,11 +133,20 @@ impl TerrainSource {
         config.shading().map_err(|e| error(&e))?;
         let full = base_dir.join(&model_path);
         let (model, source) = load_terrain_with_source(&full, limit).map_err(|e| error(&e))?;
+        let esri = matches!(&source, TerrainFile::Grid(_)) && crate::heightfield::is_esri(&full);
+        let grid_file = (esri && built.xy.is_none()).then(|| {
+            let stem = Path::new(&model_path)
+                .file_stem()
+                .map(|s| s.to_string_lossy().into_owned())
+                .unwrap_or_else(|| "terrain".into());
+            format!("{stem}-deformed.asc")
+        });
         let checked = CheckedOutput {
             model_file: deformed_name(&model_path),
             config,
             model,
             source,
+            grid_file,
             model_name: model_path,
             model_path: full,
             picture,
@@ -163,14 +176,14 @@ impl TerrainSource {
         let deformed = after.deform(model);
         let bytes = match &checked.source {
             // The model's own file with what moved written again, normals by ψ's Jacobian.
-            Some(source) => source
+            TerrainFile::Model(source) => source
                 .write_deformed(model, &deformed.model, |v| {
                     let p = model.positions[v];
                     let (t, _, _) = after.locate(p).ok()?;
                     after.jacobian_in(t, p).map(|(_, j)| j)
                 })
                 .map_err(|e| error(&e))?,
-            None => deformed_grid_obj(built, &deformed).map_err(|e| error(&e))?,
+            TerrainFile::Grid(_) => deformed_grid_obj(built, &deformed).map_err(|e| error(&e))?,
         };
         let mut model_file = OutputFile::new(checked.model_file.clone(), bytes);
         model_file.notes.extend(
@@ -179,6 +192,24 @@ impl TerrainSource {
                 .filter_map(|(list, place)| spline2d::model::left_in_place_note(list, place)),
         );
         let mut files = vec![model_file];
+        if let (Some(name), TerrainFile::Grid(field)) = (&checked.grid_file, &checked.source) {
+            // The model numbers the samples with data row by row from the south-west.
+            let mut vertex = 0;
+            let heights: Vec<Option<f64>> = field
+                .heights
+                .iter()
+                .map(|h| {
+                    h.map(|_| {
+                        vertex += 1;
+                        deformed.model.positions[vertex - 1][2]
+                    })
+                })
+                .collect();
+            let text = field
+                .write_esri(&heights)
+                .ok_or_else(|| error(&"the deformed heights do not fit the grid"))?;
+            files.push(OutputFile::new(name.clone(), text.into_bytes()));
+        }
         if let Some(picture) = picture_stem {
             let initial = before.deform(model).model;
             let lines = |psi: &Psi| {

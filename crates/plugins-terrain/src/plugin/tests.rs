@@ -587,3 +587,69 @@ fn renders_the_deformed_model_and_pictures() {
     );
     assert!(obj.contains("\nv 50 1 0\n"));
 }
+
+/// A terrain without φ keeps its samples on their grid: its ESRI grid is also written back as
+/// the same grid, header and untouched values byte for byte, the raised ones written again;
+/// with φ it is not (the samples may leave the grid).
+#[test]
+fn an_esri_grid_without_phi_comes_back_as_the_same_grid() {
+    let dir = tempfile::tempdir().expect("dir");
+    let grid = small_height_field(&[]);
+    std::fs::write(dir.path().join("t.asc"), &grid).expect("write");
+    for xy in [false, true] {
+        let (source, system, mut values) = built(xy);
+        let initial = values.clone();
+        edit(
+            &source,
+            &system,
+            &mut values,
+            r#"(mode: "z1", anchors: ["v4"], dz: "10")"#,
+        );
+        let files = source
+            .render(&RenderRequest {
+                schema: api::SCHEMA_VERSION,
+                input_limit: api::input::DEFAULT_MAX_INPUT_BYTES,
+                output: r#"(model: "t.asc")"#.into(),
+                base_dir: dir.path().to_path_buf(),
+                system: system.clone(),
+                initial,
+                values,
+                highlight: None,
+                structure: None,
+            })
+            .expect("render");
+        let names: Vec<&str> = files.iter().map(|f| f.name.as_str()).collect();
+        if xy {
+            assert_eq!(names, ["t-deformed.obj"]);
+            continue;
+        }
+        assert_eq!(names, ["t-deformed.obj", "t-deformed.asc"]);
+        let written = String::from_utf8(files[1].bytes.clone()).expect("text");
+        let (head, body) = grid.split_at(grid.find("\n0").map_or(0, |i| i + 1));
+        assert!(
+            written.starts_with(head),
+            "the header as written:\n{written}"
+        );
+        let (old, new): (Vec<&str>, Vec<&str>) = (
+            body.split_whitespace().collect(),
+            written[head.len()..].split_whitespace().collect(),
+        );
+        assert_eq!(old.len(), new.len());
+        let changed = old.iter().zip(&new).filter(|(a, b)| a != b).count();
+        assert!(
+            changed > 0 && changed < old.len(),
+            "{changed} of {} heights raised",
+            old.len()
+        );
+        // The raised heights are the deformed model's.
+        let model = spline2d::model::parse_model(
+            &String::from_utf8(files[0].bytes.clone()).expect("text"),
+            "t.obj",
+        )
+        .expect("the OBJ reads");
+        let field = crate::heightfield::HeightField::parse_esri(&written, "t.asc").expect("reads");
+        let heights: Vec<f64> = field.heights.iter().flatten().copied().collect();
+        let zs: Vec<f64> = model.positions.iter().map(|p| p[2]).collect();
+        assert_eq!(heights, zs);
+    }
+}
