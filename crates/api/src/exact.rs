@@ -308,23 +308,63 @@ pub fn identical_rationals(a: &[Rational], b: &[Rational]) -> bool {
             .all(|(x, y)| x.numer() == y.numer() && x.denom() == y.denom())
 }
 
-/// `a + b` in lowest terms; two integers are added as integers. (`Rational`'s `+` divides the
-/// sum by a GCD with its denominator even when that is one, which on the small integers of
-/// trivial constraints costs more than the addition.)
+/// `a + b` in lowest terms, by Henrici's addition (Knuth, TAOCP vol. 2, 4.5.1): with
+/// `g = gcd(b.den, a.den)`, `t = a.num·(b.den/g) + b.num·(a.den/g)`, the sum is
+/// `(t/h) / ((a.den/g)·(b.den/h))` with `h = gcd(t, g)`, already reduced because both operands
+/// are. The only GCDs are of the denominators and of `t` with `g`, never of the full sum:
+/// adding a small step to a value with thousands of digits (a hint `p + θ·d`, a drag frame's
+/// step) costs a division by a small number instead of a GCD of two huge ones, which is what
+/// `Rational`'s `+` pays. Two integers are added as integers.
 pub fn rational_sum(a: &Rational, b: &Rational) -> Rational {
     if a.is_integer() && b.is_integer() {
-        Rational::from_integer(a.numer() + b.numer())
+        return Rational::from_integer(a.numer() + b.numer());
+    }
+    if a.is_zero() {
+        return b.clone();
+    }
+    if b.is_zero() {
+        return a.clone();
+    }
+    let (p, q) = (a.denom(), b.denom());
+    let g = denominator_gcd(p, q);
+    if g.is_one() {
+        // Coprime denominators: `a.num·q + b.num·p` is prime to `p·q`.
+        return Rational::new_raw(a.numer() * q + b.numer() * p, p * q);
+    }
+    let (p_g, q_g) = (p / &g, q / &g);
+    let t = a.numer() * &q_g + b.numer() * &p_g;
+    if t.is_zero() {
+        return Rational::zero();
+    }
+    let h = denominator_gcd(&g, &t);
+    if h.is_one() {
+        Rational::new_raw(t, p_g * q)
     } else {
-        a + b
+        Rational::new_raw(t / &h, p_g * (q / h))
     }
 }
 
-/// `a − b` in lowest terms, integers subtracted as integers (see [`rational_sum`]).
+/// `gcd(|x|, |y|)`, the smaller operand first reducing the larger by one division (the
+/// binary GCD of `num-bigint` would subtract the small number from the huge one bit by bit).
+fn denominator_gcd(x: &Integer, y: &Integer) -> Integer {
+    let (x, y) = (x.magnitude(), y.magnitude());
+    let (big, small) = if x.bits() >= y.bits() { (x, y) } else { (y, x) };
+    if small.is_zero() {
+        return Integer::from(big.clone());
+    }
+    if big.bits() > 2 * small.bits() + 64 {
+        Integer::from((big % small).gcd(small))
+    } else {
+        Integer::from(big.gcd(small))
+    }
+}
+
+/// `a − b` in lowest terms (see [`rational_sum`]).
 pub fn rational_difference(a: &Rational, b: &Rational) -> Rational {
     if a.is_integer() && b.is_integer() {
         Rational::from_integer(a.numer() - b.numer())
     } else {
-        a - b
+        rational_sum(a, &-b)
     }
 }
 
@@ -342,9 +382,9 @@ pub fn rational_times_integer(a: &Rational, k: &Integer) -> Rational {
     }
 }
 
-/// `a / k` in lowest terms for a positive integer `k` (a group's weight, a count): one GCD, in
-/// machine words when the numerator and `k` fit in a `u64` (`Rational`'s `/` reduces twice,
-/// in big integers, and checks for a zero divisor).
+/// `a / k` in lowest terms for a positive integer `k` (a group's weight, a count): one GCD of
+/// the numerator with `k`, in machine words when both fit in a `u64` (`Rational`'s `/` reduces
+/// twice, in big integers, and checks for a zero divisor).
 ///
 /// # Panics
 /// When `k` is not positive.
@@ -364,7 +404,14 @@ pub fn rational_over_integer(a: &Rational, k: &Integer) -> Rational {
         // numer / g and d / g are coprime, numer and a's denominator already were.
         return Rational::new_raw(numer, denom);
     }
-    Rational::new(a.numer().clone(), a.denom() * k)
+    // `a.num` is prime to `a.den`: only the GCD with `k` (one division of the big numerator by
+    // `k` first, see [`denominator_gcd`]) is left to cancel.
+    let g = denominator_gcd(a.numer(), k);
+    if g.is_one() {
+        Rational::new_raw(a.numer().clone(), a.denom() * k)
+    } else {
+        Rational::new_raw(a.numer() / &g, a.denom() * (k / g))
+    }
 }
 
 /// Rational values scaled by one positive factor to coprime integers: multiplied by the least
@@ -573,6 +620,32 @@ mod tests {
             let product = rational_times_integer(&a, &k);
             proptest::prop_assert_eq!(&product, &(&a * &k));
             proptest::prop_assert!(identical_rationals(std::slice::from_ref(&product), &[lowest(&product)]));
+        }
+
+        /// Henrici's addition on big values whose denominators share factors (the branches
+        /// `g = 1`, `h = 1`, `h > 1`, a zero sum and a huge operand against a small one) gives
+        /// `Rational`'s sum in lowest terms.
+        #[test]
+        fn henrici_sum_of_big_values_is_rationals_own(
+            an in -10_000i64..10_000, ad in 1u32..40, bn in -10_000i64..10_000, bd in 1u32..40,
+            shared in 0u32..3, a_bits in 0u32..300, b_bits in 0u32..300,
+        ) {
+            let lowest = |x: &Rational| Rational::new(x.numer().clone(), x.denom().clone());
+            // Denominators with a common part `6^shared` and big coprime-ish cofactors.
+            let common = num_traits::pow(Integer::from(6), shared as usize);
+            let big = |n: i64, d: u32, bits: u32| Rational::new(
+                (Integer::from(n) << bits) + Integer::from(n.signum()),
+                &common * ((Integer::from(d) << bits) + Integer::from(1)),
+            );
+            let (a, b) = (big(an, ad, a_bits), big(bn, bd, b_bits));
+            for (x, y) in [(&a, &b), (&a, &-&a), (&a, &q(bn, i64::from(bd))), (&q(an, 6), &b)] {
+                let sum = rational_sum(x, y);
+                proptest::prop_assert_eq!(&sum, &(x + y));
+                proptest::prop_assert!(identical_rationals(std::slice::from_ref(&sum), &[lowest(&sum)]));
+                let difference = rational_difference(x, y);
+                proptest::prop_assert_eq!(&difference, &(x - y));
+                proptest::prop_assert!(identical_rationals(std::slice::from_ref(&difference), &[lowest(&difference)]));
+            }
         }
 
         /// Division by a positive integer is `Rational`'s, in lowest terms, in words and beyond.

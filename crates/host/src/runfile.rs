@@ -98,8 +98,9 @@ pub struct RunFile {
     pub backend: BackendConfig,
     /// Float cross-check settings; `None` turns it off.
     pub cross_check: Option<CrossCheckConfig>,
-    /// What an edit commits: the exact least-squares optimum (default) or a snapped point.
-    pub commit: CommitPolicy,
+    /// What an edit commits, when the run file says: the exact least-squares optimum or a
+    /// snapped point ([`RunFile::commit_policy`] is what applies).
+    pub commit: Option<CommitPolicy>,
     /// Edits, run in order.
     pub edits: Vec<EditEntry>,
     /// Outputs rendered by sources after the edits.
@@ -459,7 +460,7 @@ struct RawRunFile<'a> {
     #[serde(default = "default_cross_check")]
     cross_check: Option<CrossCheckConfig>,
     #[serde(default)]
-    commit: CommitPolicy,
+    commit: Option<CommitPolicy>,
     #[serde(borrow, default)]
     edits: Vec<&'a RawValue>,
     #[serde(borrow, default)]
@@ -513,6 +514,12 @@ struct RawOutput<'a> {
 }
 
 impl RunFile {
+    /// What an edit of this run commits: as the run file says, else the exact optimum (the
+    /// thesis' ECLES; `ecles edit` chooses its own default, see the editor).
+    pub fn commit_policy(&self) -> CommitPolicy {
+        self.commit.unwrap_or_default()
+    }
+
     /// This run file's text with `edits` (whole entries, RON text) in place of its own edits:
     /// the same sources, backend, cross-check, commit policy and outputs, as written, after
     /// `comment` (lines of text, each written as a `//` comment). What an editor saves: reading
@@ -557,7 +564,7 @@ impl RunFile {
             )),
             None => out.push_str("    cross_check: None,\n"),
         }
-        match self.commit {
+        match self.commit_policy() {
             CommitPolicy::Optimum => out.push_str("    commit: Optimum,\n"),
             CommitPolicy::Snapped { grid_bits } => {
                 out.push_str(&format!("    commit: Snapped(grid_bits: {grid_bits}),\n"))
@@ -824,7 +831,10 @@ mod tests {
         assert_eq!(again.edits.len(), 2, "{saved}");
         assert!(again.edits.iter().all(|e| e.text == edit), "{saved}");
         assert_eq!(again.sources[0].text, run.sources[0].text);
-        assert_eq!(again.commit, CommitPolicy::Snapped { grid_bits: 12 });
+        assert_eq!(
+            again.commit_policy(),
+            CommitPolicy::Snapped { grid_bits: 12 }
+        );
         assert_eq!(again.cross_check.map(|c| c.tolerance), Some(1e-8));
         assert_eq!(again.editor, run.editor);
         assert!(

@@ -84,15 +84,17 @@ fn a_drag_commits_exact_values_and_undo_and_redo_restore_them() {
     assert!(first["derived"].as_u64().expect("|D|") > 0);
     let (_, second) = call(&editor, "POST", "/api/drag", &frame("2.5", false));
     assert_eq!(second["initialized"], false, "{second}");
-    // A translation is planned once: later frames' steps are affine in the displacement; a
-    // small edit draws the exact optimum.
+    // A translation is planned once: later frames' steps are affine in the displacement. The
+    // run file names no commit policy: the editor commits snapped points, and its frames are
+    // snapped on the same grid.
     assert!(
         second["planned"]
             .as_str()
             .is_some_and(|p| p.starts_with("once")),
         "{second}"
     );
-    assert_eq!(second["frames"], "optimum");
+    assert_eq!(second["frames"], "snapped 2^-24");
+    assert_eq!(before["commit"], "snapped to 2^-24");
     // Frames change nothing on the server.
     assert_eq!(state(&editor)["points"], before["points"]);
     let (_, drawn) = call(&editor, "POST", "/api/drag", &frame("6", false));
@@ -670,17 +672,24 @@ fn motion_response(editor: &common::Editor, frame: &dyn Fn(&str, &str, bool) -> 
 /// rounding) — with optimum frames, and with snapped ones within the response's bound.
 #[test]
 fn a_translations_motion_response_predicts_the_committed_values() {
-    for snapped in [false, true] {
+    // The editor's default (snapped commits, the run file says nothing) and the exact optimum.
+    for snapped in [true, false] {
         let (dir, run) = worm_copy();
-        if snapped {
+        if !snapped {
             let text = std::fs::read_to_string(&run).expect("run file");
             std::fs::write(
                 &run,
-                text.replacen("edits:", "commit: Snapped(grid_bits: 24),\n    edits:", 1),
+                text.replacen("edits:", "commit: Optimum,\n    edits:", 1),
             )
             .expect("write");
         }
         let editor = start_at(run, false);
+        let expected = if snapped {
+            "snapped to 2^-24"
+        } else {
+            "the exact optimum"
+        };
+        assert_eq!(state(&editor)["commit"], expected);
         let frame = |dx: &str, dy: &str, commit: bool| json!({"selection": {"source": "worm", "anchors": ["v3"], "neighborhood": 3}, "motion": {"translate": {"dx": dx, "dy": dy}}, "commit": commit});
         let response = motion_response(&editor, &frame);
         let ids: Vec<u64> = serde_json::from_value(response["ids"].clone()).expect("ids");

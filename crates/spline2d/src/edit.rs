@@ -550,7 +550,11 @@ fn move_point(
         })
     }
     match operation {
-        Operation::Translate { by } => Ok(p.iter().zip(by).map(|(x, v)| x + v * t).collect()),
+        Operation::Translate { by } => Ok(p
+            .iter()
+            .zip(by)
+            .map(|(x, v)| api::exact::rational_sum(x, &(v * t)))
+            .collect()),
         Operation::Rotate {
             center,
             degrees,

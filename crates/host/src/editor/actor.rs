@@ -14,6 +14,7 @@ use super::save;
 use super::uploads;
 use crate::config_text::set_field;
 use crate::error::RunError;
+use crate::runfile::CommitPolicy;
 use crate::session::{CheckedImage, Planning, Session};
 use api::{format_rational, ParamId, Values};
 use serde_json::{json, Value};
@@ -326,9 +327,18 @@ fn configured(done: crate::session::Configured) -> Value {
     })
 }
 
+/// What the editor commits when the run file does not say: snapped points on the grid `2^−24`.
+/// Every constraint holds exactly and the distance to the exact optimum is proved, as with any
+/// snapped commit, and the values stay short over a long session, so that a drag over a region
+/// edited before is as fast as the first (the exact optimum's denominators grow with every
+/// commit: thousands of digits after a few edits of an irregular mesh). `commit: Optimum` in
+/// the run file gives the thesis' optimum instead.
+pub(crate) const EDITOR_COMMIT: CommitPolicy = CommitPolicy::Snapped { grid_bits: 24 };
+
 /// Builds the session of `run` (on the caller's thread: the actor's own thread), or the error.
 pub(crate) fn build(run: &Path, max_input_bytes: u64) -> Result<Session, RunError> {
-    let session = Session::build(run, max_input_bytes)?;
+    let mut session = Session::build(run, max_input_bytes)?;
+    session.default_commit_policy(EDITOR_COMMIT);
     session.check()?;
     Ok(session)
 }
@@ -387,6 +397,10 @@ fn session_state(session: &Session, sources: &Value) -> Value {
         "violated_rows": system.violations(values).len(),
         "can_undo": can_undo,
         "can_redo": can_redo,
+        "commit": match session.commit_policy() {
+            CommitPolicy::Optimum => "the exact optimum".to_string(),
+            CommitPolicy::Snapped { grid_bits } => format!("snapped to 2^-{grid_bits}"),
+        },
     })
 }
 

@@ -76,7 +76,7 @@ impl LinearSteps {
                                 if a.is_zero() || c.is_zero() {
                                     sum
                                 } else {
-                                    sum + c * a
+                                    api::exact::rational_sum(&sum, &(c * a))
                                 }
                             })
                         })
@@ -96,7 +96,12 @@ fn difference(a: &PlannedStep, b: &PlannedStep) -> PlannedStep {
     let minus = |a: &[Vec<Rational>], b: &[Vec<Rational>]| {
         a.iter()
             .zip(b)
-            .map(|(a, b)| a.iter().zip(b).map(|(a, b)| b - a).collect())
+            .map(|(a, b)| {
+                a.iter()
+                    .zip(b)
+                    .map(|(a, b)| api::exact::rational_difference(b, a))
+                    .collect()
+            })
             .collect()
     };
     PlannedStep {
@@ -174,7 +179,7 @@ impl MotionResponse {
         if origin.iter().any(|(_, v)| v.len() != dim) {
             return None;
         }
-        let divisor = Rational::from_integer(scale.into());
+        let divisor = api::Integer::from(scale);
         let mut along = Vec::with_capacity(dimension);
         let mut bound = origin_bound;
         for k in 0..dimension {
@@ -184,9 +189,12 @@ impl MotionResponse {
                 unit.iter()
                     .zip(&origin)
                     .flat_map(|((_, u), (_, o))| {
-                        u.iter()
-                            .zip(o)
-                            .map(|(u, o)| api::exact::rational_to_f64(&((u - o) / &divisor)))
+                        u.iter().zip(o).map(|(u, o)| {
+                            api::exact::rational_to_f64(&api::exact::rational_over_integer(
+                                &api::exact::rational_difference(u, o),
+                                &divisor,
+                            ))
+                        })
                     })
                     .collect(),
             );

@@ -152,7 +152,13 @@ impl Session {
 
     /// What an edit commits in this run: the optimum or a snapped point.
     pub fn commit_policy(&self) -> CommitPolicy {
-        self.run.commit
+        self.run.commit_policy()
+    }
+
+    /// Makes `policy` this run's commit policy unless the run file states one: what `ecles
+    /// edit` does before the first edit (its sessions commit snapped points unless told).
+    pub fn default_commit_policy(&mut self, policy: CommitPolicy) {
+        self.run.commit.get_or_insert(policy);
     }
 
     /// The update a commit of `edit` takes for `step`, under the run's commit policy (the
@@ -162,7 +168,7 @@ impl Session {
         edit: &ActiveEdit,
         step: &PlannedStep,
     ) -> Result<UpdateResult<Rational>, EditError<Rational>> {
-        match self.run.commit {
+        match self.run.commit_policy() {
             CommitPolicy::Optimum => edit.update(step),
             CommitPolicy::Snapped { grid_bits } => edit
                 .update_snapped(step, grid_bits)
@@ -290,7 +296,7 @@ impl Session {
         report.anchors = spec.anchors.iter().map(|p| self.name(*p)).collect();
         report.derived = spec.derived.iter().map(|p| self.name(*p)).collect();
         report.steps = steps.len();
-        let commit = self.run.commit;
+        let commit = self.run.commit_policy();
         let snapped = std::cell::Cell::new(None::<ecles::SnapSummary>);
         let exact = execute(
             &self.exact,

@@ -87,7 +87,9 @@ impl Session {
                 )));
             }
         }
-        if saved.backend.simplify != self.run.backend.simplify || saved.commit != self.run.commit {
+        if saved.backend.simplify != self.run.backend.simplify
+            || saved.commit_policy() != self.run.commit_policy()
+        {
             return Err(RunError::input(format!(
                 "{file}: its backend or commit policy is not the one of {run}"
             )));

@@ -584,7 +584,7 @@ function report() {
     `${s.points.length} points`,
     `${s.rows} rows`,
     s.violated_rows === 0 ? "exact residual 0 (violated rows 0)" : `violated rows ${s.violated_rows}`,
-    `${s.committed} edits`,
+    `${s.committed} edits (commits ${s.commit})`,
   ];
   if (last.counts) {
     const c = last.counts;
