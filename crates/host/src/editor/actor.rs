@@ -88,6 +88,9 @@ pub(crate) struct Editor {
     views: Value,
     /// The [`Session::build_generation`] the views were made at.
     views_build: u64,
+    /// How many times the views were made: the page keeps what it derived from them (a model's
+    /// edges) while this stays the same.
+    views_version: u64,
     input_limit: u64,
 }
 
@@ -105,6 +108,7 @@ impl Editor {
         Editor {
             views,
             views_build: session.build_generation(),
+            views_version: 0,
             session,
             drag: None,
             autosave,
@@ -177,6 +181,7 @@ impl Editor {
         if self.session.build_generation() != self.views_build {
             self.views = source_views(&self.session);
             self.views_build = self.session.build_generation();
+            self.views_version += 1;
         }
         if let Some(path) = &self.autosave {
             self.autosave_error = save::autosave(&self.session, path)
@@ -258,6 +263,7 @@ impl Editor {
         self.drag = None;
         self.views = source_views(&self.session);
         self.views_build = self.session.build_generation();
+        self.views_version += 1;
         self.changed();
     }
 
@@ -290,6 +296,7 @@ impl Editor {
             "error": self.autosave_error,
         });
         state["committed"] = json!(self.session.committed_count());
+        state["views_version"] = json!(self.views_version);
         state["image"] = match &self.image {
             Some(image) => {
                 let f = api::exact::rational_to_f64;

@@ -99,6 +99,8 @@ function dragRequest(body) {
 }
 
 function setState(next) {
+  // Models drawn from the same views keep their edges (see modelEdges).
+  const previous = state !== null && state.views_version === next.views_version ? models : [];
   state = next;
   // Models and views are new objects: the picture of a drag's still part is stale.
   endMoving();
@@ -118,6 +120,11 @@ function setState(next) {
       }
       for (const model of v.models || []) models.push(new DeformedPrismModel(v, model));
     }
+  }
+  models.forEach((model, k) => { if (previous[k] && previous[k].edges) model.edges = previous[k].edges; });
+  // New models get their edges while the page is idle, not at the first move of a drag.
+  if (models.some((model) => !model.edges)) {
+    setTimeout(() => { for (const model of models) modelEdges(model); }, 0);
   }
   for (const p of state.points) {
     points.set(p.id, { name: p.name, value: p.value, exact: p.exact, source: sourceOf.get(p.id) });
@@ -222,16 +229,43 @@ function movingSets(ids) {
     }
     triangles.set(v, t);
   }
-  const faces = new Map();
+  // Per model, its moving edges: those of a face with a vertex in a moving triangle.
+  const edges = new Map();
   for (const model of models) {
     const t = triangles.get(model.view) || new Set();
-    const inside = new Uint8Array(model.faces.length);
+    const { ends, ofFace } = modelEdges(model);
+    const movingEdges = new Uint8Array(ends.length / 2);
     model.faces.forEach((face, k) => {
-      if (face.some((vertex) => t.has(model.triangleOf[vertex]))) inside[k] = 1;
+      if (face.some((vertex) => t.has(model.triangleOf[vertex]))) {
+        for (const e of ofFace[k]) movingEdges[e] = 1;
+      }
     });
-    faces.set(model, inside);
+    edges.set(model, movingEdges);
   }
-  return { ids: set, triangles, faces };
+  return { ids: set, triangles, edges };
+}
+
+// Each edge of a model's faces once, as vertex pairs (`ends`), and the edges of every face
+// (`ofFace`): an edge shared by two faces is stroked once, half the path of drawing every
+// face's outline. Made once per model.
+function modelEdges(model) {
+  if (model.edges) return model.edges;
+  const index = new Map();
+  const ends = [];
+  const ofFace = model.faces.map((face) => face.map((a, n) => {
+    const b = face[(n + 1) % face.length];
+    // Vertex indices are below 2^26 (the editor's vertex limit is 4 000 000).
+    const key = Math.min(a, b) * 67108864 + Math.max(a, b);
+    let e = index.get(key);
+    if (e === undefined) {
+      e = ends.length / 2;
+      index.set(key, e);
+      ends.push(a, b);
+    }
+    return e;
+  }));
+  model.edges = { ends: Uint32Array.from(ends), ofFace };
+  return model.edges;
 }
 
 // Starts drawing a drag of `ids` by parts: the still part is drawn once into `still`.
@@ -254,7 +288,7 @@ function overlay(ids) {
   const began = performance.now();
   const ratio = window.devicePixelRatio || 1;
   ctx.setTransform(ratio, 0, 0, ratio, 0, 0);
-  moving = { ids: new Set(ids), triangles: new Map(), faces: new Map() };
+  moving = { ids: new Set(ids), triangles: new Map(), edges: new Map() };
   drawPoints(MOVING);
   moving = null;
   last.draw = performance.now() - began;
@@ -363,17 +397,16 @@ function drawModels(part) {
     const flat = !(model instanceof DeformedPrismModel && in3d());
     if (!flat && editMode() === "view" && shown("show-shaded")) { drawShaded(model); continue; }
     const p = flat ? model.positions : model.positions.map((q) => project3d(q).at);
-    const inside = moving === null ? null : moving.faces.get(model) || null;
-    model.faces.forEach((face, k) => {
-      if (!inPart(part, inside !== null && inside[k] === 1)) return;
-      const [x0, y0] = toScreen(p[face[0]]);
-      g.moveTo(x0, y0);
-      for (let n = 1; n < face.length; n++) {
-        const [x, y] = toScreen(p[face[n]]);
-        g.lineTo(x, y);
-      }
-      g.lineTo(x0, y0);
-    });
+    const movingEdges = moving === null ? null : moving.edges.get(model) || null;
+    const { ends } = modelEdges(model);
+    // `toScreen` inlined: no array per vertex (a drag's frame draws thousands of edges).
+    const { scale, x: ox, y: oy } = view;
+    for (let e = 0; e < ends.length / 2; e++) {
+      if (!inPart(part, movingEdges !== null && movingEdges[e] === 1)) continue;
+      const a = p[ends[2 * e]], b = p[ends[2 * e + 1]];
+      g.moveTo(a[0] * scale + ox, -a[1] * scale + oy);
+      g.lineTo(b[0] * scale + ox, -b[1] * scale + oy);
+    }
   }
   g.stroke();
 }
