@@ -350,13 +350,19 @@ function drawView(v, part, key = v) {
     }
     g.stroke();
   }
+  // `toScreen` inlined below: no array per point (a drag's frame draws thousands).
+  const { scale, x: ox, y: oy } = view;
   if (shown("show-net")) {
     g.beginPath();
     // Solid and light: dashes cost much more to draw on a big net.
     g.strokeStyle = "#b4b4c8";
     v.patches.forEach((patch, t) => {
       if (!drawn(t)) return;
-      for (const [a, b] of layout.net) line(at(patch[a]), at(patch[b]));
+      for (const [a, b] of layout.net) {
+        const p = at(patch[a]), q = at(patch[b]);
+        g.moveTo(p[0] * scale + ox, -p[1] * scale + oy);
+        g.lineTo(q[0] * scale + ox, -q[1] * scale + oy);
+      }
     });
     g.stroke();
   }
@@ -368,6 +374,7 @@ function drawView(v, part, key = v) {
   const samples = Math.max(2, 4 * d);
   const table = curveWeights(d, samples);
   const done = new Set();
+  const ctrl = new Array(d + 1);
   v.patches.forEach((patch, t) => {
     if (!drawn(t)) return;
     for (const slots of layout.edges) {
@@ -375,12 +382,12 @@ function drawView(v, part, key = v) {
       const edgeKey = Math.min(first, last) * 67108864 + Math.max(first, last);
       if (done.has(edgeKey)) continue;
       done.add(edgeKey);
-      const ctrl = slots.map((k) => at(patch[k]));
+      for (let k = 0; k <= d; k++) ctrl[k] = at(patch[slots[k]]);
       for (let n = 0; n <= samples; n++) {
         const w = table[n];
         let x = 0, y = 0;
         for (let k = 0; k <= d; k++) { x += w[k] * ctrl[k][0]; y += w[k] * ctrl[k][1]; }
-        const [sx, sy] = toScreen([x, y]);
+        const sx = x * scale + ox, sy = -y * scale + oy;
         if (n === 0) g.moveTo(sx, sy); else g.lineTo(sx, sy);
       }
     }
@@ -508,10 +515,12 @@ function drawPrisms(v, layer, part) {
 function drawPoints(part) {
   if (!shown("show-points")) return;
   const styles = new Map();
-  for (const [id, p] of points) {
+  // A drag's frame looks only at the points it moves, not at every point.
+  const candidates = part === MOVING && moving !== null ? moving.ids : points.keys();
+  for (const id of candidates) {
+    if (!inPart(part, moving !== null && moving.ids.has(id))) continue;
     const on = screenOf(id);
     if (on === null) continue;
-    if (!inPart(part, moving !== null && moving.ids.has(id))) continue;
     const anchor = anchors.includes(id);
     const isDerived = derived.has(id) && shown("show-derived");
     const colour = id === blocked ? "#d00000" : anchor ? "#e07000" : isDerived ? "#2060c0" : "#404040";
