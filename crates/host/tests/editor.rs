@@ -110,6 +110,29 @@ fn a_drag_commits_exact_values_and_undo_and_redo_restore_them() {
     assert_eq!(exact(&after, "worm.v3"), ["36", "23"]);
     assert_eq!(after["violated_rows"], 0);
     assert_eq!(after["can_undo"], true);
+    // The release carries what the commit changed, as the whole state has it: every moved
+    // point with its exact value, the counts, the same views.
+    let changes = &last["state"];
+    let changed = changes["points"].as_array().expect("points");
+    assert_eq!(
+        changed.len(),
+        last["moved"].as_array().expect("moved").len()
+    );
+    for point in changed {
+        let id = point["id"].as_u64().expect("an id") as usize;
+        assert_eq!(point, &after["points"][id], "{point}");
+    }
+    for key in [
+        "can_undo",
+        "can_redo",
+        "violated_rows",
+        "committed",
+        "views_version",
+        "commit",
+    ] {
+        assert_eq!(changes[key], after[key], "{key}");
+    }
+    assert_eq!(changes["views_version"], before["views_version"]);
     let (_, undone) = call(&editor, "POST", "/api/undo", &json!({}));
     assert_eq!(undone["done"], true);
     assert_eq!(undone["points"], before["points"]);

@@ -287,16 +287,7 @@ impl Editor {
     /// The state ([`session_state`]) with the autosave's offer and failure.
     fn state(&self) -> Value {
         let mut state = session_state(&self.session, &self.views);
-        state["autosave"] = json!({
-            "path": self.autosave.as_ref().map(|p| p.display().to_string()),
-            "offer": self.offer.as_ref().map(|(path, edits)| json!({
-                "path": path.display().to_string(),
-                "edits": edits,
-            })),
-            "error": self.autosave_error,
-        });
-        state["committed"] = json!(self.session.committed_count());
-        state["views_version"] = json!(self.views_version);
+        self.add_editor_counts(&mut state);
         state["image"] = match &self.image {
             Some(image) => {
                 let f = api::exact::rational_to_f64;
@@ -315,11 +306,47 @@ impl Editor {
         state
     }
 
+    /// What a commit changed, for the page to apply to the state it has: the points in
+    /// `moved` (the committed anchors and derived parameters, `[id, ...]` each) with their
+    /// exact values, and the counts. Far smaller than the whole state (the views, every point
+    /// and every row), which the page fetches again only when `views_version` changed.
+    fn committed_state(&self, moved: &Value) -> Value {
+        let count = self.session.system().params().len();
+        let points: Vec<Value> = moved
+            .as_array()
+            .into_iter()
+            .flatten()
+            .filter_map(|entry| entry.get(0).and_then(Value::as_u64))
+            .filter(|&id| id < count as u64)
+            .map(|id| point_state(&self.session, ParamId(id as u32)))
+            .collect();
+        let mut state = Value::Object(value_counts(&self.session));
+        state["points"] = Value::Array(points);
+        self.add_editor_counts(&mut state);
+        state
+    }
+
+    /// The editor's part of a state: the autosave's offer and failure, the number of commits,
+    /// the version of the views.
+    fn add_editor_counts(&self, state: &mut Value) {
+        state["autosave"] = json!({
+            "path": self.autosave.as_ref().map(|p| p.display().to_string()),
+            "offer": self.offer.as_ref().map(|(path, edits)| json!({
+                "path": path.display().to_string(),
+                "edits": edits,
+            })),
+            "error": self.autosave_error,
+        });
+        state["committed"] = json!(self.session.committed_count());
+        state["views_version"] = json!(self.views_version);
+    }
+
     /// A drag frame ([`drag_frame`]); a commit is autosaved.
     fn drag_frame(&mut self, request: &DragRequest) -> Result<Value, String> {
-        let answer = drag_frame(&mut self.session, &mut self.drag, request)?;
+        let mut answer = drag_frame(&mut self.session, &mut self.drag, request)?;
         if answer["committed"] == json!(true) {
             self.changed();
+            answer["state"] = self.committed_state(&answer["moved"]);
         }
         Ok(answer)
     }
@@ -373,42 +400,60 @@ fn source_views(session: &Session) -> Value {
     Value::Array(sources)
 }
 
+/// A point as the page keeps it: id, name, value rounded for drawing and exact.
+fn point_state(session: &Session, id: ParamId) -> Value {
+    let values = session.values();
+    json!({
+        "id": id.0,
+        "name": session.system().params()[id.index()].name,
+        "value": approx(values, id),
+        "exact": values.get(id).iter().map(format_rational).collect::<Vec<_>>(),
+    })
+}
+
+/// What changes with the values: residual, history, commit policy.
+fn value_counts(session: &Session) -> serde_json::Map<String, Value> {
+    let (can_undo, can_redo) = session.can_undo_redo();
+    let mut counts = serde_json::Map::new();
+    counts.insert(
+        "violated_rows".into(),
+        json!(session.system().violations(session.values()).len()),
+    );
+    counts.insert("can_undo".into(), json!(can_undo));
+    counts.insert("can_redo".into(), json!(can_redo));
+    counts.insert(
+        "commit".into(),
+        json!(match session.commit_policy() {
+            CommitPolicy::Optimum => "the exact optimum".to_string(),
+            CommitPolicy::Snapped { grid_bits } => format!("snapped to 2^-{grid_bits}"),
+        }),
+    );
+    counts
+}
+
 /// The whole state: `sources` (from [`source_views`]), points with their values, counts.
 fn session_state(session: &Session, sources: &Value) -> Value {
     let system = session.system();
-    let values = session.values();
     let points: Vec<Value> = system
         .params()
         .iter()
         .enumerate()
         // Points (dimension 2) and heights (dimension 1, a terrain's surfaces).
         .filter(|(_, p)| p.dim <= 2)
-        .map(|(i, p)| {
-            let id = ParamId(i as u32);
-            json!({
-                "id": i,
-                "name": p.name,
-                "value": approx(values, id),
-                "exact": values.get(id).iter().map(format_rational).collect::<Vec<_>>(),
-            })
-        })
+        .map(|(i, _)| point_state(session, ParamId(i as u32)))
         .collect();
-    let (can_undo, can_redo) = session.can_undo_redo();
     let rows = (0..system.rows().len()).map(|r| api::RowId(r as u32));
-    json!({
+    let mut state = json!({
         "constraints": drawable_rows(system, rows),
         "run": session.run_path.display().to_string(),
         "sources": sources,
         "points": points,
         "rows": system.rows().len(),
-        "violated_rows": system.violations(values).len(),
-        "can_undo": can_undo,
-        "can_redo": can_redo,
-        "commit": match session.commit_policy() {
-            CommitPolicy::Optimum => "the exact optimum".to_string(),
-            CommitPolicy::Snapped { grid_bits } => format!("snapped to 2^-{grid_bits}"),
-        },
-    })
+    });
+    if let Value::Object(fields) = &mut state {
+        fields.extend(value_counts(session));
+    }
+    state
 }
 
 /// Reference vertices rounded for drawing (the page never computes with them).

@@ -827,6 +827,24 @@ function applyMoved(moved) {
   return vertices;
 }
 
+// Applies a commit's changes (the committed points with their exact values, the counts) to
+// the state the page has.
+function applyCommitted(changes) {
+  const ids = [];
+  for (const p of changes.points) {
+    const point = points.get(p.id);
+    point.value = p.value;
+    point.exact = p.exact;
+    ids.push(p.id);
+  }
+  for (const model of models) model.update(at, ids);
+  for (const [key, value] of Object.entries(changes)) if (key !== "points") state[key] = value;
+  endMoving();
+  element("undo").disabled = !state.can_undo;
+  element("redo").disabled = !state.can_redo;
+  showOffer();
+}
+
 async function sendFrame(commit) {
   const d = drag;
   if (!d) return;
@@ -873,7 +891,10 @@ async function sendFrame(commit) {
           const was = before.get(id);
           return Math.max(worst, ...value.map((v, k) => Math.abs(v - was[k])));
         }, 0);
-        setState(await api("/api/state"));
+        // What the commit changed, applied to the state the page has; the whole state again
+        // only when the views changed meanwhile.
+        if (answer.state && answer.state.views_version === state.views_version) applyCommitted(answer.state);
+        else setState(await api("/api/state"));
         commits.push(performance.now() - began);
       }
       last.server = answer.server_ms;
