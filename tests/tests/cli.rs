@@ -290,6 +290,77 @@ fn a_deformed_ply_keeps_its_properties() {
     );
 }
 
+/// A GLB model comes back as the same GLB: the same length and chunks, the JSON as written but
+/// for the position bounds, the vertex the edit does not reach byte for byte, the moved ones
+/// changed; an unedited run gives the file back byte for byte. glTF is `+Y` up: the spline
+/// point `(x, y, z)` is the glTF point `(x, z, −y)`.
+#[test]
+fn a_deformed_glb_stays_the_same_glb() {
+    let corners = [
+        [2.0f32, 2.0, 0.0],
+        [6.0, 2.0, 0.0],
+        [6.0, 6.0, 1.0],
+        [35.0, 35.0, 0.0],
+    ];
+    let mut bin = Vec::new();
+    for [x, y, z] in corners {
+        for c in [x, z, -y] {
+            bin.extend(c.to_le_bytes());
+        }
+    }
+    for i in [0u16, 1, 2, 0, 2, 3] {
+        bin.extend(i.to_le_bytes());
+    }
+    let mut json = format!(
+        r#"{{"asset": {{"version": "2.0"}}, "scene": 0, "scenes": [{{"nodes": [0]}}], "nodes": [{{"mesh": 0}}],
+ "meshes": [{{"name": "sheet", "primitives": [{{"attributes": {{"POSITION": 0}}, "indices": 1}}]}}],
+ "accessors": [{{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [2, 0, -35], "max": [35, 1, -2]}},
+  {{"bufferView": 1, "componentType": 5123, "count": 6, "type": "SCALAR"}}],
+ "bufferViews": [{{"buffer": 0, "byteLength": 48}}, {{"buffer": 0, "byteOffset": 48, "byteLength": 12}}],
+ "buffers": [{{"byteLength": {}}}]}}"#,
+        bin.len()
+    )
+    .into_bytes();
+    while json.len() % 4 != 0 {
+        json.push(b' ');
+    }
+    let mut glb = b"glTF".to_vec();
+    glb.extend(2u32.to_le_bytes());
+    glb.extend(((12 + 8 + json.len() + 8 + bin.len()) as u32).to_le_bytes());
+    glb.extend((json.len() as u32).to_le_bytes());
+    glb.extend(b"JSON");
+    glb.extend(&json);
+    glb.extend((bin.len() as u32).to_le_bytes());
+    glb.extend(b"BIN\0");
+    glb.extend(&bin);
+
+    assert_eq!(
+        deformed_model_file("sheet.glb", &glb, ""),
+        glb,
+        "nothing moves"
+    );
+    let written = deformed_model_file("sheet.glb", &glb, CORNER_EDIT);
+    let out_json_length = u32::from_le_bytes(written[12..16].try_into().expect("4 bytes")) as usize;
+    let out_json = String::from_utf8(written[20..20 + out_json_length].to_vec()).expect("JSON");
+    let out_bin = &written[20 + out_json_length + 8..];
+    assert_eq!(&written[..4], b"glTF");
+    assert_eq!(out_bin.len(), bin.len());
+    assert_eq!(out_bin[36..], bin[36..], "the far vertex and the indices");
+    assert_ne!(
+        out_bin[..36],
+        bin[..36],
+        "the edit moves the first vertices"
+    );
+    // The JSON as written, but for the bounds of the positions.
+    let (before, after) = (String::from_utf8(json.clone()).expect("JSON"), &out_json);
+    let cut = |t: &str| {
+        let start = t.find(r#""min""#).expect("min");
+        let end = t[start..].find('}').expect("the accessor's end") + start;
+        (t[..start].to_string(), t[end..].trim_end().to_string())
+    };
+    assert_eq!(cut(&before), cut(after), "{after}");
+}
+
 /// A spline picture named `.png` is the SVG's drawing rasterised: a PNG twice the SVG's size,
 /// ink where the mesh is, the same bytes on every run.
 #[test]

@@ -185,7 +185,8 @@ impl TerrainSource {
 }
 
 /// Reads the terrain or model to deform, of at most `limit` bytes: an ESRI grid (`.asc`), an
-/// OBJ, STL or PLY model (`.obj`, `.stl`, `.ply`) or a plain grid (anything else).
+/// OBJ, STL, PLY or glTF model (`.obj`, `.stl`, `.ply`, `.gltf`, `.glb`) or a plain grid
+/// (anything else).
 pub fn load_terrain(path: &Path, limit: u64) -> Result<Model, String> {
     load_terrain_with_source(path, limit).map(|(model, _)| model)
 }
@@ -193,7 +194,7 @@ pub fn load_terrain(path: &Path, limit: u64) -> Result<Model, String> {
 /// A terrain or model file as read, for writing the deformed one back.
 #[derive(Debug, Clone, PartialEq)]
 pub enum TerrainFile {
-    /// An OBJ, STL or PLY model, written back as the same file.
+    /// An OBJ, STL, PLY or glTF model, written back as the same file.
     Model(ModelSource),
     /// A height field (`.asc` or a plain grid), written as a new OBJ (and an ESRI grid back as
     /// the same ESRI grid when the terrain has no φ, see the output's documentation).
@@ -205,7 +206,7 @@ pub enum TerrainFile {
 pub fn load_terrain_with_source(path: &Path, limit: u64) -> Result<(Model, TerrainFile), String> {
     let is_model = path.extension().is_some_and(|e| {
         let e = e.to_string_lossy();
-        ["obj", "stl", "ply"]
+        ["obj", "stl", "ply", "gltf", "glb"]
             .iter()
             .any(|model| e.eq_ignore_ascii_case(model))
     });

@@ -14,6 +14,7 @@
 //! re-exported here.
 
 mod deform;
+mod gltf_source;
 mod obj_source;
 mod ply_source;
 mod read;
@@ -21,6 +22,7 @@ mod stl_source;
 mod write;
 
 pub use deform::{deform_model, left_in_place_note, locate_vertices, plane_jacobian};
+pub use gltf_source::GltfSource;
 pub use obj_source::ObjSource;
 pub use ply_source::PlySource;
 pub use read::{load_model, load_model_with_source, parse_model, ModelSource};

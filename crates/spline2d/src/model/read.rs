@@ -1,7 +1,7 @@
 //! Reading a model from Wavefront OBJ into `f64` positions and triangles, keeping the file's
 //! vertex numbering (point clouds included).
 
-use super::{Model, ModelError, ObjSource, PlySource, StlSource};
+use super::{GltfSource, Model, ModelError, ObjSource, PlySource, StlSource};
 use crate::obj_text::{statements, tokens, FaceCorner};
 use std::path::Path;
 
@@ -21,6 +21,8 @@ pub enum ModelSource {
     Stl(StlSource),
     /// PLY, ASCII or binary.
     Ply(PlySource),
+    /// glTF 2.0, JSON or binary (GLB).
+    Gltf(GltfSource),
 }
 
 impl ModelSource {
@@ -37,6 +39,7 @@ impl ModelSource {
             ModelSource::Obj(obj) => obj.write_deformed(original, deformed, jacobian),
             ModelSource::Stl(stl) => stl.write_deformed(original, deformed),
             ModelSource::Ply(ply) => ply.write_deformed(original, deformed, jacobian),
+            ModelSource::Gltf(gltf) => gltf.write_deformed(original, deformed, jacobian),
         }
     }
 }
@@ -51,23 +54,33 @@ pub fn is_ply(path: &Path) -> bool {
     has_extension(path, "ply")
 }
 
+/// Whether `path` names a glTF file (extension `.gltf` or `.glb`, any case).
+pub fn is_gltf(path: &Path) -> bool {
+    has_extension(path, "gltf") || has_extension(path, "glb")
+}
+
 fn has_extension(path: &Path, extension: &str) -> bool {
     path.extension()
         .is_some_and(|e| e.to_string_lossy().eq_ignore_ascii_case(extension))
 }
 
-/// Reads a model of at most `limit` bytes in its format (STL for `.stl`, PLY for `.ply`, else
-/// OBJ, see
+/// Reads a model of at most `limit` bytes in its format (STL for `.stl`, PLY for `.ply`, glTF
+/// for `.gltf` and `.glb` — its external buffers beside it —, else OBJ, see
 /// [`load_model`]) with the file itself, for writing the deformed model back as the same file
 /// ([`ModelSource::write_deformed`]).
 pub fn load_model_with_source(path: &Path, limit: u64) -> Result<(Model, ModelSource), ModelError> {
     let file = path.display().to_string();
-    if is_stl(path) || is_ply(path) {
+    if is_stl(path) || is_ply(path) || is_gltf(path) {
         let bytes =
             api::input::read_regular_file(path, "model", limit).map_err(|e| ModelError::Input {
                 path: path.to_path_buf(),
                 reason: e.reason(),
             })?;
+        if is_gltf(path) {
+            let directory = path.parent().unwrap_or_else(|| Path::new("."));
+            let (model, source) = GltfSource::parse(&bytes, &file, directory, limit)?;
+            return Ok((model, ModelSource::Gltf(source)));
+        }
         if is_ply(path) {
             let (model, source) = PlySource::parse(&bytes, &file)?;
             return Ok((model, ModelSource::Ply(source)));

@@ -73,7 +73,7 @@ pub fn write_obj(model: &Model, writer: &mut impl Write) -> io::Result<()> {
 }
 
 /// The output file name of a deformed model: `<stem>-deformed.stl` for an STL model at
-/// `path`, `.ply` for a PLY model, `<stem>-deformed.obj` for any other (`model-deformed…` when the path has no usable
+/// `path`, `.ply` for a PLY model, `.gltf` or `.glb` for glTF (as the input), `<stem>-deformed.obj` for any other (`model-deformed…` when the path has no usable
 /// stem), so the deformed model lands in the output directory next to the report, in its own
 /// format, never over its input.
 pub fn deformed_name(path: &str) -> String {
@@ -86,6 +86,12 @@ pub fn deformed_name(path: &str) -> String {
         "stl"
     } else if super::read::is_ply(Path::new(path)) {
         "ply"
+    } else if super::read::is_gltf(Path::new(path)) {
+        if path.to_ascii_lowercase().ends_with(".glb") {
+            "glb"
+        } else {
+            "gltf"
+        }
     } else {
         "obj"
     };
