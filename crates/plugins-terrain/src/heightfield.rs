@@ -1,5 +1,6 @@
-//! Height fields: terrains given as a regular grid of heights, read from an ESRI ASCII grid
-//! (`.asc`) or a plain whitespace grid, and turned into a triangulated [`Model`].
+//! Height fields: terrains given as a regular grid of heights, read from a GeoTIFF (`.tif`,
+//! see [`crate::geotiff`]), an ESRI ASCII grid (`.asc`) or a plain whitespace grid, and turned
+//! into a triangulated [`Model`].
 //!
 //! # ESRI ASCII grid
 //! ```text
@@ -104,6 +105,9 @@ pub struct HeightField {
     /// An ESRI grid's text and where each value is in it (file order: the northernmost row
     /// first), for writing the grid back with other heights ([`HeightField::write_esri`]).
     esri: Option<(String, Vec<std::ops::Range<usize>>)>,
+    /// A GeoTIFF's sample type, raw samples and georeferencing tags, for writing it back
+    /// ([`HeightField::write_geotiff`]).
+    geotiff: Option<crate::geotiff::GeoTiff>,
 }
 
 /// A token of the text with its 1-based line and column.
@@ -149,11 +153,22 @@ fn tokens(line: &str, line_number: usize, comments: bool) -> Vec<Token<'_>> {
 }
 
 impl HeightField {
-    /// Reads a height field from a file of at most `limit` bytes: an ESRI ASCII grid when the
-    /// extension is `.asc` (any case), a plain grid otherwise. Only regular text files are read
+    /// Reads a height field from a file of at most `limit` bytes: a GeoTIFF for `.tif` and
+    /// `.tiff` (see [`crate::geotiff`]), an ESRI ASCII grid when the extension is `.asc` (any
+    /// case), a plain grid otherwise. Only regular text files are read
     /// (see [`api::input`]).
     pub fn read(path: &Path, limit: u64) -> Result<HeightField, HeightFieldError> {
         let file = path.display().to_string();
+        if crate::geotiff::is_geotiff(path) {
+            let bytes =
+                api::input::read_regular_file(path, "height field", limit).map_err(|e| {
+                    HeightFieldError::Io {
+                        file: file.clone(),
+                        message: format!("the height field {}", e.reason()),
+                    }
+                })?;
+            return crate::geotiff::parse(&bytes, &file);
+        }
         let text = api::input::read_text_file(path, "height field", limit).map_err(|e| match e
             .position()
         {
@@ -384,6 +399,7 @@ impl HeightField {
             cell,
             heights,
             esri: Some((text.to_string(), ranges)),
+            geotiff: None,
         })
     }
 
@@ -455,6 +471,7 @@ impl HeightField {
             ],
             heights,
             esri: None,
+            geotiff: None,
         })
     }
 
@@ -502,6 +519,33 @@ impl HeightField {
         }
         out.push_str(&text[at..]);
         Some(out)
+    }
+
+    /// A height field read from a GeoTIFF (see [`crate::geotiff::parse`]).
+    pub(crate) fn from_geotiff(
+        columns: usize,
+        rows: usize,
+        origin: [Rational; 2],
+        cell: [Rational; 2],
+        heights: Vec<Option<f64>>,
+        geotiff: crate::geotiff::GeoTiff,
+    ) -> HeightField {
+        HeightField {
+            columns,
+            rows,
+            origin,
+            cell,
+            heights,
+            esri: None,
+            geotiff: Some(geotiff),
+        }
+    }
+
+    /// The GeoTIFF this field was read from with `heights` (as [`HeightField::heights`]) in
+    /// place of its own; `None` for other height fields.
+    pub fn write_geotiff(&self, heights: &[Option<f64>]) -> Option<Result<Vec<u8>, String>> {
+        let geotiff = self.geotiff.as_ref()?;
+        Some(geotiff.write(self.columns, &self.heights, heights))
     }
 
     /// Number of samples without data.

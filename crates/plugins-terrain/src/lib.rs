@@ -17,6 +17,7 @@
 //!   rendered outputs, the editor's view of the prisms).
 
 pub mod deform;
+pub mod geotiff;
 pub mod heightfield;
 pub mod plugin;
 pub mod prism;

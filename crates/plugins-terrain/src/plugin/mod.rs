@@ -196,9 +196,10 @@ pub fn load_terrain(path: &Path, limit: u64) -> Result<Model, String> {
 pub enum TerrainFile {
     /// An OBJ, STL, PLY or glTF model, written back as the same file.
     Model(ModelSource),
-    /// A height field (`.asc` or a plain grid), written as a new OBJ (and an ESRI grid back as
-    /// the same ESRI grid when the terrain has no φ, see the output's documentation).
-    Grid(HeightField),
+    /// A height field (a GeoTIFF, an ESRI grid or a plain grid), written as a new OBJ (and a
+    /// GeoTIFF or ESRI grid back as the same kind of grid when the terrain has no φ, see the
+    /// output's documentation).
+    Grid(Box<HeightField>),
 }
 
 /// [`load_terrain`] with the file itself (to write the deformed model back as the same file, in
@@ -216,7 +217,7 @@ pub fn load_terrain_with_source(path: &Path, limit: u64) -> Result<(Model, Terra
             .map_err(|e| e.to_string())
     } else {
         HeightField::read(path, limit)
-            .map(|field| (field.to_model(), TerrainFile::Grid(field)))
+            .map(|field| (field.to_model(), TerrainFile::Grid(Box::new(field))))
             .map_err(|e| e.to_string())
     }
 }

@@ -77,8 +77,9 @@ pub(super) struct CheckedOutput {
     pub(super) model: Model,
     /// The model's or grid's file.
     source: TerrainFile,
-    /// `<stem>-deformed.asc`: an ESRI grid of a terrain without φ is also written back as the
-    /// same grid with its new heights (φ would move the samples off the grid).
+    /// `<stem>-deformed.asc` (`.tif`): an ESRI grid (a GeoTIFF) of a terrain without φ is also
+    /// written back as the same grid with its new heights (φ would move the samples off the
+    /// grid).
     grid_file: Option<String>,
     /// The model file as the output names it (relative to the run file, as written).
     pub(super) model_name: String,
@@ -133,14 +134,21 @@ impl TerrainSource {
         config.shading().map_err(|e| error(&e))?;
         let full = base_dir.join(&model_path);
         let (model, source) = load_terrain_with_source(&full, limit).map_err(|e| error(&e))?;
-        let esri = matches!(&source, TerrainFile::Grid(_)) && crate::heightfield::is_esri(&full);
-        let grid_file = (esri && built.xy.is_none()).then(|| {
-            let stem = Path::new(&model_path)
-                .file_stem()
-                .map(|s| s.to_string_lossy().into_owned())
-                .unwrap_or_else(|| "terrain".into());
-            format!("{stem}-deformed.asc")
-        });
+        // An ESRI grid or a GeoTIFF is also written back in its own format.
+        let grid_extension = match &source {
+            TerrainFile::Grid(_) if crate::heightfield::is_esri(&full) => Some("asc"),
+            TerrainFile::Grid(_) if crate::geotiff::is_geotiff(&full) => Some("tif"),
+            _ => None,
+        };
+        let grid_file = grid_extension
+            .filter(|_| built.xy.is_none())
+            .map(|extension| {
+                let stem = Path::new(&model_path)
+                    .file_stem()
+                    .map(|s| s.to_string_lossy().into_owned())
+                    .unwrap_or_else(|| "terrain".into());
+                format!("{stem}-deformed.{extension}")
+            });
         let checked = CheckedOutput {
             model_file: deformed_name(&model_path),
             config,
@@ -205,10 +213,14 @@ impl TerrainSource {
                     })
                 })
                 .collect();
-            let text = field
-                .write_esri(&heights)
-                .ok_or_else(|| error(&"the deformed heights do not fit the grid"))?;
-            files.push(OutputFile::new(name.clone(), text.into_bytes()));
+            let bytes = match field.write_geotiff(&heights) {
+                Some(written) => written.map_err(|e| error(&e))?,
+                None => field
+                    .write_esri(&heights)
+                    .ok_or_else(|| error(&"the deformed heights do not fit the grid"))?
+                    .into_bytes(),
+            };
+            files.push(OutputFile::new(name.clone(), bytes));
         }
         if let Some(picture) = picture_stem {
             let initial = before.deform(model).model;

@@ -653,3 +653,90 @@ fn an_esri_grid_without_phi_comes_back_as_the_same_grid() {
         assert_eq!(heights, zs);
     }
 }
+
+/// A GeoTIFF terrain without φ comes back as the same GeoTIFF too (`t-deformed.tif`): the same
+/// georeferencing, the raised heights those of the deformed model.
+#[test]
+fn a_geotiff_without_phi_comes_back_as_a_geotiff() {
+    use tiff::encoder::{colortype, TiffEncoder};
+    use tiff::tags::Tag;
+    let dir = tempfile::tempdir().expect("dir");
+    let grid = crate::heightfield::HeightField::parse_esri(&small_height_field(&[]), "t.asc")
+        .expect("the grid");
+    // The same grid as a GeoTIFF: `PixelIsArea`, tie point at the raster's north-west corner.
+    let f = |q: &api::Rational| api::exact::rational_to_f64(q);
+    let (cx, cy) = (f(&grid.cell[0]), f(&grid.cell[1]));
+    let west = f(&grid.origin[0]) - cx / 2.0;
+    let north = f(&grid.origin[1]) + (grid.rows as f64 - 0.5) * cy;
+    let mut samples = Vec::new();
+    for row in (0..grid.rows).rev() {
+        for column in 0..grid.columns {
+            samples.push(grid.heights[row * grid.columns + column].expect("a full grid") as f32);
+        }
+    }
+    let mut bytes = std::io::Cursor::new(Vec::new());
+    let mut encoder = TiffEncoder::new(&mut bytes).expect("encoder");
+    let mut image = encoder
+        .new_image::<colortype::Gray32Float>(grid.columns as u32, grid.rows as u32)
+        .expect("image");
+    image
+        .encoder()
+        .write_tag(Tag::ModelPixelScaleTag, &[cx, cy, 0.0][..])
+        .expect("tag");
+    image
+        .encoder()
+        .write_tag(
+            Tag::ModelTiepointTag,
+            &[0.0, 0.0, 0.0, west, north, 0.0][..],
+        )
+        .expect("tag");
+    image.write_data(&samples).expect("data");
+    std::fs::write(dir.path().join("t.tif"), bytes.into_inner()).expect("write");
+    let (source, system, mut values) = built(false);
+    let initial = values.clone();
+    edit(
+        &source,
+        &system,
+        &mut values,
+        r#"(mode: "z1", anchors: ["v4"], dz: "10")"#,
+    );
+    let files = source
+        .render(&RenderRequest {
+            schema: api::SCHEMA_VERSION,
+            input_limit: api::input::DEFAULT_MAX_INPUT_BYTES,
+            output: r#"(model: "t.tif")"#.into(),
+            base_dir: dir.path().to_path_buf(),
+            system,
+            initial,
+            values,
+            highlight: None,
+            structure: None,
+        })
+        .expect("render");
+    let names: Vec<&str> = files.iter().map(|f| f.name.as_str()).collect();
+    assert_eq!(names, ["t-deformed.obj", "t-deformed.tif"]);
+    let written = crate::geotiff::parse(&files[1].bytes, "t-deformed.tif").expect("reads");
+    assert_eq!(
+        (&written.origin, &written.cell),
+        (&grid.origin, &grid.cell),
+        "the georeferencing"
+    );
+    let model = spline2d::model::parse_model(
+        &String::from_utf8(files[0].bytes.clone()).expect("text"),
+        "t.obj",
+    )
+    .expect("the OBJ reads");
+    let heights: Vec<f64> = written.heights.iter().flatten().copied().collect();
+    let zs: Vec<f64> = model
+        .positions
+        .iter()
+        .map(|p| f64::from(p[2] as f32))
+        .collect();
+    assert_eq!(heights, zs, "the deformed heights, as f32 samples");
+    let raised = heights
+        .iter()
+        .zip(grid.heights.iter().flatten())
+        .filter(|(a, b)| a != b)
+        .count();
+    assert!(raised > 0 && raised < heights.len(), "{raised} raised");
+}

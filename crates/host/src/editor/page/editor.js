@@ -1181,7 +1181,7 @@ function showSources() {
       title,
       label,
       fileButton(`load-mesh-${s.name}`, "reference mesh… ", ".obj", (file) => loadFile(s.name, "mesh", file)),
-      fileButton(`load-model-${s.name}`, "model… ", ".obj,.stl,.ply,.gltf,.glb,.asc", (file) => loadFile(s.name, "model", file)),
+      fileButton(`load-model-${s.name}`, "model… ", ".obj,.stl,.ply,.gltf,.glb,.asc,.tif,.tiff", (file) => loadFile(s.name, "model", file)),
     );
     box.append(row);
   }
