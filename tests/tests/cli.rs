@@ -4,6 +4,7 @@
 
 mod common;
 
+use base64::Engine as _;
 use common::{
     ecles, expect_bad_input, library, read_report, root, run_file, stderr, temp, without_origin,
 };
@@ -290,12 +291,9 @@ fn a_deformed_ply_keeps_its_properties() {
     );
 }
 
-/// A GLB model comes back as the same GLB: the same length and chunks, the JSON as written but
-/// for the position bounds, the vertex the edit does not reach byte for byte, the moved ones
-/// changed; an unedited run gives the file back byte for byte. glTF is `+Y` up: the spline
-/// point `(x, y, z)` is the glTF point `(x, z, −y)`.
-#[test]
-fn a_deformed_glb_stays_the_same_glb() {
+/// A GLB sheet near the example grid's corner (three vertices the corner edit moves, one far
+/// away), indexed: the file, its JSON chunk and its binary chunk.
+fn sheet_glb() -> (Vec<u8>, Vec<u8>, Vec<u8>) {
     let corners = [
         [2.0f32, 2.0, 0.0],
         [6.0, 2.0, 0.0],
@@ -333,7 +331,16 @@ fn a_deformed_glb_stays_the_same_glb() {
     glb.extend((bin.len() as u32).to_le_bytes());
     glb.extend(b"BIN\0");
     glb.extend(&bin);
+    (glb, json, bin)
+}
 
+/// A GLB model comes back as the same GLB: the same length and chunks, the JSON as written but
+/// for the position bounds, the vertex the edit does not reach byte for byte, the moved ones
+/// changed; an unedited run gives the file back byte for byte. glTF is `+Y` up: the spline
+/// point `(x, y, z)` is the glTF point `(x, z, −y)`.
+#[test]
+fn a_deformed_glb_stays_the_same_glb() {
+    let (glb, json, bin) = sheet_glb();
     assert_eq!(
         deformed_model_file("sheet.glb", &glb, ""),
         glb,
@@ -359,6 +366,98 @@ fn a_deformed_glb_stays_the_same_glb() {
         (t[..start].to_string(), t[end..].trim_end().to_string())
     };
     assert_eq!(cut(&before), cut(after), "{after}");
+}
+
+/// Golden round trips: a model in every format, read and written back by a run that moves
+/// nothing, is the same file byte for byte — OBJ with texture coordinates, materials and quads,
+/// binary and ASCII STL, ASCII and binary PLY, glTF with a data URI, GLB — and so are a
+/// terrain's ESRI grid and GeoTIFF (`<stem>-deformed.asc`, `.tif`; the GeoTIFF is
+/// `tests/fixtures/terrain-3x3.tif`, by `tools/make_format_fixtures.py`).
+#[test]
+fn every_format_comes_back_byte_for_byte_when_nothing_moves() {
+    let mut stl = b"binary header".to_vec();
+    stl.resize(80, 0);
+    stl.extend(1u32.to_le_bytes());
+    for x in [
+        0.0f32, 0.0, 1.0, 2.0, 2.0, 0.0, 6.0, 2.0, 0.0, 6.0, 6.0, 1.0,
+    ] {
+        stl.extend(x.to_le_bytes());
+    }
+    stl.extend(7u16.to_le_bytes());
+    let mut binary_ply = b"ply\nformat binary_little_endian 1.0\ncomment scanned\nelement vertex 3\nproperty double x\nproperty double y\nproperty float z\nproperty uchar red\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n".to_vec();
+    for (p, z) in [
+        ([2.0f64, 2.0], 0.5f32),
+        ([6.0, 2.0], 0.25),
+        ([6.0, 6.0], 1.0),
+    ] {
+        binary_ply.extend(p[0].to_le_bytes());
+        binary_ply.extend(p[1].to_le_bytes());
+        binary_ply.extend(z.to_le_bytes());
+        binary_ply.push(200);
+    }
+    binary_ply.push(3);
+    for i in [0i32, 1, 2] {
+        binary_ply.extend(i.to_le_bytes());
+    }
+    let (glb, _, bin) = sheet_glb();
+    let gltf = format!(
+        r#"{{"asset": {{"version": "2.0"}}, "meshes": [{{"primitives": [{{"attributes": {{"POSITION": 0}}, "indices": 1}}]}}],
+  "accessors": [{{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [2, 0, -35], "max": [35, 1, -2]}},
+    {{"bufferView": 1, "componentType": 5123, "count": 6, "type": "SCALAR"}}],
+  "bufferViews": [{{"buffer": 0, "byteLength": 48}}, {{"buffer": 0, "byteOffset": 48, "byteLength": 12}}],
+  "buffers": [{{"uri": "data:application/octet-stream;base64,{}", "byteLength": {}}}]}}
+"#,
+        base64::engine::general_purpose::STANDARD.encode(&bin),
+        bin.len()
+    );
+    let cases: [(&str, Vec<u8>); 7] = [
+        ("skin.obj", b"mtllib skin.mtl\nv 2 2 0\nv 6 2 0\nv 6 6 1\nv 2 6 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nusemtl skin\nf 1/1 2/2 3/3 4/4\n".to_vec()),
+        ("binary.stl", stl),
+        ("text.stl", b"solid s\n facet normal 0 0 1\n  outer loop\n   vertex 2 2 0\n   vertex 6 2 0\n   vertex 6 6 1\n  endloop\n endfacet\nendsolid s\n".to_vec()),
+        ("text.ply", b"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n2 2 0\n6 2 0\n6 6 1\n3 0 1 2\n".to_vec()),
+        ("binary.ply", binary_ply),
+        ("sheet.gltf", gltf.into_bytes()),
+        ("sheet.glb", glb),
+    ];
+    for (name, bytes) in &cases {
+        assert_eq!(&deformed_model_file(name, bytes, ""), bytes, "{name}");
+    }
+
+    // Terrains without phi: an ESRI grid and a GeoTIFF of the same heights.
+    let esri = "ncols 3\nnrows 3\nxllcorner 0\nyllcorner 0\ncellsize 10\nNODATA_value -9999\n1 2 3\n4 -9999 6\n7 8 9.5\n";
+    let geotiff = std::fs::read(root().join("tests/fixtures/terrain-3x3.tif")).expect("fixture");
+    let (dir, run, out) = run_file(&format!(
+        r#"(
+            sources: [(name: "t", plugin: "terrain", config: (spline: (mesh: {mesh:?}), top: "20"))],
+            outputs: [(source: "t", output: (model: "grid.asc")), (source: "t", output: (model: "dem.tif"))],
+        )"#,
+        mesh = root()
+            .join("examples/terrains/reference.obj")
+            .display()
+            .to_string()
+    ));
+    std::fs::write(dir.path().join("grid.asc"), esri).expect("write");
+    std::fs::write(dir.path().join("dem.tif"), &geotiff).expect("write");
+    let o = ecles(&[
+        "run",
+        &run.display().to_string(),
+        "--out",
+        &out.display().to_string(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(
+        std::fs::read_to_string(out.join("grid-deformed.asc")).expect("grid"),
+        esri
+    );
+    assert_eq!(
+        std::fs::read(out.join("dem-deformed.tif")).expect("GeoTIFF"),
+        geotiff
+    );
+    // The GeoTIFF and the grid are the same terrain: the same deformed OBJ.
+    assert_eq!(
+        std::fs::read(out.join("dem-deformed.obj")).expect("model"),
+        std::fs::read(out.join("grid-deformed.obj")).expect("model")
+    );
 }
 
 /// A spline picture named `.png` is the SVG's drawing rasterised: a PNG twice the SVG's size,

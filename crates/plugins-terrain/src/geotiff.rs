@@ -18,7 +18,8 @@
 //! `GDAL_METADATA`, `GDAL_NODATA`), the missing samples as they were, unmoved samples with
 //! their own values, moved heights in the sample type (integers rounded to the nearest, a
 //! height beyond the type's range refused). The image is written uncompressed in strips, as the
-//! `tiff` encoder lays it out: the same raster, not the same bytes.
+//! `tiff` encoder lays it out: the same raster, not the same bytes — except when no height
+//! changes: then the file is written back byte for byte.
 
 use crate::heightfield::{HeightField, HeightFieldError, MAX_SAMPLES};
 use api::exact::rational_from_f64;
@@ -72,6 +73,8 @@ enum KeptTag {
 /// What a GeoTIFF height field keeps to be written back.
 #[derive(Debug, Clone, PartialEq)]
 pub struct GeoTiff {
+    /// The file as read: written back as it is when no height changes.
+    bytes: Vec<u8>,
     sample: SampleType,
     /// Raw samples as `f64` in file order (the northernmost row first), NaN and no-data
     /// values as they were.
@@ -269,7 +272,12 @@ pub fn parse(bytes: &[u8], file: &str) -> Result<HeightField, HeightFieldError> 
         origin,
         [sx, sy],
         heights,
-        GeoTiff { sample, raw, tags },
+        GeoTiff {
+            bytes: bytes.to_vec(),
+            sample,
+            raw,
+            tags,
+        },
     ))
 }
 
@@ -285,6 +293,13 @@ impl GeoTiff {
         let rows = self.raw.len() / columns.max(1);
         if heights.len() != self.raw.len() || old.len() != self.raw.len() {
             return Err("the deformed heights do not fit the raster".into());
+        }
+        if old
+            .iter()
+            .zip(heights)
+            .all(|(a, b)| a.map(f64::to_bits) == b.map(f64::to_bits))
+        {
+            return Ok(self.bytes.clone());
         }
         // File order, the unmoved samples' raw values kept.
         let mut raw = self.raw.clone();

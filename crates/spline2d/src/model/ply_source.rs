@@ -5,7 +5,8 @@
 //! with the moved vertices' positions written again (in the property's own type, `float` or
 //! `double`) and their normals `nx ny nz`, if the file has them, transformed by the inverse
 //! transpose of the deformation's Jacobian and rescaled to their old length; every other
-//! property (colours, texture coordinates, confidence, other elements) is kept.
+//! property (colours, texture coordinates, confidence, other elements) is kept. A model nothing
+//! moves is written back byte for byte.
 
 use super::{Model, ModelError};
 use ply_rs::parser::Parser;
@@ -16,6 +17,9 @@ use ply_rs::writer::Writer;
 #[derive(Debug, Clone, PartialEq)]
 pub struct PlySource {
     ply: Ply<DefaultElement>,
+    /// The file as read: written back as it is when nothing moves (`ply-rs` writes the same
+    /// values, not the same bytes).
+    bytes: Vec<u8>,
 }
 
 /// A scalar property as `f64` (`None` for lists).
@@ -136,7 +140,10 @@ impl PlySource {
                 positions,
                 triangles,
             },
-            PlySource { ply },
+            PlySource {
+                ply,
+                bytes: bytes.to_vec(),
+            },
         ))
     }
 
@@ -148,6 +155,11 @@ impl PlySource {
         deformed: &Model,
         jacobian: impl Fn(usize) -> Option<[[f64; 3]; 3]>,
     ) -> Result<Vec<u8>, String> {
+        if original.positions == deformed.positions
+            && original.positions.len() == self.ply.payload.get("vertex").map_or(0, Vec::len)
+        {
+            return Ok(self.bytes.clone());
+        }
         let mut ply = self.ply.clone();
         let vertices = ply
             .payload
