@@ -460,6 +460,60 @@ fn every_format_comes_back_byte_for_byte_when_nothing_moves() {
     );
 }
 
+/// A malformed model or terrain of every format is refused before anything runs: exit 2, the
+/// run file's line:column of the output, the file and the position in it (line:column for
+/// text, the byte for binary containers), nothing written.
+#[test]
+fn malformed_files_of_every_format_are_refused_with_their_position() {
+    let cases: [(&str, &str, &[u8], &str); 10] = [
+        ("spline2d", "bad.obj", b"v 1 2\nv 3 q\n", "bad.obj:2:5: "),
+        ("spline2d", "bad.stl", b"solid x\n facet normal 0 0 1\n  outer loop\n   vertex 1 2 q\n", "bad.stl:4:15: "),
+        ("spline2d", "short.stl", b"short", "short.stl:1:1: "),
+        ("spline2d", "bad.ply", b"ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\nend_header\n1 2\n3 x\n", "bad.ply:8:3: "),
+        ("spline2d", "short.ply", b"ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\nend_header\n\0\0", "short.ply:7:1: not a PLY model this reader accepts: the data (from byte 98) ends at byte 100"),
+        ("spline2d", "bad.gltf", br#"{"asset": {"version": "2.0"}, "meshes": [1]}"#, "bad.gltf:1:42: "),
+        ("spline2d", "short.glb", b"glTF\x02\0\0\0\xff\0\0\0", "short.glb:1:1: the GLB header (byte 8) declares 255 bytes, the file has 12"),
+        ("terrain", "bad.asc", b"ncols 2\nnrows 2\nxllcorner 0\nyllcorner 0\ncellsize 1\n1 2\n3 x\n", "bad.asc:7:3: "),
+        ("terrain", "bad.tif", b"II*\0\x08\0\0\0\x01\0", "bad.tif: not a GeoTIFF this reader accepts (10 bytes)"),
+        ("terrain", "bad.glb", b"glTF", "bad.glb:1:1: byte 4: the GLB header needs 12 bytes"),
+    ];
+    for (plugin, name, bytes, expected) in cases {
+        let config = match plugin {
+            "terrain" => format!(
+                "(spline: (mesh: {:?}), top: \"20\")",
+                root()
+                    .join("examples/terrains/reference.obj")
+                    .display()
+                    .to_string()
+            ),
+            _ => format!(
+                "(mesh: {:?})",
+                root()
+                    .join("examples/meshes/grid.obj")
+                    .display()
+                    .to_string()
+            ),
+        };
+        let (dir, run, out) = run_file(&format!(
+            "(sources: [(name: \"s\", plugin: {plugin:?}, config: {config})],\n outputs: [(source: \"s\", output: (model: {name:?}))])"
+        ));
+        std::fs::write(dir.path().join(name), bytes).expect("write");
+        let o = ecles(&[
+            "run",
+            &run.display().to_string(),
+            "--out",
+            &out.display().to_string(),
+        ]);
+        let message = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{name}: {message}");
+        assert!(
+            message.contains(":2:") && message.contains(expected),
+            "{name}: {message}"
+        );
+        assert!(!out.join("report.json").exists(), "{name}: nothing written");
+    }
+}
+
 /// A spline picture named `.png` is the SVG's drawing rasterised: a PNG twice the SVG's size,
 /// ink where the mesh is, the same bytes on every run.
 #[test]

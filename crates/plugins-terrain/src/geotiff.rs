@@ -88,7 +88,12 @@ pub fn parse(bytes: &[u8], file: &str) -> Result<HeightField, HeightFieldError> 
         file: file.to_string(),
         message,
     };
-    let tiff = |e: tiff::TiffError| fail(format!("not a GeoTIFF this reader accepts: {e}"));
+    let tiff = |e: tiff::TiffError| {
+        fail(format!(
+            "not a GeoTIFF this reader accepts ({} bytes): {e}",
+            bytes.len()
+        ))
+    };
     let mut limits = Limits::default();
     // The largest band a height field may have, in 64-bit samples.
     limits.decoding_buffer_size = MAX_SAMPLES * 8;
@@ -543,7 +548,8 @@ mod tests {
     fn files_that_are_not_elevation_models_are_refused_naming_the_file() {
         let message = |bytes: &[u8]| parse(bytes, "dem.tif").expect_err("refused").to_string();
         assert!(
-            message(b"II*\0garbage").starts_with("dem.tif: not a GeoTIFF"),
+            message(b"II*\0garbage")
+                .starts_with("dem.tif: not a GeoTIFF this reader accepts (11 bytes)"),
             "{}",
             message(b"II*\0garbage")
         );

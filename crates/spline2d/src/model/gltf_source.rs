@@ -212,6 +212,30 @@ impl GltfSource {
             message,
         };
         let (glb, json_bytes, blob) = if bytes.starts_with(b"glTF") {
+            // The container's length first: the `gltf` crate's errors say nothing of where.
+            let declared = bytes
+                .get(8..12)
+                .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as usize);
+            match declared {
+                None => {
+                    return Err(at(
+                        1,
+                        1,
+                        format!("byte {}: the GLB header needs 12 bytes", bytes.len()),
+                    ))
+                }
+                Some(n) if n != bytes.len() => {
+                    return Err(at(
+                        1,
+                        1,
+                        format!(
+                            "the GLB header (byte 8) declares {n} bytes, the file has {}",
+                            bytes.len()
+                        ),
+                    ))
+                }
+                Some(_) => {}
+            }
             let glb = gltf::binary::Glb::from_slice(bytes)
                 .map_err(|e| at(1, 1, format!("not a GLB file this reader accepts: {e}")))?;
             (
@@ -1100,7 +1124,10 @@ mod tests {
             "{}",
             message(b"{\"asset\": {\"version\": \"2.0\"},\n \"meshes\": [}")
         );
-        assert!(message(b"glTF\x02\0\0\0").contains("GLB"));
+        assert!(message(b"glTF\x02\0\0\0").contains("byte 8: the GLB header needs 12 bytes"));
+        assert!(
+            message(b"glTF\x02\0\0\0\xff\0\0\0").contains("declares 255 bytes, the file has 12")
+        );
         let buffer = quad_buffer();
         // An index beyond the vertices, reported at its accessor's line.
         let mut bad = buffer.clone();

@@ -63,6 +63,62 @@ fn same_type(old: &Property, value: f64) -> Option<Property> {
     }
 }
 
+/// The header's length in bytes and lines (through the line `end_header`), when it has one.
+fn header_extent(bytes: &[u8]) -> Option<(usize, usize)> {
+    let mut offset = 0;
+    for (k, line) in bytes.split(|&b| b == b'\n').enumerate() {
+        offset += line.len() + 1;
+        if line.strip_suffix(b"\r").unwrap_or(line) == b"end_header" {
+            return Some((offset.min(bytes.len()), k + 1));
+        }
+    }
+    None
+}
+
+/// A `ply-rs` error as an error at a position: its `Line N:` and, inside its message, the
+/// grammar's `error at 1:C` for the column; for binary data that ends early, the line after
+/// the header and the byte where the data ends. The message is `ply-rs`'s first line, without
+/// the debugging detail it appends.
+fn read_error(bytes: &[u8], file: &str, text: &str) -> ModelError {
+    let at = |line: usize, column: usize, message: String| ModelError::Parse {
+        file: file.to_string(),
+        line,
+        column,
+        message: format!("not a PLY model this reader accepts: {message}"),
+    };
+    let first = text.lines().next().unwrap_or(text).trim();
+    if let Some(rest) = first.strip_prefix("Line ") {
+        let digits: String = rest.chars().take_while(char::is_ascii_digit).collect();
+        let line = digits.parse().unwrap_or(1);
+        let column = text
+            .split("error at 1:")
+            .nth(1)
+            .and_then(|c| c.split(|ch: char| !ch.is_ascii_digit()).next())
+            .and_then(|c| c.parse().ok())
+            .unwrap_or(1);
+        let what = rest[digits.len()..].trim_start_matches(':').trim();
+        let what = if what.contains("element line") {
+            "the values on this line do not match the properties the header declares".to_string()
+        } else if what.contains("parse line") {
+            "a header line this reader does not understand".to_string()
+        } else {
+            what.to_string()
+        };
+        return at(line, column, what);
+    }
+    match header_extent(bytes) {
+        Some((data, lines)) if text.contains("fill whole buffer") => at(
+            lines + 1,
+            1,
+            format!(
+                "the data (from byte {data}) ends at byte {}, before every element the header declares",
+                bytes.len()
+            ),
+        ),
+        _ => at(1, 1, first.to_string()),
+    }
+}
+
 impl PlySource {
     /// Reads a PLY file's bytes (`file` names it in errors): the model and its source.
     pub fn parse(bytes: &[u8], file: &str) -> Result<(Model, PlySource), ModelError> {
@@ -74,16 +130,7 @@ impl PlySource {
         };
         let ply = Parser::<DefaultElement>::new()
             .read_ply(&mut std::io::Cursor::new(bytes))
-            .map_err(|e| {
-                // ply-rs says "Line N: …" for errors it can place.
-                let text = e.to_string();
-                let line = text
-                    .strip_prefix("Line ")
-                    .and_then(|rest| rest.split(|c: char| !c.is_ascii_digit()).next())
-                    .and_then(|n| n.parse().ok())
-                    .unwrap_or(1);
-                error(line, format!("not a PLY model this reader accepts: {text}"))
-            })?;
+            .map_err(|e| read_error(bytes, file, &e.to_string()))?;
         let vertices = ply.payload.get("vertex").map(Vec::as_slice).unwrap_or(&[]);
         let mut positions = Vec::with_capacity(vertices.len());
         for (v, vertex) in vertices.iter().enumerate() {
@@ -211,6 +258,34 @@ mod tests {
     use super::*;
 
     const ASCII: &str = "ply\nformat ascii 1.0\ncomment made by hand\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\nproperty float nx\nproperty float ny\nproperty float nz\nproperty uchar red\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0 0 1 0 10\n1 0 0 0 1 0 20\n1 1 0 0 1 0 30\n0 1 0 0 1 0 40\n4 0 1 2 3\n";
+
+    #[test]
+    fn malformed_files_are_refused_at_their_line_and_column() {
+        let message = |text: &[u8]| {
+            PlySource::parse(text, "bad.ply")
+                .expect_err("refused")
+                .to_string()
+        };
+        let ascii = message(b"ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\nend_header\n1 2\n3 x\n");
+        assert!(
+            ascii.starts_with("bad.ply:8:3: ")
+                && ascii.contains("do not match")
+                && !ascii.contains('\n'),
+            "{ascii}"
+        );
+        let header =
+            message(b"ply\nformat ascii 1.0\nelement vertex 2\nproperty flot x\nend_header\n");
+        assert!(
+            header.starts_with("bad.ply:4:") && header.contains("header line"),
+            "{header}"
+        );
+        let binary = message(b"ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\nend_header\n\0\0");
+        assert!(
+            binary.starts_with("bad.ply:7:1: ")
+                && binary.contains("from byte 98) ends at byte 100"),
+            "{binary}"
+        );
+    }
 
     #[test]
     fn a_quad_reads_and_writes_back_with_every_property() {
