@@ -74,6 +74,7 @@ fn the_bundled_terrain_example_raises_a_hill_and_shifts_a_ridge() {
     assert_eq!(names(&edits[1]), ["terrain.xy.e4-5:2", "terrain.xy.e4-5:3"]);
     let files = [
         "hills-deformed.obj",
+        "hills-deformed.asc",
         "hills-before.png",
         "hills-after.png",
         "tower-deformed.obj",

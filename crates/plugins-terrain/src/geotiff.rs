@@ -315,8 +315,11 @@ impl GeoTiff {
                 match (old[k], heights[k]) {
                     (None, None) => {}
                     (Some(a), Some(b)) if a.to_bits() == b.to_bits() => {}
-                    (Some(_), Some(b)) if b.is_finite() => raw[file] = b,
-                    _ => return Err(format!("sample ({column}, {row}) gains or loses its data")),
+                    (_, Some(b)) if b.is_finite() => raw[file] = b,
+                    (Some(_), None) => raw[file] = self.missing_value().ok_or_else(|| {
+                        format!("sample ({column}, {row}) loses its data, and the raster has no GDAL_NODATA value and integer samples")
+                    })?,
+                    _ => return Err(format!("sample ({column}, {row}): the height is not finite")),
                 }
             }
         }
@@ -379,6 +382,17 @@ impl GeoTiff {
             }),
         }
         Ok(out.into_inner())
+    }
+
+    /// The value of a sample without data: `GDAL_NODATA`, else NaN in a float raster.
+    fn missing_value(&self) -> Option<f64> {
+        let nodata = self.tags.iter().find_map(|tag| match tag {
+            KeptTag::Text(t, text) if *t == Tag::GdalNodata.to_u16() => {
+                text.trim().trim_end_matches('\0').parse::<f64>().ok()
+            }
+            _ => None,
+        });
+        nodata.or(matches!(self.sample, SampleType::F32 | SampleType::F64).then_some(f64::NAN))
     }
 
     fn write_tags<W: std::io::Write + std::io::Seek, K: tiff::encoder::TiffKind>(
@@ -499,9 +513,17 @@ mod tests {
             DecodingResult::F32(v) => assert_eq!((v[5], v[8]), (-9999.0, 100.125)),
             other => panic!("{other:?}"),
         }
-        // Giving data to a missing sample is refused.
-        let mut filled = field.heights.clone();
+        // A sample may gain data (a deformation that covers it) and lose it (GDAL_NODATA).
+        let mut filled = raised.clone();
         filled[5] = Some(1.0);
+        filled[6] = None;
+        let written = field
+            .write_geotiff(&filled)
+            .expect("a GeoTIFF")
+            .expect("written");
+        assert_eq!(parse(&written, "x.tif").expect("read").heights, filled);
+        // Heights that are not finite are refused.
+        filled[7] = Some(f64::INFINITY);
         assert!(field.write_geotiff(&filled).expect("a GeoTIFF").is_err());
     }
 

@@ -102,12 +102,22 @@ pub struct HeightField {
     /// Heights row by row from the south-west sample (`rows · columns` entries), `None` where
     /// the file has `NODATA_value`.
     pub heights: Vec<Option<f64>>,
-    /// An ESRI grid's text and where each value is in it (file order: the northernmost row
-    /// first), for writing the grid back with other heights ([`HeightField::write_esri`]).
-    esri: Option<(String, Vec<std::ops::Range<usize>>)>,
+    /// An ESRI grid's text, where each value is in it (file order: the northernmost row
+    /// first) and its `NODATA_value` as written, for writing the grid back with other heights
+    /// ([`HeightField::write_esri`]).
+    esri: Option<EsriText>,
     /// A GeoTIFF's sample type, raw samples and georeferencing tags, for writing it back
     /// ([`HeightField::write_geotiff`]).
     geotiff: Option<crate::geotiff::GeoTiff>,
+}
+
+/// An ESRI grid as written: its text, the range of each value (file order) and the text of its
+/// `NODATA_value`, if any.
+#[derive(Debug, Clone, PartialEq)]
+struct EsriText {
+    text: String,
+    ranges: Vec<std::ops::Range<usize>>,
+    nodata: Option<String>,
 }
 
 /// A token of the text with its 1-based line and column.
@@ -343,6 +353,7 @@ impl HeightField {
                 (None, None) => return Err(missing(&format!("{axis}llcorner or {axis}llcenter"))),
             });
         }
+        let nodata_text = find("nodata_value").map(|v| v.text.to_string());
         // `None`: no value is special; `Some(None)`: NaN (only `nan` is missing).
         let nodata = match find("nodata_value") {
             Some(v) if is_nan(v.text) => Some(None),
@@ -398,7 +409,11 @@ impl HeightField {
             origin: [x, y],
             cell,
             heights,
-            esri: Some((text.to_string(), ranges)),
+            esri: Some(EsriText {
+                text: text.to_string(),
+                ranges,
+                nodata: nodata_text,
+            }),
             geotiff: None,
         })
     }
@@ -493,29 +508,34 @@ impl HeightField {
     /// The ESRI grid this field was read from, with `heights` (row by row from the south-west,
     /// as [`HeightField::heights`]) in place of its own: the header, layout and every value
     /// whose height did not change as written (byte for byte), a changed height as the
-    /// shortest decimal that reads back to it. `None` for a plain grid, or when `heights` has
-    /// another length or gives a height to a sample without data (or takes one away).
+    /// shortest decimal that reads back to it, a sample that loses its data as the grid's
+    /// `NODATA_value` as written (`nan` without one, which GDAL and this reader take as
+    /// missing). `None` for other height fields, or when `heights` has another length or a
+    /// height that is not finite.
     pub fn write_esri(&self, heights: &[Option<f64>]) -> Option<String> {
-        let (text, ranges) = self.esri.as_ref()?;
+        let esri = self.esri.as_ref()?;
         if heights.len() != self.heights.len() {
             return None;
         }
+        let (text, ranges) = (&esri.text, &esri.ranges);
         let mut out = String::with_capacity(text.len());
         let mut at = 0;
         for (k, range) in ranges.iter().enumerate() {
             let (row_from_top, column) = (k / self.columns, k % self.columns);
             let sample = (self.rows - 1 - row_from_top) * self.columns + column;
-            match (self.heights[sample], heights[sample]) {
+            let replacement = match (self.heights[sample], heights[sample]) {
                 (None, None) => continue,
                 (Some(old), Some(new)) if old.to_bits() == new.to_bits() => continue,
-                (Some(_), Some(new)) if new.is_finite() => {
-                    out.push_str(&text[at..range.start]);
+                (_, Some(new)) if new.is_finite() => {
                     let new = if new == 0.0 { 0.0 } else { new };
-                    out.push_str(&format!("{new}"));
-                    at = range.end;
+                    format!("{new}")
                 }
+                (Some(_), None) => esri.nodata.clone().unwrap_or_else(|| "nan".into()),
                 _ => return None,
-            }
+            };
+            out.push_str(&text[at..range.start]);
+            out.push_str(&replacement);
+            at = range.end;
         }
         out.push_str(&text[at..]);
         Some(out)
@@ -678,7 +698,7 @@ mod tests {
     }
 
     /// An ESRI grid written back: unchanged, byte for byte; with new heights, only those
-    /// values change; a plain grid or a sample gaining data cannot be written.
+    /// values change; a plain grid cannot be written.
     #[test]
     fn esri_grids_are_written_back_with_their_own_text() {
         let field = HeightField::parse_esri(SMALL, "s.asc").expect("read");
@@ -691,12 +711,33 @@ mod tests {
             field.write_esri(&heights).as_deref(),
             Some(SMALL.replace("1 2 3\n4.5", "1 2 0\n4.75").as_str())
         );
+        // A sample may gain data and lose it (written as the grid's NODATA_value as written,
+        // `nan` in a grid without one); a height that is not finite cannot be written.
         heights[1] = Some(1.0);
+        heights[2] = None;
         assert_eq!(
-            field.write_esri(&heights),
-            None,
-            "a missing sample stays missing"
+            field.write_esri(&heights).as_deref(),
+            Some(
+                SMALL
+                    .replace("1 2 3\n4.5 -9999 0.1", "1 2 0\n4.75 1 -9999")
+                    .as_str()
+            )
         );
+        let unmarked = HeightField::parse_esri(&SMALL.replace("NODATA_value -9999\n", ""), "u.asc")
+            .expect("read");
+        let mut lost = unmarked.heights.clone();
+        lost[0] = None;
+        assert_eq!(
+            unmarked.write_esri(&lost).as_deref(),
+            Some(
+                SMALL
+                    .replace("NODATA_value -9999\n", "")
+                    .replace("4.5", "nan")
+                    .as_str()
+            )
+        );
+        heights[3] = Some(f64::NAN);
+        assert_eq!(field.write_esri(&heights), None, "not finite");
         let plain = HeightField::parse_plain("1 2\n3 4\n", "p.txt").expect("read");
         assert_eq!(plain.write_esri(&plain.heights), None);
     }

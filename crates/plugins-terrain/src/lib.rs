@@ -22,3 +22,4 @@ pub mod heightfield;
 pub mod plugin;
 pub mod prism;
 pub mod relief;
+pub mod resample;

@@ -77,9 +77,9 @@ pub(super) struct CheckedOutput {
     pub(super) model: Model,
     /// The model's or grid's file.
     source: TerrainFile,
-    /// `<stem>-deformed.asc` (`.tif`): an ESRI grid (a GeoTIFF) of a terrain without φ is also
-    /// written back as the same grid with its new heights (φ would move the samples off the
-    /// grid).
+    /// `<stem>-deformed.asc` (`.tif`): an ESRI grid (a GeoTIFF) is also written back as the
+    /// same grid with its new heights — with φ, the deformed surface sampled on the grid again
+    /// ([`crate::resample`]).
     grid_file: Option<String>,
     /// The model file as the output names it (relative to the run file, as written).
     pub(super) model_name: String,
@@ -140,15 +140,13 @@ impl TerrainSource {
             TerrainFile::Grid(_) if crate::geotiff::is_geotiff(&full) => Some("tif"),
             _ => None,
         };
-        let grid_file = grid_extension
-            .filter(|_| built.xy.is_none())
-            .map(|extension| {
-                let stem = Path::new(&model_path)
-                    .file_stem()
-                    .map(|s| s.to_string_lossy().into_owned())
-                    .unwrap_or_else(|| "terrain".into());
-                format!("{stem}-deformed.{extension}")
-            });
+        let grid_file = grid_extension.map(|extension| {
+            let stem = Path::new(&model_path)
+                .file_stem()
+                .map(|s| s.to_string_lossy().into_owned())
+                .unwrap_or_else(|| "terrain".into());
+            format!("{stem}-deformed.{extension}")
+        });
         let checked = CheckedOutput {
             model_file: deformed_name(&model_path),
             config,
@@ -201,18 +199,24 @@ impl TerrainSource {
         );
         let mut files = vec![model_file];
         if let (Some(name), TerrainFile::Grid(field)) = (&checked.grid_file, &checked.source) {
-            // The model numbers the samples with data row by row from the south-west.
-            let mut vertex = 0;
-            let heights: Vec<Option<f64>> = field
-                .heights
-                .iter()
-                .map(|h| {
-                    h.map(|_| {
-                        vertex += 1;
-                        deformed.model.positions[vertex - 1][2]
+            let heights: Vec<Option<f64>> = if built.xy.is_none() {
+                // The samples stay on their grid. The model numbers the samples with data row
+                // by row from the south-west.
+                let mut vertex = 0;
+                field
+                    .heights
+                    .iter()
+                    .map(|h| {
+                        h.map(|_| {
+                            vertex += 1;
+                            deformed.model.positions[vertex - 1][2]
+                        })
                     })
-                })
-                .collect();
+                    .collect()
+            } else {
+                // φ moves the samples: the deformed surface sampled on the grid again.
+                crate::resample::resample(field, &deformed.model)
+            };
             let bytes = match field.write_geotiff(&heights) {
                 Some(written) => written.map_err(|e| error(&e))?,
                 None => field

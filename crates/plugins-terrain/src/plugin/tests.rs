@@ -538,13 +538,27 @@ fn renders_the_deformed_model_and_pictures() {
     }
     let steep = render(r#"(model: "t.asc", picture: "t.png", size: 64, exaggeration: "5/2", horizontal_units: "same")"#)
         .expect("render");
-    let files = render(r#"(model: "t.asc", picture: "t.png", size: 64)"#).expect("render");
+    let rendered = render(r#"(model: "t.asc", picture: "t.png", size: 64)"#).expect("render");
     assert_ne!(
-        steep[2].bytes, files[2].bytes,
+        steep[3].bytes, rendered[3].bytes,
         "an exaggerated relief is lit differently"
     );
-    let names: Vec<&str> = files.iter().map(|f| f.name.as_str()).collect();
-    assert_eq!(names, ["t-deformed.obj", "t-before.png", "t-after.png"]);
+    let names: Vec<&str> = rendered.iter().map(|f| f.name.as_str()).collect();
+    assert_eq!(
+        names,
+        [
+            "t-deformed.obj",
+            "t-deformed.asc",
+            "t-before.png",
+            "t-after.png"
+        ]
+    );
+    // The model and the relief pictures (the grid written back is checked below).
+    let files: Vec<_> = rendered
+        .iter()
+        .filter(|f| f.name != "t-deformed.asc")
+        .cloned()
+        .collect();
     let obj = String::from_utf8(files[0].bytes.clone()).expect("utf8");
     assert!(obj.starts_with(
         "# hills: deformed by the 2.5D map psi (prisms between z = -20 and z = 20)\n"
@@ -567,7 +581,7 @@ fn renders_the_deformed_model_and_pictures() {
     // Deterministic.
     assert_eq!(
         render(r#"(model: "t.asc", picture: "t.png", size: 64)"#).expect("again"),
-        files
+        rendered
     );
     // An OBJ model comes back as its own file, only what moved written again; the vertex left
     // in place is named in the report.
@@ -590,13 +604,16 @@ fn renders_the_deformed_model_and_pictures() {
 
 /// A terrain without φ keeps its samples on their grid: its ESRI grid is also written back as
 /// the same grid, header and untouched values byte for byte, the raised ones written again;
-/// with φ it is not (the samples may leave the grid).
+/// with φ the deformed surface is sampled on the grid again, which after a z edit (φ the
+/// identity) gives the same grid.
 #[test]
 fn an_esri_grid_without_phi_comes_back_as_the_same_grid() {
     let dir = tempfile::tempdir().expect("dir");
     let grid = small_height_field(&[]);
     std::fs::write(dir.path().join("t.asc"), &grid).expect("write");
-    for xy in [false, true] {
+    let mut written_with_phi = None;
+    let mut written_without = None;
+    for xy in [true, false] {
         let (source, system, mut values) = built(xy);
         let initial = values.clone();
         edit(
@@ -619,11 +636,12 @@ fn an_esri_grid_without_phi_comes_back_as_the_same_grid() {
             })
             .expect("render");
         let names: Vec<&str> = files.iter().map(|f| f.name.as_str()).collect();
+        assert_eq!(names, ["t-deformed.obj", "t-deformed.asc"]);
         if xy {
-            assert_eq!(names, ["t-deformed.obj"]);
+            // φ is the identity after a z edit: the grid sampled again is the same grid.
+            written_with_phi = Some(files[1].bytes.clone());
             continue;
         }
-        assert_eq!(names, ["t-deformed.obj", "t-deformed.asc"]);
         let written = String::from_utf8(files[1].bytes.clone()).expect("text");
         let (head, body) = grid.split_at(grid.find("\n0").map_or(0, |i| i + 1));
         assert!(
@@ -651,7 +669,9 @@ fn an_esri_grid_without_phi_comes_back_as_the_same_grid() {
         let heights: Vec<f64> = field.heights.iter().flatten().copied().collect();
         let zs: Vec<f64> = model.positions.iter().map(|p| p[2]).collect();
         assert_eq!(heights, zs);
+        written_without = Some(files[1].bytes.clone());
     }
+    assert_eq!(written_with_phi, written_without);
 }
 
 /// A GeoTIFF terrain without φ comes back as the same GeoTIFF too (`t-deformed.tif`): the same
@@ -739,4 +759,54 @@ fn a_geotiff_without_phi_comes_back_as_a_geotiff() {
         .filter(|(a, b)| a != b)
         .count();
     assert!(raised > 0 && raised < heights.len(), "{raised} raised");
+}
+
+/// An xy edit moves the samples off their grid: the ESRI grid written back is the deformed
+/// surface sampled on the grid again — the samples the edit leaves in place as written (byte
+/// for byte), some near the moved point changed, every written height finite.
+#[test]
+fn an_xy_edit_writes_the_grid_sampled_again() {
+    let dir = tempfile::tempdir().expect("dir");
+    let grid = small_height_field(&[]);
+    std::fs::write(dir.path().join("t.asc"), &grid).expect("write");
+    let (source, system, mut values) = built(true);
+    let initial = values.clone();
+    edit(
+        &source,
+        &system,
+        &mut values,
+        r#"(mode: "xy", anchors: ["v4"], neighborhood: 1, translate: ("3", "2"))"#,
+    );
+    let files = source
+        .render(&RenderRequest {
+            schema: api::SCHEMA_VERSION,
+            input_limit: api::input::DEFAULT_MAX_INPUT_BYTES,
+            output: r#"(model: "t.asc")"#.into(),
+            base_dir: dir.path().to_path_buf(),
+            system,
+            initial,
+            values,
+            highlight: None,
+            structure: None,
+        })
+        .expect("render");
+    assert_eq!(files[1].name, "t-deformed.asc");
+    let written = String::from_utf8(files[1].bytes.clone()).expect("text");
+    let field = crate::heightfield::HeightField::parse_esri(&written, "t.asc").expect("reads");
+    let old = crate::heightfield::HeightField::parse_esri(&grid, "t.asc").expect("reads");
+    let changed = old
+        .heights
+        .iter()
+        .zip(&field.heights)
+        .filter(|(a, b)| a != b)
+        .count();
+    assert!(
+        changed > 0 && changed < old.heights.len() / 2,
+        "{changed} of {} samples changed",
+        old.heights.len()
+    );
+    assert!(field.heights.iter().flatten().all(|h| h.is_finite()));
+    // The header as written.
+    let header = |t: &str| t.lines().take(6).collect::<Vec<_>>().join("\n");
+    assert_eq!(header(&written), header(&grid));
 }
