@@ -178,12 +178,17 @@ pub(crate) fn render(
             deformed.as_ref(),
         )
         .map_err(|e| error(&e))?;
-        let bytes = if is_png(name) {
-            crate::svg::raster::svg_to_png(&svg).map_err(|e| error(&e))?
+        let file = if is_png(name) {
+            let mut file = OutputFile::new(
+                name.clone(),
+                crate::svg::raster::svg_to_png(&svg).map_err(|e| error(&e))?,
+            );
+            file.notes.extend(crate::svg::raster::missing_fonts_note());
+            file
         } else {
-            svg.into_bytes()
+            OutputFile::new(name.clone(), svg.into_bytes())
         };
-        files.push(OutputFile::new(name.clone(), bytes));
+        files.push(file);
     }
     if let Some(image) = &checked.image {
         let spline = FloatSpline::new(&built.spline, &after).map_err(|e| error(&e))?;
