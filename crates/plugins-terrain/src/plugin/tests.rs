@@ -614,27 +614,12 @@ fn an_esri_grid_without_phi_comes_back_as_the_same_grid() {
     let mut written_with_phi = None;
     let mut written_without = None;
     for xy in [true, false] {
-        let (source, system, mut values) = built(xy);
-        let initial = values.clone();
-        edit(
-            &source,
-            &system,
-            &mut values,
+        let files = edited_and_rendered(
+            xy,
             r#"(mode: "z1", anchors: ["v4"], dz: "10")"#,
+            dir.path(),
+            r#"(model: "t.asc")"#,
         );
-        let files = source
-            .render(&RenderRequest {
-                schema: api::SCHEMA_VERSION,
-                input_limit: api::input::DEFAULT_MAX_INPUT_BYTES,
-                output: r#"(model: "t.asc")"#.into(),
-                base_dir: dir.path().to_path_buf(),
-                system: system.clone(),
-                initial,
-                values,
-                highlight: None,
-                structure: None,
-            })
-            .expect("render");
         let names: Vec<&str> = files.iter().map(|f| f.name.as_str()).collect();
         assert_eq!(names, ["t-deformed.obj", "t-deformed.asc"]);
         if xy {
@@ -712,27 +697,12 @@ fn a_geotiff_without_phi_comes_back_as_a_geotiff() {
         .expect("tag");
     image.write_data(&samples).expect("data");
     std::fs::write(dir.path().join("t.tif"), bytes.into_inner()).expect("write");
-    let (source, system, mut values) = built(false);
-    let initial = values.clone();
-    edit(
-        &source,
-        &system,
-        &mut values,
+    let files = edited_and_rendered(
+        false,
         r#"(mode: "z1", anchors: ["v4"], dz: "10")"#,
+        dir.path(),
+        r#"(model: "t.tif")"#,
     );
-    let files = source
-        .render(&RenderRequest {
-            schema: api::SCHEMA_VERSION,
-            input_limit: api::input::DEFAULT_MAX_INPUT_BYTES,
-            output: r#"(model: "t.tif")"#.into(),
-            base_dir: dir.path().to_path_buf(),
-            system,
-            initial,
-            values,
-            highlight: None,
-            structure: None,
-        })
-        .expect("render");
     let names: Vec<&str> = files.iter().map(|f| f.name.as_str()).collect();
     assert_eq!(names, ["t-deformed.obj", "t-deformed.tif"]);
     let written = crate::geotiff::parse(&files[1].bytes, "t-deformed.tif").expect("reads");
@@ -769,27 +739,12 @@ fn an_xy_edit_writes_the_grid_sampled_again() {
     let dir = tempfile::tempdir().expect("dir");
     let grid = small_height_field(&[]);
     std::fs::write(dir.path().join("t.asc"), &grid).expect("write");
-    let (source, system, mut values) = built(true);
-    let initial = values.clone();
-    edit(
-        &source,
-        &system,
-        &mut values,
+    let files = edited_and_rendered(
+        true,
         r#"(mode: "xy", anchors: ["v4"], neighborhood: 1, translate: ("3", "2"))"#,
+        dir.path(),
+        r#"(model: "t.asc")"#,
     );
-    let files = source
-        .render(&RenderRequest {
-            schema: api::SCHEMA_VERSION,
-            input_limit: api::input::DEFAULT_MAX_INPUT_BYTES,
-            output: r#"(model: "t.asc")"#.into(),
-            base_dir: dir.path().to_path_buf(),
-            system,
-            initial,
-            values,
-            highlight: None,
-            structure: None,
-        })
-        .expect("render");
     assert_eq!(files[1].name, "t-deformed.asc");
     let written = String::from_utf8(files[1].bytes.clone()).expect("text");
     let field = crate::heightfield::HeightField::parse_esri(&written, "t.asc").expect("reads");
@@ -809,4 +764,30 @@ fn an_xy_edit_writes_the_grid_sampled_again() {
     // The header as written.
     let header = |t: &str| t.lines().take(6).collect::<Vec<_>>().join("\n");
     assert_eq!(header(&written), header(&grid));
+}
+
+/// Builds the terrain (with φ when `xy`), applies `operation` and renders `output` from
+/// `directory`: the output's files.
+fn edited_and_rendered(
+    xy: bool,
+    operation: &str,
+    directory: &std::path::Path,
+    output: &str,
+) -> Vec<api::OutputFile> {
+    let (source, system, mut values) = built(xy);
+    let initial = values.clone();
+    edit(&source, &system, &mut values, operation);
+    source
+        .render(&RenderRequest {
+            schema: api::SCHEMA_VERSION,
+            input_limit: api::input::DEFAULT_MAX_INPUT_BYTES,
+            output: output.into(),
+            base_dir: directory.to_path_buf(),
+            system,
+            initial,
+            values,
+            highlight: None,
+            structure: None,
+        })
+        .expect("render")
 }

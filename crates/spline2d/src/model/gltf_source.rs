@@ -23,7 +23,7 @@
 //! URI, so the output is one file (its images keep their URIs as written). A model nothing
 //! moves is written back byte for byte.
 
-use super::obj_source::transform_normal;
+use super::matrix3::{invert, multiply, transform_normal, transform_tangent, Matrix};
 use super::{Model, ModelError};
 use base64::Engine as _;
 use gltf::mesh::Mode;
@@ -31,9 +31,6 @@ use serde_json::value::RawValue;
 use std::collections::BTreeMap;
 use std::ops::Range;
 use std::path::Path;
-
-/// A 3 × 3 matrix, rows first.
-type Matrix = [[f64; 3]; 3];
 
 /// An affine map `x ↦ A x + t`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -94,36 +91,6 @@ impl Affine {
             translation,
         })
     }
-}
-
-fn multiply(a: &Matrix, b: &Matrix) -> Matrix {
-    let mut out = [[0.0; 3]; 3];
-    for (r, row) in out.iter_mut().enumerate() {
-        for (c, x) in row.iter_mut().enumerate() {
-            *x = (0..3).map(|k| a[r][k] * b[k][c]).sum();
-        }
-    }
-    out
-}
-
-fn invert(m: &Matrix) -> Option<Matrix> {
-    let cofactor = |r: usize, c: usize| {
-        let (r1, r2) = ((r + 1) % 3, (r + 2) % 3);
-        let (c1, c2) = ((c + 1) % 3, (c + 2) % 3);
-        m[r1][c1] * m[r2][c2] - m[r1][c2] * m[r2][c1]
-    };
-    let det: f64 = (0..3).map(|c| m[0][c] * cofactor(0, c)).sum();
-    if det == 0.0 || !det.is_finite() {
-        return None;
-    }
-    let mut out = [[0.0; 3]; 3];
-    for (r, row) in out.iter_mut().enumerate() {
-        for (c, x) in row.iter_mut().enumerate() {
-            // The inverse is the transposed cofactor matrix over the determinant.
-            *x = cofactor(c, r) / det;
-        }
-    }
-    Some(out)
 }
 
 /// Where an accessor's elements are: buffer, offset of the first element, bytes between
@@ -640,18 +607,6 @@ impl GltfSource {
         out.push_str(&text[at..]);
         Ok(out)
     }
-}
-
-/// `J t` rescaled to the length of `t`; `None` when it vanishes or is not finite.
-fn transform_tangent(j: &Matrix, t: [f64; 3]) -> Option<[f64; 3]> {
-    let out = [0, 1, 2].map(|r| (0..3).map(|c| j[r][c] * t[c]).sum::<f64>());
-    let length = |v: &[f64; 3]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
-    let (old, new) = (length(&t), length(&out));
-    if new == 0.0 || !new.is_finite() {
-        return None;
-    }
-    let result = out.map(|x| x * old / new);
-    result.iter().all(|x| x.is_finite()).then_some(result)
 }
 
 /// The byte range of `raw` (a slice of `text`) in `text`.

@@ -15,6 +15,7 @@
 
 mod deform;
 mod gltf_source;
+mod matrix3;
 mod obj_source;
 mod ply_source;
 mod read;

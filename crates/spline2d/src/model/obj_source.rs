@@ -251,7 +251,7 @@ impl ObjSource {
             let moved = original.positions[v] != deformed.positions[v];
             let new = *pairs.entry((v, k)).or_insert_with(|| {
                 if moved {
-                    jacobian(v).and_then(|j| transform_normal(&j, n))
+                    jacobian(v).and_then(|j| super::matrix3::transform_normal(&j, n))
                 } else {
                     None
                 }
@@ -289,33 +289,6 @@ impl ObjSource {
         }
         appended
     }
-}
-
-/// `J^{−T} n` rescaled to the length of `n`; `None` when `J` is singular or the result is not
-/// finite.
-pub(super) fn transform_normal(j: &[[f64; 3]; 3], n: [f64; 3]) -> Option<[f64; 3]> {
-    // The cofactor matrix C of J: J^{-T} = C / det J.
-    let c = |r: usize, k: usize| -> f64 {
-        let (r1, r2) = ((r + 1) % 3, (r + 2) % 3);
-        let (k1, k2) = ((k + 1) % 3, (k + 2) % 3);
-        j[r1][k1] * j[r2][k2] - j[r1][k2] * j[r2][k1]
-    };
-    let det: f64 = (0..3).map(|k| j[0][k] * c(0, k)).sum();
-    if det == 0.0 || !det.is_finite() {
-        return None;
-    }
-    let mut out = [0.0; 3];
-    for (r, o) in out.iter_mut().enumerate() {
-        *o = (0..3).map(|k| c(r, k) * n[k]).sum::<f64>() / det;
-    }
-    let length = |v: &[f64; 3]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
-    let (old, new) = (length(&n), length(&out));
-    if new == 0.0 || !new.is_finite() {
-        return None;
-    }
-    let scale = old / new;
-    let result = out.map(|x| x * scale);
-    result.iter().all(|x| x.is_finite()).then_some(result)
 }
 
 /// `word a b …` with the shortest decimals that read back exactly (`-0` written `0`).

@@ -236,7 +236,7 @@ impl PlySource {
                 .collect::<Option<Vec<f64>>>()
                 .and_then(|n| n.try_into().ok());
             if let (Some(n), Some(j)) = (normal, jacobian(v)) {
-                if let Some(turned) = super::obj_source::transform_normal(&j, n) {
+                if let Some(turned) = super::matrix3::transform_normal(&j, n) {
                     for (name, value) in ["nx", "ny", "nz"].into_iter().zip(turned) {
                         if let Some(replaced) = vertex.get(name).and_then(|p| same_type(p, value)) {
                             vertex.insert(name.to_string(), replaced);
