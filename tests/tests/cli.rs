@@ -812,3 +812,59 @@ fn explain_traces_brenners_example_and_analyze_reports_structure() {
     assert_eq!(s["dependent"][0]["structural_rank"], 100);
     assert_eq!(s["dependent"][0]["exact_rank"], 96);
 }
+
+/// `ecles explain RUN PARAM... --move VALUES --json` on the pump example (p1 + p2 = p3,
+/// p4 = p3 + 5): moving p1 and p2 forces p3 and p4 by exactly their sum; moving p1 alone
+/// leaves a choice to the others; p3 and p4 cannot move apart, and the row in the way is named.
+#[test]
+fn explain_says_how_a_move_propagates() {
+    let pumps = root().join("examples/pumps.ron").display().to_string();
+    let explain = |args: &[&str]| -> Value {
+        let mut all = vec!["explain", &pumps];
+        all.extend(args);
+        let o = ecles(&all);
+        assert!(o.status.success(), "{}", stderr(&o));
+        serde_json::from_slice(&o.stdout).expect("JSON")
+    };
+    let both = explain(&["pump.p1", "pump.p2", "--move", "1,2", "--json"]);
+    assert_eq!(both["case"], "free");
+    assert_eq!(
+        both["move"]["moves"],
+        serde_json::json!([
+            {"param": "pump.p3", "follows": "forced", "by": ["3"]},
+            {"param": "pump.p4", "follows": "forced", "by": ["3"]},
+        ])
+    );
+    let alone = explain(&["pump.p1", "--move", "1/2", "--json"]);
+    let follows: Vec<&str> = alone["move"]["moves"]
+        .as_array()
+        .expect("moves")
+        .iter()
+        .map(|m| m["follows"].as_str().expect("kind"))
+        .collect();
+    assert_eq!(follows, ["may_stay", "may_stay", "may_stay"]);
+    let apart = explain(&["pump.p3", "pump.p4", "--move", "1,0", "--json"]);
+    assert_eq!(apart["case"], "partially_constrained");
+    assert_eq!(apart["directions"], serde_json::json!([["1", "1"]]));
+    assert_eq!(
+        apart["move"]["blocked_by"][0]["label"],
+        "pump row 2: p4 - p3 = 5"
+    );
+    // In words, with the blocks of each parameter first.
+    let o = ecles(&["explain", &pumps, "pump.p3", "pump.p4", "--move", "1,0"]);
+    let text = String::from_utf8(o.stdout).expect("text");
+    assert!(
+        text.contains("can move only along (1, 1)")
+            && text.contains("the requested move is impossible: \"pump row 2: p4 - p3 = 5\""),
+        "{text}"
+    );
+    // A move of the wrong size and an unknown parameter are input errors.
+    for bad in [
+        vec!["explain", &pumps, "pump.p1", "--move", "1,2"],
+        vec!["explain", &pumps, "pump.nope"],
+        vec!["explain", &pumps, "pump.p1", "--move", "x"],
+    ] {
+        let o = ecles(&bad);
+        assert_eq!(o.status.code(), Some(2), "{bad:?}: {}", stderr(&o));
+    }
+}

@@ -27,6 +27,7 @@ mod edit;
 mod error;
 mod hint_columns;
 mod moves;
+mod propagation;
 mod reduce;
 mod relevant;
 mod substitute;
@@ -35,5 +36,9 @@ pub use drag::Drag;
 pub use edit::{Edit, EditSpec, InitReport, Layout, RowRef, SnapSummary, UpdateResult};
 pub use error::{Conflict, ConflictingRow, EditError};
 pub use moves::check_moves;
+pub use propagation::{
+    analyze_propagation, Case, Follows, LostDirection, MoveOutcome, Propagation, PropagationError,
+    RowCombination, MAX_PROPAGATION_COORDINATES,
+};
 pub use reduce::{reduce_edit, ReducedSystem};
 pub use relevant::{extract_relevant, Relevant};

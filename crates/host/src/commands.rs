@@ -225,13 +225,52 @@ pub fn analyze(
 /// `ecles explain`: why a parameter or coordinate is fixed, limited or free.
 pub fn explain(
     run: &Path,
-    param: &str,
+    params: &[String],
+    requested: Option<&str>,
+    json: bool,
     max_input_bytes: u64,
     console: &mut Console<'_>,
 ) -> Result<u8, RunError> {
     let session = Session::build(run, max_input_bytes)?;
-    for line in session.explain(param)? {
-        console.line(line)?;
+    // Every name is checked (and the analysis made) before anything is printed.
+    let mut blocks = Vec::new();
+    for param in params {
+        blocks.push(session.explain(param)?);
+    }
+    // The propagation analysis picks whole parameters: a coordinate `name[k]` is explained by
+    // its blocks only.
+    let whole: Vec<String> = params
+        .iter()
+        .filter(|p| !p.ends_with(']'))
+        .cloned()
+        .collect();
+    let analysis = if whole.is_empty() {
+        if requested.is_some() {
+            return Err(RunError::input(
+                "--move needs whole parameters (source.name), not coordinates",
+            ));
+        }
+        None
+    } else {
+        Some(session.propagation(&whole, requested)?.1)
+    };
+    if json {
+        let value = analysis
+            .as_ref()
+            .map_or(serde_json::Value::Null, |a| session.propagation_json(a));
+        console.line(
+            serde_json::to_string_pretty(&value)
+                .map_err(|e| RunError::environment(e.to_string()))?,
+        )?;
+    } else {
+        for line in blocks.into_iter().flatten() {
+            console.line(line)?;
+        }
+        if let Some(analysis) = &analysis {
+            for line in session.propagation_lines(analysis) {
+                console.line(line)?;
+            }
+        }
     }
     console.flush()?;
     Ok(0)

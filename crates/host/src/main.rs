@@ -4,7 +4,8 @@
 //!   sources, runs the edits with the exact backend (cross-checked by the float backend),
 //!   renders outputs and writes them with `DIR/report.json`, all or nothing.
 //! * `ecles analyze RUN.ron [--json]` builds the system and reports on it without editing.
-//! * `ecles explain RUN.ron PARAM` says why a parameter is fixed, limited or free.
+//! * `ecles explain RUN.ron PARAM... [--move VALUES] [--json]` says why parameters are fixed,
+//!   limited or free, and how a change of them propagates.
 //! * `ecles plugins [--path LIB]` lists the built-in sources, or checks a dynamic plugin.
 //! * `ecles edit RUN.ron [--port P] [--no-token] [--no-autosave] [--open]` serves the
 //!   interactive editor.
@@ -61,13 +62,22 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
-    /// Explain why a parameter is fixed, limited or free (Dulmage–Mendelsohn blocks in solve
-    /// order).
+    /// Explain why parameters are fixed, limited or free (Dulmage–Mendelsohn blocks in solve
+    /// order) and how a change of them propagates (exact null space: the directions they can
+    /// move in, the constraints that remove the others, what a move forces).
     Explain {
         /// The RON run file.
         run: PathBuf,
-        /// Parameter name (`src.name`), or one coordinate `src.name[k]`.
-        param: String,
+        /// Parameter names (`src.name`); for the blocks alone also one coordinate `src.name[k]`.
+        #[arg(required = true, num_args = 1..)]
+        params: Vec<String>,
+        /// A move of the parameters: exact numbers separated by commas, one per coordinate in
+        /// order (`"3,-2"`): which other parameters it forces, and by how much.
+        #[arg(long = "move", value_name = "VALUES", allow_hyphen_values = true)]
+        requested: Option<String>,
+        /// Print the propagation analysis as JSON.
+        #[arg(long)]
+        json: bool,
     },
     /// Serve the interactive editor for a run file on 127.0.0.1 and print its URL.
     Edit {
@@ -119,7 +129,19 @@ fn main() -> ExitCode {
             &mut console,
         ),
         Command::Analyze { run, json } => commands::analyze(&run, json, limit, &mut console),
-        Command::Explain { run, param } => commands::explain(&run, &param, limit, &mut console),
+        Command::Explain {
+            run,
+            params,
+            requested,
+            json,
+        } => commands::explain(
+            &run,
+            &params,
+            requested.as_deref(),
+            json,
+            limit,
+            &mut console,
+        ),
         Command::Plugins { path } => commands::plugins(path.as_deref(), &mut console),
         Command::Edit {
             run,

@@ -20,6 +20,7 @@ mod configure;
 mod edit;
 mod float_twin;
 mod model_swap;
+mod propagation;
 mod record;
 mod render;
 mod target_image;

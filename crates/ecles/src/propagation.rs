@@ -1,0 +1,716 @@
+//! How a change propagates (Brenner, section 3.1): for picked parameters `P` of a system
+//! `A x = b`, exactly,
+//!
+//! * **the case**: in which directions `P` can move at all — the projection onto `P` of the
+//!   null space of `A` — fully constrained (none), partially constrained (a basis of the
+//!   directions, fewer than `P` has coordinates) or free; for each lost direction, the
+//!   constraints that remove it (a combination `yᵀ A` that is zero off `P` and not orthogonal
+//!   to the direction: those rows tie `P` there);
+//! * **propagation of a move** `δ_P`: the moves `δ` with `A δ = 0` and `δ` equal to `δ_P` on
+//!   `P` form an affine set. Per other parameter it is a point — the parameter is *forced* to
+//!   move by exactly that (or *stays*, when it is zero) — or an affine subspace of some
+//!   dimension, which the parameter *may* leave at zero or, when the subspace misses zero,
+//!   *must move with a choice*. A move outside the directions is refused with the rows in the
+//!   way (the backend's inconsistency certificate).
+//!
+//! Only the connected component(s) of `P` (coordinates linked to `P` through rows) are looked
+//! at: every other parameter stays whatever `P` does. The work is two or three exact
+//! factorizations of that component, so components are bounded
+//! ([`MAX_PROPAGATION_COORDINATES`]).
+
+use api::{
+    ConstraintSystem, Factorization, IntMatrix, Integer, LinearBackend, ParamId, Rational, RowId,
+    SolveError,
+};
+use num_traits::{One, Signed, Zero};
+use std::collections::BTreeMap;
+
+/// Largest component (in scalar coordinates) a propagation analysis factors.
+pub const MAX_PROPAGATION_COORDINATES: usize = 4_000;
+
+/// Why a propagation analysis could not be made.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum PropagationError {
+    /// No parameter was picked, or one twice, or one that does not exist.
+    #[error("{0}")]
+    Picked(String),
+    /// The requested move has another number of coordinates than the picked parameters.
+    #[error("the move has {found} coordinates, the picked parameters have {expected}")]
+    MoveSize {
+        /// Coordinates of the picked parameters.
+        expected: usize,
+        /// Coordinates given.
+        found: usize,
+    },
+    /// The component is larger than [`MAX_PROPAGATION_COORDINATES`].
+    #[error("the picked parameters are tied to {0} coordinates, more than the {MAX_PROPAGATION_COORDINATES} a propagation analysis factors")]
+    TooLarge(usize),
+    /// The backend failed.
+    #[error("the backend failed: {0}")]
+    Backend(String),
+}
+
+/// Brenner's three cases for the picked parameters.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Case {
+    /// They cannot move at all.
+    FullyConstrained,
+    /// They can move in some directions only.
+    PartiallyConstrained,
+    /// They can move in every direction.
+    Free,
+}
+
+/// A combination of scalar rows: `(row, coordinate of a vector row, multiplier)`.
+pub type RowCombination = Vec<(RowId, usize, Rational)>;
+
+/// A direction of the picked coordinates that no move can take, and the rows that remove it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LostDirection {
+    /// The direction, over the picked coordinates (integers, coprime).
+    pub direction: Vec<Integer>,
+    /// Rows whose combination `yᵀ A` vanishes off the picked coordinates and is not orthogonal
+    /// to the direction.
+    pub rows: RowCombination,
+}
+
+/// How one other parameter follows a move.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Follows {
+    /// It must move by exactly this (per coordinate).
+    Forced(Vec<Rational>),
+    /// Its move is free in `freedom` dimensions, and zero is among the possible moves.
+    MayStay {
+        /// Dimension of its possible moves.
+        freedom: usize,
+    },
+    /// Its move is free in `freedom` dimensions, but zero is not among them.
+    MustMoveWithChoice {
+        /// Dimension of its possible moves.
+        freedom: usize,
+    },
+}
+
+/// What a requested move does.
+#[derive(Debug, Clone, PartialEq)]
+pub enum MoveOutcome {
+    /// No move of the system takes the picked parameters there: the rows in the way.
+    Blocked(RowCombination),
+    /// The parameters of the component that do not simply stay (a parameter not listed is
+    /// forced to stay), in parameter order.
+    Moves(Vec<(ParamId, Follows)>),
+}
+
+/// The analysis of picked parameters.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Propagation {
+    /// The picked coordinates, `(parameter, coordinate)`, in order.
+    pub picked: Vec<(ParamId, usize)>,
+    /// Brenner's case.
+    pub case: Case,
+    /// A basis of the directions the picked coordinates can move in (integers, coprime).
+    pub directions: Vec<Vec<Integer>>,
+    /// The directions they cannot move in, with the rows that remove each.
+    pub lost: Vec<LostDirection>,
+    /// Scalar coordinates of the component the picked parameters belong to.
+    pub component: usize,
+    /// What the requested move does, when one was given.
+    pub outcome: Option<MoveOutcome>,
+}
+
+/// The propagation analysis of `picked` in `system`, with `backend`; with `requested`, the
+/// move of every picked coordinate in order (see the module documentation).
+pub fn analyze_propagation<B>(
+    backend: &B,
+    system: &ConstraintSystem,
+    picked: &[ParamId],
+    requested: Option<&[Rational]>,
+) -> Result<Propagation, PropagationError>
+where
+    B: LinearBackend,
+    B::Factorization: Factorization<Scalar = Rational>,
+{
+    let params = system.params();
+    if picked.is_empty() {
+        return Err(PropagationError::Picked(
+            "pick at least one parameter".into(),
+        ));
+    }
+    for (k, p) in picked.iter().enumerate() {
+        if p.index() >= params.len() {
+            return Err(PropagationError::Picked(format!("no parameter {}", p.0)));
+        }
+        if picked[..k].contains(p) {
+            return Err(PropagationError::Picked(format!(
+                "{} is picked twice",
+                params[p.index()].name
+            )));
+        }
+    }
+    let offsets = system.coordinate_offsets();
+    let picked_coordinates: Vec<(ParamId, usize)> = picked
+        .iter()
+        .flat_map(|&p| (0..params[p.index()].dim).map(move |k| (p, k)))
+        .collect();
+    if let Some(m) = requested {
+        if m.len() != picked_coordinates.len() {
+            return Err(PropagationError::MoveSize {
+                expected: picked_coordinates.len(),
+                found: m.len(),
+            });
+        }
+    }
+    let (matrix, _, origin) = system.scalar_matrix();
+    let (rows, columns) = component(
+        &matrix,
+        picked_coordinates
+            .iter()
+            .map(|&(p, k)| offsets[p.index()] + k),
+    );
+    if columns.len() > MAX_PROPAGATION_COORDINATES {
+        return Err(PropagationError::TooLarge(columns.len()));
+    }
+    let local: BTreeMap<usize, usize> = columns.iter().enumerate().map(|(i, &c)| (c, i)).collect();
+    let a = matrix.select(&rows, &columns);
+    let picked_local: Vec<usize> = picked_coordinates
+        .iter()
+        .map(|&(p, k)| local[&(offsets[p.index()] + k)])
+        .collect();
+    let factor = |m: &IntMatrix| {
+        backend
+            .factor(m)
+            .map_err(|e| PropagationError::Backend(e.to_string()))
+    };
+    let row_of = |i: usize| -> (RowId, usize) { origin[rows[i]] };
+
+    // The directions P can move in: ker A projected on P.
+    let kernel = factor(&a)?.null_space();
+    let projected: Vec<Vec<Rational>> = kernel
+        .iter()
+        .map(|v| picked_local.iter().map(|&c| v[c].clone()).collect())
+        .collect();
+    let directions = row_basis(&projected);
+    let case = match directions.len() {
+        0 => Case::FullyConstrained,
+        n if n == picked_local.len() => Case::Free,
+        _ => Case::PartiallyConstrained,
+    };
+    // Lost directions: a basis of the orthogonal complement of the directions in P-space.
+    // Each `w` (extended by zeros) is orthogonal to ker A, so `Aᵀ y = w` has a solution: the
+    // rows of `y` remove `w`.
+    let complement = orthogonal_complement(&directions, picked_local.len());
+    let mut lost = Vec::new();
+    if !complement.is_empty() {
+        let transposed = factor(&a.transpose())?;
+        for w in complement {
+            let mut rhs = vec![Rational::zero(); columns.len()];
+            for (&c, x) in picked_local.iter().zip(&w) {
+                rhs[c] = Rational::from_integer(x.clone());
+            }
+            let y = transposed
+                .solve(&rhs)
+                .map_err(|e| PropagationError::Backend(e.to_string()))?;
+            let rows = y
+                .into_iter()
+                .enumerate()
+                .filter(|(_, m)| !m.is_zero())
+                .map(|(i, m)| {
+                    let (row, k) = row_of(i);
+                    (row, k, m)
+                })
+                .collect();
+            lost.push(LostDirection { direction: w, rows });
+        }
+    }
+
+    let outcome = match requested {
+        None => None,
+        Some(moves) => Some(propagate(
+            &a,
+            &picked_local,
+            moves,
+            &factor,
+            &row_of,
+            |i| {
+                let c = columns[i];
+                // The parameter and coordinate of component column `i`.
+                let p = offsets.partition_point(|&o| o <= c) - 1;
+                (ParamId(p as u32), c - offsets[p])
+            },
+        )?),
+    };
+    Ok(Propagation {
+        picked: picked_coordinates,
+        case,
+        directions,
+        lost,
+        component: columns.len(),
+        outcome,
+    })
+}
+
+/// The move's consequences: the affine set `{δ : A δ = 0, δ_P = m}`, per parameter.
+fn propagate<F, E>(
+    a: &IntMatrix,
+    picked: &[usize],
+    moves: &[Rational],
+    factor: &F,
+    row_of: &dyn Fn(usize) -> (RowId, usize),
+    coordinate_of: impl Fn(usize) -> (ParamId, usize),
+) -> Result<MoveOutcome, PropagationError>
+where
+    F: Fn(&IntMatrix) -> Result<E, PropagationError>,
+    E: Factorization<Scalar = Rational>,
+{
+    // M = [A; E_P], right-hand side [0; m].
+    let mut with_picked = a.clone();
+    for &c in picked {
+        with_picked
+            .push_row(vec![(c, Integer::one())])
+            .map_err(|e| PropagationError::Backend(e.to_string()))?;
+    }
+    let mut rhs = vec![Rational::zero(); a.rows()];
+    rhs.extend(moves.iter().cloned());
+    let m = factor(&with_picked)?;
+    let particular = match m.solve(&rhs) {
+        Ok(x) => x,
+        Err(SolveError::Inconsistent(certificate)) => {
+            // Rows of A in the certificate (the picked rows are the move itself).
+            let rows = certificate
+                .rows
+                .iter()
+                .zip(certificate.certificate)
+                .filter(|(&i, _)| i < a.rows())
+                .map(|(&i, y)| {
+                    let (row, k) = row_of(i);
+                    (row, k, y)
+                })
+                .collect();
+            return Ok(MoveOutcome::Blocked(rows));
+        }
+        Err(e) => return Err(PropagationError::Backend(e.to_string())),
+    };
+    let free = m.null_space();
+    // Per parameter: its coordinates in the component.
+    let mut groups: BTreeMap<ParamId, Vec<usize>> = BTreeMap::new();
+    for c in 0..a.cols() {
+        groups.entry(coordinate_of(c).0).or_default().push(c);
+    }
+    let mut follows = Vec::new();
+    for (param, coordinates) in groups {
+        if coordinates.iter().any(|c| picked.contains(c)) {
+            continue;
+        }
+        let value: Vec<Rational> = coordinates.iter().map(|&c| particular[c].clone()).collect();
+        let directions: Vec<Vec<Rational>> = free
+            .iter()
+            .map(|v| coordinates.iter().map(|&c| v[c].clone()).collect())
+            .collect();
+        let basis = row_basis(&directions);
+        let entry = if basis.is_empty() {
+            if value.iter().all(Zero::is_zero) {
+                continue;
+            }
+            Follows::Forced(value)
+        } else {
+            let reaches_zero = {
+                // The value is in the span of the free directions exactly when adding it keeps
+                // the rank.
+                let as_rationals: Vec<Vec<Rational>> = basis
+                    .iter()
+                    .map(|r| r.iter().cloned().map(Rational::from_integer).collect())
+                    .chain(std::iter::once(value.clone()))
+                    .collect();
+                row_basis(&as_rationals).len() == basis.len()
+            };
+            let freedom = basis.len();
+            if reaches_zero {
+                Follows::MayStay { freedom }
+            } else {
+                Follows::MustMoveWithChoice { freedom }
+            }
+        };
+        follows.push((param, entry));
+    }
+    Ok(MoveOutcome::Moves(follows))
+}
+
+/// The scalar rows and the columns of the connected component(s) of `start` (rows linked to
+/// columns through nonzero entries), both increasing.
+fn component(matrix: &IntMatrix, start: impl Iterator<Item = usize>) -> (Vec<usize>, Vec<usize>) {
+    let mut rows_of_column: Vec<Vec<usize>> = vec![Vec::new(); matrix.cols()];
+    for i in 0..matrix.rows() {
+        for (c, _) in matrix.row(i) {
+            rows_of_column[*c].push(i);
+        }
+    }
+    let mut seen_column = vec![false; matrix.cols()];
+    let mut seen_row = vec![false; matrix.rows()];
+    let mut stack: Vec<usize> = start.collect();
+    for &c in &stack {
+        seen_column[c] = true;
+    }
+    while let Some(c) = stack.pop() {
+        for &i in &rows_of_column[c] {
+            if seen_row[i] {
+                continue;
+            }
+            seen_row[i] = true;
+            for (next, _) in matrix.row(i) {
+                if !seen_column[*next] {
+                    seen_column[*next] = true;
+                    stack.push(*next);
+                }
+            }
+        }
+    }
+    let pick = |seen: &[bool]| {
+        seen.iter()
+            .enumerate()
+            .filter(|(_, s)| **s)
+            .map(|(i, _)| i)
+            .collect()
+    };
+    (pick(&seen_row), pick(&seen_column))
+}
+
+/// A basis of the span of `vectors` in reduced echelon form, each row scaled to coprime
+/// integers with a positive leading entry: the same span gives the same basis.
+fn row_basis(vectors: &[Vec<Rational>]) -> Vec<Vec<Integer>> {
+    let mut rows: Vec<Vec<Rational>> = Vec::new();
+    let mut pivots: Vec<usize> = Vec::new();
+    for v in vectors {
+        let mut v = v.clone();
+        for (row, &p) in rows.iter().zip(&pivots) {
+            if !v[p].is_zero() {
+                let f = v[p].clone();
+                for (x, r) in v.iter_mut().zip(row) {
+                    *x -= &f * r;
+                }
+            }
+        }
+        let Some(p) = v.iter().position(|x| !x.is_zero()) else {
+            continue;
+        };
+        let lead = v[p].clone();
+        for x in v.iter_mut() {
+            *x /= &lead;
+        }
+        // Keep the rows reduced: clear the new pivot from the others.
+        for row in rows.iter_mut() {
+            if !row[p].is_zero() {
+                let f = row[p].clone();
+                for (x, r) in row.iter_mut().zip(&v) {
+                    *x -= &f * r;
+                }
+            }
+        }
+        rows.push(v);
+        pivots.push(p);
+    }
+    let mut order: Vec<usize> = (0..rows.len()).collect();
+    order.sort_by_key(|&k| pivots[k]);
+    order
+        .into_iter()
+        .map(|k| scaled_to_integers(&rows[k]))
+        .collect()
+}
+
+/// Rationals scaled by one positive factor to coprime integers, the first nonzero positive.
+fn scaled_to_integers(values: &[Rational]) -> Vec<Integer> {
+    let mut out = api::coprime_integers(values.iter());
+    if out
+        .iter()
+        .find(|x| !x.is_zero())
+        .is_some_and(Signed::is_negative)
+    {
+        for x in out.iter_mut() {
+            *x = -x.clone();
+        }
+    }
+    out
+}
+
+/// A basis of the vectors orthogonal to every row of `basis` (a reduced echelon basis) in
+/// dimension `n`: one per non-pivot position, integers.
+fn orthogonal_complement(basis: &[Vec<Integer>], n: usize) -> Vec<Vec<Integer>> {
+    // In reduced echelon form the row space's complement is spanned, per free position f,
+    // by e_f − Σ_rows (row[f] / row[pivot]) e_pivot.
+    let pivots: Vec<usize> = basis
+        .iter()
+        .map(|r| r.iter().position(|x| !x.is_zero()).unwrap_or(0))
+        .collect();
+    (0..n)
+        .filter(|f| !pivots.contains(f))
+        .map(|f| {
+            let mut v = vec![Rational::zero(); n];
+            v[f] = Rational::one();
+            for (row, &p) in basis.iter().zip(&pivots) {
+                v[p] = -Rational::new(row[f].clone(), row[p].clone());
+            }
+            scaled_to_integers(&v)
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use api::{ConstraintRow, Coord, Origin, RowBody};
+    use exact_ldu::ExactLdu;
+
+    /// A system of named parameters (with dimensions) and rows, each `(terms, rhs)` over
+    /// coordinates `(parameter, coordinate, coefficient)`, or vector rows.
+    struct Fixture {
+        system: ConstraintSystem,
+    }
+
+    impl Fixture {
+        fn new(params: &[(&str, usize)]) -> Fixture {
+            let mut system = ConstraintSystem::new();
+            for (name, dim) in params {
+                system.add_parameter(*name, *dim).expect("a parameter");
+            }
+            Fixture { system }
+        }
+
+        fn id(&self, name: &str) -> ParamId {
+            self.system.param_id(name).expect("declared")
+        }
+
+        fn scalar(&mut self, label: &str, terms: &[(&str, usize, i64)], rhs: i64) {
+            let terms = terms
+                .iter()
+                .map(|&(p, k, c)| {
+                    (
+                        Coord {
+                            param: self.id(p),
+                            component: k,
+                        },
+                        Integer::from(c),
+                    )
+                })
+                .collect();
+            self.add(
+                label,
+                RowBody::Scalar {
+                    terms,
+                    rhs: rhs.into(),
+                },
+            );
+        }
+
+        fn vector(&mut self, label: &str, terms: &[(&str, i64)], dim: usize) {
+            let terms = terms
+                .iter()
+                .map(|&(p, c)| (self.id(p), Integer::from(c)))
+                .collect();
+            self.add(
+                label,
+                RowBody::Vector {
+                    terms,
+                    rhs: vec![Integer::zero(); dim],
+                },
+            );
+        }
+
+        fn add(&mut self, label: &str, body: RowBody) {
+            let origin = Origin {
+                source: "test".into(),
+                item: label.into(),
+            };
+            self.system
+                .add_row(ConstraintRow {
+                    label: label.into(),
+                    origin,
+                    body,
+                })
+                .expect("a row");
+        }
+
+        fn analyze(&self, picked: &[&str], requested: Option<&[i64]>) -> Propagation {
+            let picked: Vec<ParamId> = picked.iter().map(|p| self.id(p)).collect();
+            let requested: Option<Vec<Rational>> = requested.map(|m| {
+                m.iter()
+                    .map(|&x| Rational::from_integer(x.into()))
+                    .collect()
+            });
+            analyze_propagation(
+                &ExactLdu::default(),
+                &self.system,
+                &picked,
+                requested.as_deref(),
+            )
+            .expect("analysed")
+        }
+    }
+
+    fn q(n: i64) -> Rational {
+        Rational::from_integer(n.into())
+    }
+
+    fn ints(v: &[i64]) -> Vec<Integer> {
+        v.iter().map(|&x| Integer::from(x)).collect()
+    }
+
+    #[test]
+    fn a_point_tied_to_another_is_free_and_drags_it_exactly() {
+        let mut f = Fixture::new(&[("p", 2), ("q", 2), ("r", 2)]);
+        f.vector("p = q", &[("p", 1), ("q", -1)], 2);
+        let a = f.analyze(&["p"], Some(&[1, 2]));
+        assert_eq!(a.case, Case::Free);
+        assert_eq!(a.directions, vec![ints(&[1, 0]), ints(&[0, 1])]);
+        assert!(a.lost.is_empty());
+        assert_eq!(
+            a.component, 4,
+            "r is in no row with p: not in the component"
+        );
+        assert_eq!(
+            a.outcome,
+            Some(MoveOutcome::Moves(vec![(
+                f.id("q"),
+                Follows::Forced(vec![q(1), q(2)])
+            )]))
+        );
+    }
+
+    #[test]
+    fn a_point_on_a_vertical_line_moves_only_along_it_and_names_the_line() {
+        let mut f = Fixture::new(&[("p", 2)]);
+        f.scalar("x = 3", &[("p", 0, 1)], 3);
+        let a = f.analyze(&["p"], None);
+        assert_eq!(a.case, Case::PartiallyConstrained);
+        assert_eq!(a.directions, vec![ints(&[0, 1])]);
+        assert_eq!(a.lost.len(), 1);
+        assert_eq!(a.lost[0].direction, ints(&[1, 0]));
+        let rows: Vec<RowId> = a.lost[0].rows.iter().map(|r| r.0).collect();
+        assert_eq!(rows, [RowId(0)]);
+        // Sideways is blocked by that row; along the line is fine.
+        let sideways = f.analyze(&["p"], Some(&[1, 0]));
+        match sideways.outcome {
+            Some(MoveOutcome::Blocked(rows)) => {
+                assert_eq!(rows.iter().map(|r| r.0).collect::<Vec<_>>(), [RowId(0)])
+            }
+            other => panic!("{other:?}"),
+        }
+        assert_eq!(
+            f.analyze(&["p"], Some(&[0, 5])).outcome,
+            Some(MoveOutcome::Moves(vec![]))
+        );
+    }
+
+    #[test]
+    fn a_fixed_scalar_is_fully_constrained() {
+        let mut f = Fixture::new(&[("a", 1)]);
+        f.scalar("a = 0", &[("a", 0, 1)], 0);
+        let a = f.analyze(&["a"], None);
+        assert_eq!(a.case, Case::FullyConstrained);
+        assert!(a.directions.is_empty());
+        assert_eq!(a.lost[0].direction, ints(&[1]));
+    }
+
+    #[test]
+    fn choices_may_stay_or_must_move() {
+        // a + b − c = 0: moving a by 1, b and c may each stay (not both).
+        let mut f = Fixture::new(&[("a", 1), ("b", 1), ("c", 1), ("r", 2)]);
+        f.scalar("a + b = c", &[("a", 0, 1), ("b", 0, 1), ("c", 0, -1)], 0);
+        // r[0] + r[1] = a: r must move when a does, along a line that misses its place.
+        f.scalar("r0 + r1 = a", &[("r", 0, 1), ("r", 1, 1), ("a", 0, -1)], 0);
+        let a = f.analyze(&["a"], Some(&[1]));
+        assert_eq!(a.case, Case::Free);
+        assert_eq!(
+            a.outcome,
+            Some(MoveOutcome::Moves(vec![
+                (f.id("b"), Follows::MayStay { freedom: 1 }),
+                (f.id("c"), Follows::MayStay { freedom: 1 }),
+                (f.id("r"), Follows::MustMoveWithChoice { freedom: 1 }),
+            ]))
+        );
+    }
+
+    #[test]
+    fn bad_picks_and_moves_are_errors() {
+        let f = Fixture::new(&[("a", 1), ("p", 2)]);
+        let run = |picked: &[ParamId], m: Option<&[Rational]>| {
+            analyze_propagation(&ExactLdu::default(), &f.system, picked, m).expect_err("refused")
+        };
+        assert!(matches!(run(&[], None), PropagationError::Picked(_)));
+        assert!(matches!(
+            run(&[f.id("a"), f.id("a")], None),
+            PropagationError::Picked(_)
+        ));
+        assert_eq!(
+            run(&[f.id("p")], Some(&[q(1)])),
+            PropagationError::MoveSize {
+                expected: 2,
+                found: 1
+            }
+        );
+    }
+
+    proptest::proptest! {
+        /// On random small systems: every forced value is what every solution of the move
+        /// gives (checked against a solution with the other free directions pushed), the
+        /// directions and lost directions are complementary, and a blocked move is blocked.
+        #[test]
+        fn forced_moves_are_forced_and_directions_complement_the_lost(
+            entries in proptest::collection::vec(-2i64..=2, 12),
+            m in proptest::collection::vec(-3i64..=3, 2),
+        ) {
+            // Three rows over a (dim 2), b, c, d (dim 1): 5 coordinates.
+            let mut f = Fixture::new(&[("a", 2), ("b", 1), ("c", 1), ("d", 1)]);
+            let coords = [("a", 0), ("a", 1), ("b", 0), ("c", 0)];
+            for (i, row) in entries.chunks(4).enumerate() {
+                let mut terms: Vec<(&str, usize, i64)> =
+                    coords.iter().zip(row).map(|(&(p, k), &c)| (p, k, c)).collect();
+                terms.push(("d", 0, 1));
+                f.scalar(&format!("row {i}"), &terms, 0);
+            }
+            let a = f.analyze(&["a"], Some(&m));
+            proptest::prop_assert_eq!(a.directions.len() + a.lost.len(), 2);
+            for lost in &a.lost {
+                for d in &a.directions {
+                    let dot: Integer = lost.direction.iter().zip(d).map(|(x, y)| x * y).sum();
+                    proptest::prop_assert!(dot.is_zero());
+                }
+            }
+            let (matrix, _, _) = f.system.scalar_matrix();
+            match a.outcome.expect("a move") {
+                MoveOutcome::Blocked(rows) => {
+                    // yᵀ A vanishes off a, and yᵀ A δ_a ≠ 0: no move reaches m.
+                    let mut combined = vec![Rational::zero(); matrix.cols()];
+                    for (row, _, y) in &rows {
+                        for (c, v) in matrix.row(row.index()) {
+                            combined[*c] += y * Rational::from_integer(v.clone());
+                        }
+                    }
+                    proptest::prop_assert!(combined[2..].iter().all(Zero::is_zero));
+                    let along = &combined[0] * q(m[0]) + &combined[1] * q(m[1]);
+                    proptest::prop_assert!(!along.is_zero());
+                }
+                MoveOutcome::Moves(follows) => {
+                    // Brute force: the forced values are the same for every solution of
+                    // [A; E_a] δ = [0; m]: compare with the minimum-norm-free solution through
+                    // the backend and with it plus each null direction.
+                    let mut with_picked = matrix.clone();
+                    with_picked.push_row(vec![(0, Integer::one())]).expect("row");
+                    with_picked.push_row(vec![(1, Integer::one())]).expect("row");
+                    let factored = ExactLdu::default().factor(&with_picked).expect("factored");
+                    let mut rhs = vec![Rational::zero(); matrix.rows()];
+                    rhs.extend([q(m[0]), q(m[1])]);
+                    let x = factored.solve(&rhs).expect("solvable: not blocked");
+                    for v in factored.null_space() {
+                        let shifted: Vec<Rational> = x.iter().zip(&v).map(|(a, b)| a + b).collect();
+                        for (param, follows) in &follows {
+                            if let Follows::Forced(value) = follows {
+                                let c = 2 + (param.index() - 1);
+                                proptest::prop_assert_eq!(&shifted[c], &value[0]);
+                                proptest::prop_assert_eq!(&x[c], &value[0]);
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
