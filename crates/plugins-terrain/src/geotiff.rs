@@ -527,6 +527,44 @@ mod tests {
         assert!(field.write_geotiff(&filled).expect("a GeoTIFF").is_err());
     }
 
+    /// LZW and Deflate compressed rasters (as GDAL writes DEMs with `COMPRESS=`) read as the
+    /// uncompressed one.
+    #[test]
+    fn compressed_geotiffs_read_as_uncompressed_ones() {
+        let plain = parse(&dem(&SAMPLES), "dem.tif").expect("read");
+        for (name, compression) in [
+            ("LZW", tiff::encoder::Compression::Lzw),
+            (
+                "Deflate",
+                tiff::encoder::Compression::Deflate(tiff::encoder::DeflateLevel::Balanced),
+            ),
+        ] {
+            let mut out = Cursor::new(Vec::new());
+            let mut encoder = TiffEncoder::new(&mut out)
+                .expect("encoder")
+                .with_compression(compression);
+            let mut image = encoder
+                .new_image::<colortype::Gray32Float>(4, 3)
+                .expect("image");
+            let dir = image.encoder();
+            dir.write_tag(Tag::ModelPixelScaleTag, &[10.0f64, 5.0, 0.0][..])
+                .expect("tag");
+            dir.write_tag(
+                Tag::ModelTiepointTag,
+                &[0.0f64, 0.0, 0.0, 1000.0, 2000.0, 0.0][..],
+            )
+            .expect("tag");
+            dir.write_tag(Tag::GdalNodata, "-9999").expect("tag");
+            image.write_data(&SAMPLES).expect("data");
+            let field = parse(&out.into_inner(), "dem.tif").expect("read");
+            assert_eq!(
+                (&field.heights, &field.origin, &field.cell),
+                (&plain.heights, &plain.origin, &plain.cell),
+                "{name}"
+            );
+        }
+    }
+
     #[test]
     fn integer_rasters_round_and_refuse_heights_beyond_their_type() {
         let mut out = Cursor::new(Vec::new());
