@@ -858,6 +858,32 @@ fn explain_says_how_a_move_propagates() {
             && text.contains("the requested move is impossible: \"pump row 2: p4 - p3 = 5\""),
         "{text}"
     );
+    // Each edit's report says the same for its anchors' move: raising p3 (the second edit,
+    // refused because p4 is not derived) forces p4 by exactly 3.
+    let (_dir, _, out) = run_file("()");
+    let o = ecles(&[
+        "run",
+        &pumps,
+        "--out",
+        &out.display().to_string(),
+        "--quiet",
+    ]);
+    assert_eq!(o.status.code(), Some(1), "the second edit is refused");
+    let report: Value =
+        serde_json::from_slice(&std::fs::read(out.join("report.json")).expect("report"))
+            .expect("JSON");
+    let second = &report["edits"][1]["propagation"];
+    assert_eq!(second["picked"][0]["param"], "pump.p3");
+    let forced: Vec<&Value> = second["move"]["moves"]
+        .as_array()
+        .expect("moves")
+        .iter()
+        .filter(|m| m["follows"] == "forced")
+        .collect();
+    assert_eq!(
+        forced,
+        [&serde_json::json!({"param": "pump.p4", "follows": "forced", "by": ["3"]})]
+    );
     // A move of the wrong size and an unknown parameter are input errors.
     for bad in [
         vec!["explain", &pumps, "pump.p1", "--move", "1,2"],

@@ -188,6 +188,10 @@ pub struct EditReport {
     /// the optimum).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub snap: Option<SnapReport>,
+    /// How the anchors' move propagates (as `ecles explain --move --json` gives it), or why it
+    /// was not analysed (`{"skipped": …}`: a component too large).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub propagation: Option<serde_json::Value>,
 }
 
 /// A snapped commit: the values satisfy every constraint exactly (`max_residual` is `"0"`)

@@ -296,6 +296,9 @@ impl Session {
         report.anchors = spec.anchors.iter().map(|p| self.name(*p)).collect();
         report.derived = spec.derived.iter().map(|p| self.name(*p)).collect();
         report.steps = steps.len();
+        report.propagation = steps
+            .last()
+            .map(|last| self.edit_propagation(&spec.anchors, &last.anchors));
         let commit = self.run.commit_policy();
         let snapped = std::cell::Cell::new(None::<ecles::SnapSummary>);
         let exact = execute(

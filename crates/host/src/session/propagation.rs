@@ -49,6 +49,29 @@ impl Session {
         Ok((picked, analysis))
     }
 
+    /// The propagation of an edit's anchor move (`anchors` moved to `targets` from their
+    /// current values) as JSON for the edit's report; a component too large is skipped with a
+    /// note, as is any other failure (the edit itself decides solvability).
+    pub(super) fn edit_propagation(&self, anchors: &[ParamId], targets: &[Vec<Rational>]) -> Value {
+        let moves: Vec<Rational> = anchors
+            .iter()
+            .zip(targets)
+            .flat_map(|(p, target)| {
+                self.values
+                    .get(*p)
+                    .iter()
+                    .zip(target)
+                    .map(|(from, to)| api::rational_difference(to, from))
+                    .collect::<Vec<_>>()
+            })
+            .collect();
+        match ecles::analyze_propagation(&ExactLdu::default(), &self.system, anchors, Some(&moves))
+        {
+            Ok(analysis) => self.propagation_json(&analysis),
+            Err(e) => json!({ "skipped": e.to_string() }),
+        }
+    }
+
     /// The analysis in words, one line each.
     pub fn propagation_lines(&self, analysis: &Propagation) -> Vec<String> {
         let name = |p: ParamId| self.system.params()[p.index()].name.clone();
