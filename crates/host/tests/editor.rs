@@ -749,3 +749,46 @@ fn a_translations_motion_response_predicts_the_committed_values() {
         drop(dir);
     }
 }
+
+/// The page's Explain: how a change of the selected points propagates, in words and as JSON,
+/// with a move if given; a point that does not exist is refused. Nothing changes.
+#[test]
+fn explain_says_how_the_selected_points_can_move() {
+    let editor = start("worm.ron");
+    let before = state(&editor);
+    let id = |name: &str| {
+        before["points"]
+            .as_array()
+            .expect("points")
+            .iter()
+            .find(|p| p["name"] == name)
+            .and_then(|p| p["id"].as_u64())
+            .expect("a point")
+    };
+    let (status, answer) = call(
+        &editor,
+        "POST",
+        "/api/explain",
+        &json!({"ids": [id("worm.v3")]}),
+    );
+    assert_eq!(status, 200, "{answer}");
+    assert_eq!(answer["analysis"]["case"], "free");
+    let lines: Vec<&str> = answer["lines"]
+        .as_array()
+        .expect("lines")
+        .iter()
+        .map(|l| l.as_str().expect("text"))
+        .collect();
+    assert!(lines[1].contains("worm.v3: free"), "{lines:?}");
+    let (status, moved) = call(
+        &editor,
+        "POST",
+        "/api/explain",
+        &json!({"ids": [id("worm.v3")], "move": ["1", "-1/2"]}),
+    );
+    assert_eq!(status, 200, "{moved}");
+    assert!(moved["analysis"]["move"]["moves"].is_array(), "{moved}");
+    let (status, refused) = call(&editor, "POST", "/api/explain", &json!({"ids": [999999]}));
+    assert_eq!(status, 422, "{refused}");
+    assert_eq!(state(&editor)["points"], before["points"]);
+}

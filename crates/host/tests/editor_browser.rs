@@ -188,6 +188,14 @@ fn dragging_a_pinned_point_shows_the_constraints_in_the_way_and_changes_nothing(
     // The anchor is drawn red; the state did not change.
     assert_eq!(browser.eval("points.get(blocked).name"), "worm.v1");
     browser.wait_for("drag === null");
+    // Explain says why: the pinned point cannot move at all, and which pins remove each
+    // direction.
+    browser.click_element("explain-button");
+    browser.wait_for(
+        "!document.getElementById('explain').hidden && \
+         document.getElementById('explain').textContent.includes('worm.v1: fully constrained') && \
+         document.getElementById('explain').textContent.includes('worm.v1 x = 12')",
+    );
     let after = state(&editor);
     assert_eq!(after["points"], before["points"]);
     assert_eq!(after["can_undo"], false);

@@ -36,6 +36,8 @@ pub(crate) enum Command {
     Resume(bool, oneshot::Sender<Result<Value, String>>),
     /// The points a selection would move (2DSD Select and ExpandDerived, nothing initialised).
     Select(Selection, oneshot::Sender<Result<Value, String>>),
+    /// How a change of some points propagates ([`Session::propagation`]).
+    Explain(ExplainRequest, oneshot::Sender<Result<Value, String>>),
     /// The run file's target image: its bytes and media type.
     Image(oneshot::Sender<Option<(Vec<u8>, &'static str)>>),
     /// Another continuity `C^r` for a source: a `Configure(...)` edit.
@@ -156,6 +158,9 @@ impl Editor {
                 }
                 Command::Select(selection, reply) => {
                     let _ = reply.send(select(&self.session, &selection));
+                }
+                Command::Explain(request, reply) => {
+                    let _ = reply.send(explain(&self.session, &request));
                 }
                 Command::Continuity(request, reply) => {
                     let _ = reply.send(self.continuity(&request));
@@ -350,6 +355,40 @@ impl Editor {
         }
         Ok(answer)
     }
+}
+
+/// Which points to explain (ids, as the state gives them) and, optionally, a move of them
+/// (exact numbers, one per coordinate in order).
+#[derive(Debug, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct ExplainRequest {
+    ids: Vec<u32>,
+    #[serde(default, rename = "move")]
+    requested: Option<Vec<String>>,
+}
+
+/// The propagation analysis of the requested points: `lines` in words and `analysis` as JSON.
+fn explain(session: &Session, request: &ExplainRequest) -> Result<Value, String> {
+    let params = session.system().params();
+    let names = request
+        .ids
+        .iter()
+        .map(|&id| {
+            params
+                .get(id as usize)
+                .map(|p| p.name.clone())
+                .ok_or_else(|| format!("no point {id}"))
+        })
+        .collect::<Result<Vec<String>, String>>()?;
+    let requested = request.requested.as_ref().map(|values| values.join(","));
+    let (_, analysis) = session
+        .propagation(&names, requested.as_deref())
+        .map_err(|e| e.to_string())?;
+    Ok(json!({
+        "ok": true,
+        "lines": session.propagation_lines(&analysis),
+        "analysis": session.propagation_json(&analysis),
+    }))
 }
 
 /// What a `Configure(...)` did with the values, for the page.

@@ -155,6 +155,7 @@ fn router(shared: Arc<Shared>) -> Router {
         .route("/api/save", post(save_session))
         .route("/api/resume", post(resume))
         .route("/api/select", post(select))
+        .route("/api/explain", post(explain))
         .route("/api/image", get(target_image))
         .route("/api/continuity", post(continuity))
         .route(
@@ -355,6 +356,13 @@ async fn resume(State(shared): State<Arc<Shared>>, Json(request): Json<ResumeReq
 
 async fn select(State(shared): State<Arc<Shared>>, Json(selection): Json<Selection>) -> Response {
     answered(ask(&shared, |reply| actor::Command::Select(selection, reply)).await)
+}
+
+async fn explain(
+    State(shared): State<Arc<Shared>>,
+    Json(request): Json<actor::ExplainRequest>,
+) -> Response {
+    answered(ask(&shared, |reply| actor::Command::Explain(request, reply)).await)
 }
 
 async fn continuity(

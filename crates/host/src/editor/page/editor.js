@@ -709,9 +709,28 @@ const shortcuts = [
   ["Ctrl+Z / Ctrl+Y", "undo / redo a committed edit (a continuity switch or a loaded mesh too)"],
   ["Splines panel", "continuity C0…C(d−1); load a reference mesh or a model (kept beside the run file)"],
   ["Ctrl+S", "save the session (run file, outputs, exact values)"],
+  ["E, or Explain", "how a change of the anchors propagates: where they can move, which constraints stop them, what must follow (Esc closes)"],
   ["Esc", "cancel the drag under way"],
   ["?", "this help"],
 ];
+
+// The propagation analysis of the anchors (Brenner 3.1, exact): shown in a panel, hidden
+// by Esc or by asking again.
+async function explainAnchors() {
+  const panel = element("explain");
+  if (!panel.hidden) { panel.hidden = true; return; }
+  if (anchors.length === 0) { showMessage("Pick a point first: Explain says how it can move."); return; }
+  try {
+    const answer = await api("/api/explain", { ids: anchors });
+    panel.textContent = "";
+    const title = document.createElement("h3");
+    title.textContent = "How a change propagates";
+    const body = document.createElement("div");
+    body.textContent = answer.lines.join("\n");
+    panel.append(title, body);
+    panel.hidden = false;
+  } catch (e) { showMessage(String(e.message || e)); }
+}
 
 function toggleHelp() {
   const help = element("help");
@@ -1261,6 +1280,7 @@ element("redo").addEventListener("click", () => history("/api/redo"));
 element("fit").addEventListener("click", () => { fit(); viewChanged(); });
 element("save").addEventListener("click", save);
 element("help-button").addEventListener("click", toggleHelp);
+element("explain-button").addEventListener("click", explainAnchors);
 for (const id of ["show-net", "show-reference", "show-points", "show-model", "show-image", "show-derived",
   "show-constraints", "show-relevant", "image-opacity", "image-x", "image-y", "image-scale"]) {
   element(id).addEventListener("input", () => {
@@ -1326,9 +1346,11 @@ window.addEventListener("keydown", (e) => {
     input.value = Math.max(0, Number(input.value) + (e.key === "+" ? 1 : -1));
     showSelection();
   } else if (e.key === "?") toggleHelp();
+  else if (e.key === "e") explainAnchors();
   else if (e.key === "Escape") {
     if (drag) { drag = null; endMoving(); reload(); }
     element("help").hidden = true;
+    element("explain").hidden = true;
   }
 });
 window.addEventListener("resize", draw);
