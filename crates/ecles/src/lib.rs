@@ -38,7 +38,7 @@ pub use error::{Conflict, ConflictingRow, EditError};
 pub use moves::check_moves;
 pub use propagation::{
     analyze_propagation, Case, Follows, LostDirection, MoveOutcome, Propagation, PropagationError,
-    RowCombination, MAX_PROPAGATION_COORDINATES,
+    RowCombination, EXPLAIN_NULL_SPACE_BUDGET, REPORT_NULL_SPACE_BUDGET,
 };
 pub use reduce::{reduce_edit, ReducedSystem};
 pub use relevant::{extract_relevant, Relevant};

@@ -15,8 +15,11 @@
 //!
 //! Only the connected component(s) of `P` (coordinates linked to `P` through rows) are looked
 //! at: every other parameter stays whatever `P` does. The work is two or three exact
-//! factorizations of that component, so components are bounded
-//! ([`MAX_PROPAGATION_COORDINATES`]).
+//! factorizations of that component and two null spaces, dense: `n − r` vectors of `n` exact
+//! values for a component of `n` coordinates and rank `r`. The caller gives the most null-space
+//! values it accepts ([`EXPLAIN_NULL_SPACE_BUDGET`] for `ecles explain`,
+//! [`REPORT_NULL_SPACE_BUDGET`] for every edit's report); a larger component is refused
+//! before its null space is formed.
 
 use api::{
     ConstraintSystem, Factorization, IntMatrix, Integer, LinearBackend, ParamId, Rational, RowId,
@@ -25,8 +28,12 @@ use api::{
 use num_traits::{One, Signed, Zero};
 use std::collections::BTreeMap;
 
-/// Largest component (in scalar coordinates) a propagation analysis factors.
-pub const MAX_PROPAGATION_COORDINATES: usize = 4_000;
+/// Most null-space values (`(n − r)·n`) an explicit analysis forms: about 2·10⁶ (a component
+/// of 1 400 free coordinates; seconds and hundreds of MB).
+pub const EXPLAIN_NULL_SPACE_BUDGET: usize = 2_000_000;
+
+/// Most null-space values the analysis of every edit in a report forms (milliseconds).
+pub const REPORT_NULL_SPACE_BUDGET: usize = 50_000;
 
 /// Why a propagation analysis could not be made.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -42,9 +49,16 @@ pub enum PropagationError {
         /// Coordinates given.
         found: usize,
     },
-    /// The component is larger than [`MAX_PROPAGATION_COORDINATES`].
-    #[error("the picked parameters are tied to {0} coordinates, more than the {MAX_PROPAGATION_COORDINATES} a propagation analysis factors")]
-    TooLarge(usize),
+    /// The component's null space has more values than the budget.
+    #[error("the picked parameters are tied to {coordinates} coordinates with a null space of {values} values, more than the {budget} this analysis forms")]
+    TooLarge {
+        /// Coordinates of the component.
+        coordinates: usize,
+        /// Values of the null space it would form.
+        values: usize,
+        /// The caller's budget.
+        budget: usize,
+    },
     /// The backend failed.
     #[error("the backend failed: {0}")]
     Backend(String),
@@ -119,12 +133,14 @@ pub struct Propagation {
 }
 
 /// The propagation analysis of `picked` in `system`, with `backend`; with `requested`, the
-/// move of every picked coordinate in order (see the module documentation).
+/// move of every picked coordinate in order; forming at most `budget` null-space values (see
+/// the module documentation).
 pub fn analyze_propagation<B>(
     backend: &B,
     system: &ConstraintSystem,
     picked: &[ParamId],
     requested: Option<&[Rational]>,
+    budget: usize,
 ) -> Result<Propagation, PropagationError>
 where
     B: LinearBackend,
@@ -167,9 +183,27 @@ where
             .iter()
             .map(|&(p, k)| offsets[p.index()] + k),
     );
-    if columns.len() > MAX_PROPAGATION_COORDINATES {
-        return Err(PropagationError::TooLarge(columns.len()));
+    // Even a null space of rank-free columns: refused before anything is factored.
+    let n = columns.len();
+    let least = n.saturating_mul(n.saturating_sub(rows.len()));
+    if least > budget {
+        return Err(PropagationError::TooLarge {
+            coordinates: n,
+            values: least,
+            budget,
+        });
     }
+    let within = |factored: &B::Factorization| -> Result<(), PropagationError> {
+        let values = n.saturating_mul(factored.cols() - factored.rank());
+        if values > budget {
+            return Err(PropagationError::TooLarge {
+                coordinates: n,
+                values,
+                budget,
+            });
+        }
+        Ok(())
+    };
     let local: BTreeMap<usize, usize> = columns.iter().enumerate().map(|(i, &c)| (c, i)).collect();
     let a = matrix.select(&rows, &columns);
     let picked_local: Vec<usize> = picked_coordinates
@@ -184,7 +218,9 @@ where
     let row_of = |i: usize| -> (RowId, usize) { origin[rows[i]] };
 
     // The directions P can move in: ker A projected on P.
-    let kernel = factor(&a)?.null_space();
+    let factored = factor(&a)?;
+    within(&factored)?;
+    let kernel = factored.null_space();
     let projected: Vec<Vec<Rational>> = kernel
         .iter()
         .map(|v| picked_local.iter().map(|&c| v[c].clone()).collect())
@@ -230,6 +266,7 @@ where
             &picked_local,
             moves,
             &factor,
+            budget,
             &row_of,
             |i| {
                 let c = columns[i];
@@ -255,6 +292,7 @@ fn propagate<F, E>(
     picked: &[usize],
     moves: &[Rational],
     factor: &F,
+    budget: usize,
     row_of: &dyn Fn(usize) -> (RowId, usize),
     coordinate_of: impl Fn(usize) -> (ParamId, usize),
 ) -> Result<MoveOutcome, PropagationError>
@@ -290,6 +328,14 @@ where
         }
         Err(e) => return Err(PropagationError::Backend(e.to_string())),
     };
+    let values = a.cols().saturating_mul(m.cols() - m.rank());
+    if values > budget {
+        return Err(PropagationError::TooLarge {
+            coordinates: a.cols(),
+            values,
+            budget,
+        });
+    }
     let free = m.null_space();
     // Per parameter: its coordinates in the component.
     let mut groups: BTreeMap<ParamId, Vec<usize>> = BTreeMap::new();
@@ -540,6 +586,7 @@ mod tests {
                 &self.system,
                 &picked,
                 requested.as_deref(),
+                EXPLAIN_NULL_SPACE_BUDGET,
             )
             .expect("analysed")
         }
@@ -632,7 +679,14 @@ mod tests {
     fn bad_picks_and_moves_are_errors() {
         let f = Fixture::new(&[("a", 1), ("p", 2)]);
         let run = |picked: &[ParamId], m: Option<&[Rational]>| {
-            analyze_propagation(&ExactLdu::default(), &f.system, picked, m).expect_err("refused")
+            analyze_propagation(
+                &ExactLdu::default(),
+                &f.system,
+                picked,
+                m,
+                EXPLAIN_NULL_SPACE_BUDGET,
+            )
+            .expect_err("refused")
         };
         assert!(matches!(run(&[], None), PropagationError::Picked(_)));
         assert!(matches!(

@@ -44,6 +44,7 @@ impl Session {
             &self.system,
             &picked,
             requested.as_deref(),
+            ecles::EXPLAIN_NULL_SPACE_BUDGET,
         )
         .map_err(|e| RunError::input(format!("{run}: {e}")))?;
         Ok((picked, analysis))
@@ -65,8 +66,13 @@ impl Session {
                     .collect::<Vec<_>>()
             })
             .collect();
-        match ecles::analyze_propagation(&ExactLdu::default(), &self.system, anchors, Some(&moves))
-        {
+        match ecles::analyze_propagation(
+            &ExactLdu::default(),
+            &self.system,
+            anchors,
+            Some(&moves),
+            ecles::REPORT_NULL_SPACE_BUDGET,
+        ) {
             Ok(analysis) => self.propagation_json(&analysis),
             Err(e) => json!({ "skipped": e.to_string() }),
         }
