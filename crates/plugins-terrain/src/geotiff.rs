@@ -425,8 +425,15 @@ mod tests {
     /// (1000, 2000) (`PixelIsArea`), `GDAL_NODATA` −9999 on one sample, its heights in file
     /// order (the northernmost row first).
     fn dem(samples: &[f32]) -> Vec<u8> {
+        dem_compressed(samples, tiff::encoder::Compression::Uncompressed)
+    }
+
+    /// [`dem`] with its strips compressed.
+    fn dem_compressed(samples: &[f32], compression: tiff::encoder::Compression) -> Vec<u8> {
         let mut out = Cursor::new(Vec::new());
-        let mut encoder = TiffEncoder::new(&mut out).expect("encoder");
+        let mut encoder = TiffEncoder::new(&mut out)
+            .expect("encoder")
+            .with_compression(compression);
         let mut image = encoder
             .new_image::<colortype::Gray32Float>(4, 3)
             .expect("image");
@@ -539,24 +546,7 @@ mod tests {
                 tiff::encoder::Compression::Deflate(tiff::encoder::DeflateLevel::Balanced),
             ),
         ] {
-            let mut out = Cursor::new(Vec::new());
-            let mut encoder = TiffEncoder::new(&mut out)
-                .expect("encoder")
-                .with_compression(compression);
-            let mut image = encoder
-                .new_image::<colortype::Gray32Float>(4, 3)
-                .expect("image");
-            let dir = image.encoder();
-            dir.write_tag(Tag::ModelPixelScaleTag, &[10.0f64, 5.0, 0.0][..])
-                .expect("tag");
-            dir.write_tag(
-                Tag::ModelTiepointTag,
-                &[0.0f64, 0.0, 0.0, 1000.0, 2000.0, 0.0][..],
-            )
-            .expect("tag");
-            dir.write_tag(Tag::GdalNodata, "-9999").expect("tag");
-            image.write_data(&SAMPLES).expect("data");
-            let field = parse(&out.into_inner(), "dem.tif").expect("read");
+            let field = parse(&dem_compressed(&SAMPLES, compression), "dem.tif").expect("read");
             assert_eq!(
                 (&field.heights, &field.origin, &field.cell),
                 (&plain.heights, &plain.origin, &plain.cell),
