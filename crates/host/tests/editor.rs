@@ -723,13 +723,31 @@ fn a_translations_motion_response_predicts_the_committed_values() {
         assert_eq!((response["dim"].as_u64(), along.len()), (Some(2), 2));
         assert_eq!((base.len(), along[0].len()), (2 * ids.len(), 2 * ids.len()));
         assert!(ids.len() > 1, "the anchor and its derived points");
-        assert!(if snapped { bound < 1e-9 } else { bound == 0.0 }, "{bound}");
+        // Optimum frames give the exact response; a drag whose Initialize or frames were slow
+        // (a busy machine) switches to snapped frames, whose response is within its bound.
+        let snapped_frames = response["frames"] != "optimum";
+        if snapped {
+            assert_eq!(response["frames"], "snapped 2^-24");
+        }
+        assert!(
+            if snapped_frames {
+                bound < 1e-9
+            } else {
+                bound == 0.0
+            },
+            "{bound} from {} frames",
+            response["frames"]
+        );
 
         let (status, committed) = call(&editor, "POST", "/api/drag", &frame("-5/8", "9/4", true));
         assert_eq!(status, 200, "{committed}");
         let after = state(&editor);
         // A snapped commit is itself within its grid of the optimum.
-        let tolerance = if snapped { 1e-6 } else { 1e-12 };
+        let tolerance = if snapped || snapped_frames {
+            1e-6
+        } else {
+            1e-12
+        };
         for (i, id) in ids.iter().enumerate() {
             let point = &after["points"][*id as usize];
             assert_eq!(point["id"].as_u64(), Some(*id));

@@ -122,6 +122,9 @@ struct MotionResponse {
     /// Every coordinate of `base + Σ c_k·along_k` is within `bound·(1 + Σ |c_k|)` of the exact
     /// optimum at `c` (rounding aside).
     bound: f64,
+    /// The kind of frames it was taken from: zero bound for optimum frames; a drag that was
+    /// slow (a busy machine, a large edit) takes it from snapped ones.
+    frames: FrameKind,
 }
 
 /// Points with exact values, in an edit's order (anchors, then derived parameters).
@@ -208,6 +211,7 @@ impl MotionResponse {
                 .collect(),
             along,
             bound,
+            frames,
         })
     }
 
@@ -218,6 +222,7 @@ impl MotionResponse {
             "base": self.base,
             "along": self.along,
             "bound": self.bound,
+            "frames": frame_kind_text(self.frames),
         })
     }
 }
@@ -356,6 +361,14 @@ fn first_frame_kind(policy: CommitPolicy, initialize: Duration) -> FrameKind {
             FrameKind::Snapped(FRAME_GRID_BITS)
         }
         CommitPolicy::Optimum => FrameKind::Optimum,
+    }
+}
+
+/// How frames of kind `kind` are named in answers.
+fn frame_kind_text(kind: FrameKind) -> String {
+    match kind {
+        FrameKind::Optimum => "optimum".to_string(),
+        FrameKind::Snapped(bits) => format!("snapped 2^-{bits}"),
     }
 }
 
@@ -521,10 +534,7 @@ pub(super) fn drag_frame(
         "rank": active.rank,
         "redundant": active.redundant,
         "initialized": initialized,
-        "frames": match active.frames {
-            FrameKind::Optimum => "optimum".to_string(),
-            FrameKind::Snapped(bits) => format!("snapped 2^-{bits}"),
-        },
+        "frames": frame_kind_text(active.frames),
         "snap_bound": snap_bound,
         "planned": planned_text(active.linear.is_some() || active.linear_pending.is_some()),
     });
