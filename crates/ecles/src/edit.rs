@@ -368,6 +368,11 @@ impl<F: Factorization> Edit<F> {
         &self.anchors
     }
 
+    /// The weight of each unknown of `R_ED`.
+    pub(crate) fn weights(&self) -> &[Rational] {
+        &self.weights
+    }
+
     /// The derived parameters, in the order hints are passed and results returned.
     pub fn derived(&self) -> &[ParamId] {
         &self.derived

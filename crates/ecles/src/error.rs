@@ -142,6 +142,9 @@ pub enum EditError<S: fmt::Debug> {
     /// Weak solvability fails for these anchor values: the anchors contradict the constraints.
     #[error("the anchor values conflict with constraints {0}")]
     Conflict(Box<Conflict<S>>),
+    /// The change criterion could not choose (the edit is too large for it).
+    #[error("change criterion: {0}")]
+    Criterion(criteria::CriterionError),
 }
 
 impl<S: fmt::Debug> EditError<S> {

@@ -14,6 +14,8 @@
 //!   depend on anchor values and hints was computed by `initialize`.
 //! * [`check_moves`]: solvability for the anchor moves actually requested (a translation, a
 //!   drag), weaker than strong solvability: what choosing a derived set needs.
+//! * [`Edit::update_by`]: the Update under another change criterion (Brenner 3.1: primary
+//!   parameters first, least absolute change, fewest changed parameters).
 //! * [`Edit::drag`]: a straight drag solved at its two ends; every frame is then an exact
 //!   linear interpolation (the solution is affine in the anchor values and hints).
 //!
@@ -22,6 +24,7 @@
 //! single coordinates ([`Layout::Scalar`]). The crate is generic over the backend and knows
 //! nothing about splines.
 
+mod criterion;
 mod drag;
 mod edit;
 mod error;
@@ -32,6 +35,7 @@ mod reduce;
 mod relevant;
 mod substitute;
 
+pub use criterion::{Criterion, CriterionSummary, Measure, SupportSummary};
 pub use drag::Drag;
 pub use edit::{Edit, EditSpec, InitReport, Layout, RowRef, SnapSummary, UpdateResult};
 pub use error::{Conflict, ConflictingRow, EditError};
