@@ -48,8 +48,9 @@ impl Criterion {
 pub struct CriterionSummary {
     /// The measure minimised.
     pub measure: Measure,
-    /// Derived parameters that were primary (all of them without a primary set).
-    pub primary: usize,
+    /// Derived parameters that were primary (all of them without a primary set), in edit
+    /// order.
+    pub primary: Vec<ParamId>,
     /// The measure of the change over the primary parameters.
     pub value: Rational,
     /// Derived parameters that changed (differ from their hints), in edit order.
@@ -196,7 +197,7 @@ impl<F: Factorization<Scalar = Rational>> Edit<F> {
             |set: &Vec<usize>| -> Vec<ParamId> { set.iter().map(|&g| derived[g]).collect() };
         let summary = CriterionSummary {
             measure: criterion.measure,
-            primary: derived.iter().filter(|p| is_primary(p)).count(),
+            primary: derived.iter().copied().filter(|p| is_primary(p)).collect(),
             value: solution.measure,
             changed,
             optimal_face_dimension: solution.optimal_face_dimension,

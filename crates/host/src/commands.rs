@@ -369,6 +369,9 @@ fn print_edits(report: &Report, out_dir: &Path, console: &mut Console<'_>) -> Re
                     .map(|d| format!(", float deviation {d:.2e}"))
                     .unwrap_or_default()
             ))?;
+            if let Some(c) = &e.criterion {
+                console.line(format!("  {}", criterion_line(c)))?;
+            }
         } else {
             console.line(format!(
                 "{what}: FAILED: {}",
@@ -398,6 +401,49 @@ fn print_edits(report: &Report, out_dir: &Path, console: &mut Console<'_>) -> Re
         console.line(format!("note: {}: {}", n.file, n.note))?;
     }
     Ok(())
+}
+
+/// What an edit's change criterion chose, in one line.
+fn criterion_line(c: &crate::report::CriterionReport) -> String {
+    let what = match c.measure.as_str() {
+        "L1" => "least absolute change",
+        "Fewest" => "fewest changed parameters",
+        _ => "least squares",
+    };
+    let mut line = format!(
+        "criterion {}: {what} {} over {} primary parameter(s); changed: {}",
+        c.measure,
+        c.value,
+        c.primary.len(),
+        if c.changed.is_empty() {
+            "nothing".to_string()
+        } else {
+            c.changed.join(", ")
+        }
+    );
+    if let Some(d) = c.optimal_face_dimension {
+        line.push_str(&if d == 0 {
+            "; the optimum is unique".to_string()
+        } else {
+            format!("; not unique: the optima form a set of dimension {d}, this is one vertex")
+        });
+    }
+    if let (Some(sets), Some(proven)) = (c.minimum_sets, c.proven_minimal) {
+        if !proven {
+            line.push_str("; not proven minimal (heuristic beyond the exact search)");
+        } else if sets > 1 {
+            let others: Vec<String> = c
+                .ties
+                .iter()
+                .map(|t| format!("[{}]", t.join(", ")))
+                .collect();
+            line.push_str(&format!(
+                "; {sets} equally small choices, also {}",
+                others.join(" or ")
+            ));
+        }
+    }
+    line
 }
 
 /// `ecles edit`: serves the interactive editor for `run` until the process is stopped; prints

@@ -192,6 +192,46 @@ pub struct EditReport {
     /// was not analysed (`{"skipped": …}`: a component too large).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub propagation: Option<serde_json::Value>,
+    /// The change criterion, when the edit names one other than least squares on every
+    /// derived parameter.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub criterion: Option<CriterionReport>,
+}
+
+/// What an edit's change criterion chose (Brenner 3.1).
+#[derive(Debug, Clone, Serialize)]
+pub struct CriterionReport {
+    /// `"L2"`, `"L1"` or `"Fewest"`.
+    pub measure: String,
+    /// Derived parameters that were primary (the measure was minimised over them first); all
+    /// of them when the edit names no primary parameters.
+    pub primary: Vec<String>,
+    /// The measure of the change over the primary parameters, exact: `Σ w·Δ²`, `Σ w·|Δ|` or
+    /// the number of changed parameters. Changes are from the hints (the current values
+    /// unless hints are given).
+    pub value: String,
+    /// Derived parameters that changed.
+    pub changed: Vec<String>,
+    /// L1: whether the optimum is unique, and the dimension of the set of optima (Brenner
+    /// figure 3(g)); the values are the vertex the exact simplex reaches.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub unique: Option<bool>,
+    /// L1: dimension of the set of optimal changes.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub optimal_face_dimension: Option<usize>,
+    /// Fewest: whether no smaller set of changed parameters exists (false: the exact search
+    /// was over its budget and a heuristic answered).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub proven_minimal: Option<bool>,
+    /// Fewest: the number of sets of that size that could carry the change (1: no tie).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub minimum_sets: Option<usize>,
+    /// Fewest: the other sets (at most 31 listed).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub ties: Vec<Vec<String>>,
+    /// Fewest: exact rank tests made.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rank_tests: Option<usize>,
 }
 
 /// A snapped commit: the values satisfy every constraint exactly (`max_residual` is `"0"`)

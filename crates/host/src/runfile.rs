@@ -14,6 +14,8 @@
 //!     cross_check: (tolerance: 1e-10),      // default; None turns the float backend off
 //!     edits: [
 //!         Ecles(anchors: {"eq.a": "2"}, derived: ["eq.b"]),
+//!         // Another change criterion (L2 by default, L1, Fewest), on primary parameters first.
+//!         Ecles(anchors: {"eq.a": "3"}, derived: ["eq.b"], criterion: L1, primary: ["eq.b"]),
 //!         Source(source: "phi", operation: (anchors: ["v4"], translate: ("1", "0"))),
 //!         // From here on, "phi" is built with this configuration (C0); values carried over.
 //!         Configure(source: "phi", config: (mesh: "meshes/worm.obj", degree: 5, smoothness: 0)),
@@ -407,11 +409,53 @@ pub enum EditKind {
     },
 }
 
+/// What an edit minimises among the changes that keep every constraint (Brenner 3.1; see the
+/// `criteria` crate).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize)]
+pub enum MeasureName {
+    /// Weighted least squares (ECLES; the default).
+    #[default]
+    L2,
+    /// Weighted sum of absolute changes.
+    L1,
+    /// Number of changed parameters.
+    Fewest,
+}
+
+impl MeasureName {
+    /// The measure the edit minimises.
+    pub fn measure(self) -> ecles::Measure {
+        match self {
+            MeasureName::L2 => ecles::Measure::L2,
+            MeasureName::L1 => ecles::Measure::L1,
+            MeasureName::Fewest => ecles::Measure::Fewest,
+        }
+    }
+}
+
+/// The change criterion of an edit: `criterion: L1` and `primary: [...]` in the run file.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct CriterionChoice {
+    /// What is minimised.
+    pub measure: MeasureName,
+    /// Parameters whose change is minimised first (empty: every derived parameter).
+    pub primary: Vec<String>,
+}
+
+impl CriterionChoice {
+    /// ECLES' own criterion (least squares on every derived parameter).
+    pub fn is_least_squares(&self) -> bool {
+        self.measure == MeasureName::L2 && self.primary.is_empty()
+    }
+}
+
 /// An edit and where it is written.
 #[derive(Debug, Clone)]
 pub struct EditEntry {
     /// What it does.
     pub kind: EditKind,
+    /// Its change criterion (generic edits and source operations).
+    pub criterion: CriterionChoice,
     /// Where it starts in the run file.
     pub at: TextPosition,
     /// The whole entry's RON text as written (what a saved session repeats).
@@ -492,11 +536,19 @@ enum RawEdit<'a> {
         weights: BTreeMap<String, Exact>,
         #[serde(default)]
         strong: bool,
+        #[serde(default)]
+        criterion: MeasureName,
+        #[serde(default)]
+        primary: Vec<String>,
     },
     Source {
         source: String,
         #[serde(borrow)]
         operation: &'a RawValue,
+        #[serde(default)]
+        criterion: MeasureName,
+        #[serde(default)]
+        primary: Vec<String>,
     },
     Configure {
         source: String,
@@ -655,6 +707,7 @@ pub fn parse(text: &str, name: &str) -> Result<RunFile, RunFileError> {
     let mut edits = Vec::with_capacity(raw.edits.len());
     for (i, value) in raw.edits.iter().enumerate() {
         let at = reader.fragment(value).start();
+        let mut criterion = CriterionChoice::default();
         let kind = match reader.element::<RawEdit>(value)? {
             RawEdit::Ecles {
                 anchors,
@@ -662,14 +715,25 @@ pub fn parse(text: &str, name: &str) -> Result<RunFile, RunFileError> {
                 hints,
                 weights,
                 strong,
-            } => EditKind::Ecles(GenericEdit {
-                anchors,
-                derived,
-                hints,
-                weights,
-                strong,
-            }),
-            RawEdit::Source { source, operation } => {
+                criterion: measure,
+                primary,
+            } => {
+                criterion = CriterionChoice { measure, primary };
+                EditKind::Ecles(GenericEdit {
+                    anchors,
+                    derived,
+                    hints,
+                    weights,
+                    strong,
+                })
+            }
+            RawEdit::Source {
+                source,
+                operation,
+                criterion: measure,
+                primary,
+            } => {
+                criterion = CriterionChoice { measure, primary };
                 if !known(&source) {
                     return Err(
                         reader.error(at, format!("edit {i} names unknown source {source:?}"))
@@ -694,6 +758,7 @@ pub fn parse(text: &str, name: &str) -> Result<RunFile, RunFileError> {
         };
         edits.push(EditEntry {
             kind,
+            criterion,
             at,
             text: value.get_ron().trim().to_string(),
         });

@@ -44,6 +44,10 @@ impl Session {
     ) -> Result<(), RunError> {
         for (k, edit) in edits.iter().enumerate() {
             let i = first + k;
+            self.check_primary(&edit.criterion.primary)
+                .map_err(|message| {
+                    RunError::input(format!("{file}:{}: edit {i}: {message}", edit.at))
+                })?;
             match &edit.kind {
                 EditKind::Configure { source, config } => {
                     let place = super::ConfigPlace::At(file.to_string(), config.clone());
@@ -114,6 +118,19 @@ impl Session {
             plan.inputs.extend(check.inputs);
         }
         Ok(plan)
+    }
+
+    /// Checks an edit's primary parameters: each a parameter, none twice. (Those that are not
+    /// derived by the edit have no change to minimise; the report counts the derived ones.)
+    fn check_primary(&self, primary: &[String]) -> Result<(), String> {
+        let mut seen = BTreeSet::new();
+        for name in primary {
+            self.param(name).map_err(|e| format!("primary: {e}"))?;
+            if !seen.insert(name) {
+                return Err(format!("primary parameter {name:?} is listed twice"));
+            }
+        }
+        Ok(())
     }
 
     /// Checks a generic edit: at least one anchor; every name a parameter; values of the right

@@ -301,6 +301,8 @@ impl Session {
             .map(|last| self.edit_propagation(&spec.anchors, &last.anchors));
         let commit = self.run.commit_policy();
         let snapped = std::cell::Cell::new(None::<ecles::SnapSummary>);
+        let criterion = self.criterion(&entry.criterion)?;
+        let chosen = std::cell::RefCell::new(None::<ecles::CriterionSummary>);
         let exact = execute(
             &self.exact,
             &self.system,
@@ -308,6 +310,14 @@ impl Session {
             spec,
             steps,
             |edit, step| match commit {
+                // Another criterion commits its exact choice: snapping would move it off its
+                // optimum (and off the parameters it leaves in place).
+                _ if !criterion.is_least_squares() => {
+                    let (result, summary) =
+                        edit.update_by(&criterion, &step.anchors, &step.hints)?;
+                    *chosen.borrow_mut() = Some(summary);
+                    Ok(result)
+                }
                 CommitPolicy::Optimum => edit.update(&step.anchors, &step.hints),
                 CommitPolicy::Snapped { grid_bits } => {
                     let (result, summary) =
@@ -318,6 +328,9 @@ impl Session {
             },
         );
         report.snap = snapped.get().map(SnapReport::from);
+        report.criterion = chosen
+            .into_inner()
+            .map(|summary| self.criterion_report(&summary));
         report.structure = ecles::reduce_edit::<Rational>(&self.system, &self.values, spec)
             .ok()
             .map(|(_, reduced)| crate::structural::edit_structure(&self.system, &reduced));
@@ -327,9 +340,17 @@ impl Session {
             report.rank = init.rank;
             report.redundant = init.redundant;
         }
-        // The float run starts from the same state as the exact one.
+        // The float run starts from the same state as the exact one; it solves least squares,
+        // so under another criterion only its verdict and rank are compared.
         if let Some(tol) = self.tolerance {
-            self.cross_check_edit(&mut report, spec, steps, &exact, tol);
+            self.cross_check_edit(
+                &mut report,
+                spec,
+                steps,
+                &exact,
+                tol,
+                criterion.is_least_squares(),
+            );
         }
         match &exact.outcome {
             Ok(results) => {
@@ -457,6 +478,51 @@ impl Session {
         lines
     }
 
+    /// The ECLES criterion of a run file's choice (its primary names resolved).
+    pub(super) fn criterion(
+        &self,
+        choice: &crate::runfile::CriterionChoice,
+    ) -> Result<ecles::Criterion, RunError> {
+        Ok(ecles::Criterion {
+            measure: choice.measure.measure(),
+            primary: if choice.primary.is_empty() {
+                None
+            } else {
+                Some(
+                    choice
+                        .primary
+                        .iter()
+                        .map(|n| self.param(n))
+                        .collect::<Result<_, _>>()?,
+                )
+            },
+        })
+    }
+
+    /// The report of what a criterion chose.
+    fn criterion_report(
+        &self,
+        summary: &ecles::CriterionSummary,
+    ) -> crate::report::CriterionReport {
+        let names =
+            |ids: &[ParamId]| -> Vec<String> { ids.iter().map(|p| self.name(*p)).collect() };
+        let supports = summary.supports.as_ref();
+        crate::report::CriterionReport {
+            measure: format!("{:?}", summary.measure),
+            primary: names(&summary.primary),
+            value: format_rational(&summary.value),
+            changed: names(&summary.changed),
+            unique: summary.optimal_face_dimension.map(|d| d == 0),
+            optimal_face_dimension: summary.optimal_face_dimension,
+            proven_minimal: supports.map(|s| s.proven_minimal),
+            minimum_sets: supports.map(|s| s.count),
+            ties: supports
+                .map(|s| s.ties.iter().map(|t| names(t)).collect())
+                .unwrap_or_default(),
+            rank_tests: supports.map(|s| s.rank_tests),
+        }
+    }
+
     fn generic_plan(&self, edit: &GenericEdit) -> Result<(EditSpec, Vec<PlannedStep>), RunError> {
         let anchor_ids: Vec<ParamId> = edit
             .anchors
@@ -512,6 +578,7 @@ impl Session {
         steps: &[PlannedStep],
         exact: &Execution<Rational>,
         tolerance: f64,
+        compare_values: bool,
     ) {
         let backend = match FloatQr::new(tolerance) {
             Ok(b) => b,
@@ -549,6 +616,7 @@ impl Session {
             }
         }
         match (&exact.outcome, &float.outcome) {
+            (Ok(_), Ok(_)) if !compare_values => {}
             (Ok(e), Ok(f)) => {
                 let mut deviation = 0f64;
                 for (es, fs) in e.iter().zip(f) {
