@@ -894,3 +894,136 @@ fn explain_says_how_a_move_propagates() {
         assert_eq!(o.status.code(), Some(2), "{bad:?}: {}", stderr(&o));
     }
 }
+
+/// Brenner's figure 3 through the CLI (`examples/brenner.ron`): each edit drags p1 of its own
+/// copy of the figure by (1, 0) under another criterion; report.json says what each chose.
+#[test]
+fn brenners_figure_3_under_every_criterion() {
+    let dir = temp();
+    let out = dir.path().display().to_string();
+    let o = ecles(&["run", "examples/brenner.ron", "--quiet", "--out", &out]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let report = read_report(dir.path());
+    let edits = report["edits"].as_array().expect("edits");
+    assert_eq!(edits.len(), 5);
+    let change = |e: &Value, name: &str| -> String {
+        e["values"]
+            .as_array()
+            .expect("values")
+            .iter()
+            .find(|v| v["name"] == name)
+            .map(|v| v["exact"][0].as_str().expect("exact").to_string())
+            .expect("a value")
+    };
+    for e in edits {
+        assert_eq!(e["solvable"], true, "{e}");
+        assert_eq!(e["max_residual"], "0");
+    }
+    // 3(c) least squares on everything: p3 moves by 1/2; no criterion entry (the default).
+    assert_eq!(change(&edits[0], "c.x3"), "1/2");
+    assert!(edits[0].get("criterion").is_none());
+    // 3(b) points first: p3 stays, l2 turns.
+    assert_eq!(change(&edits[1], "b.x3"), "0");
+    assert_eq!(change(&edits[1], "b.b2"), "1");
+    assert_eq!(
+        edits[1]["criterion"]["changed"],
+        serde_json::json!(["b.b2", "b.c2"])
+    );
+    // 3(f) with l1 ⊥ l2: p2 and p3 both move by 1/2.
+    assert_eq!(
+        (change(&edits[2], "f.y2"), change(&edits[2], "f.x3")),
+        ("1/2".into(), "1/2".into())
+    );
+    assert_eq!(edits[2]["criterion"]["value"], "1/2");
+    // 3(g) L1: a total move of 1, not unique (a segment of optima).
+    let l1 = &edits[3]["criterion"];
+    assert_eq!(
+        (l1["measure"].as_str(), l1["value"].as_str()),
+        (Some("L1"), Some("1"))
+    );
+    assert_eq!(
+        (
+            l1["unique"].as_bool(),
+            l1["optimal_face_dimension"].as_u64()
+        ),
+        (Some(false), Some(1))
+    );
+    // 3(h) fewest: one coordinate, two answers (y2 chosen, x3 the tie).
+    let fewest = &edits[4]["criterion"];
+    assert_eq!(fewest["value"], "1");
+    assert_eq!(fewest["proven_minimal"], true);
+    assert_eq!(fewest["minimum_sets"], 2);
+    assert_eq!(fewest["ties"], serde_json::json!([["h.x3"]]));
+    assert_eq!(change(&edits[4], "h.y2"), "1");
+    assert_eq!(change(&edits[4], "h.x3"), "0");
+    let text =
+        String::from_utf8_lossy(&ecles(&["run", "examples/brenner.ron", "--out", &out]).stdout)
+            .into_owned();
+    assert!(
+        text.contains("not unique: the optima form a set of dimension 1"),
+        "{text}"
+    );
+    assert!(
+        text.contains("2 equally small choices, also [h.x3]"),
+        "{text}"
+    );
+}
+
+/// A criterion is checked with the edit before anything runs: an unknown measure and an
+/// unknown or repeated primary parameter are refused at their line:column.
+#[test]
+fn bad_criteria_are_refused_before_the_first_edit() {
+    let source = "(name: \"l\", plugin: \"linear\", config: (parameters: {\"a\": \"1\", \"b\": \"1\"}, equations: [\"a + b = 2\"]))";
+    expect_bad_input(
+        &format!("(sources: [{source}],\n edits: [\n  Ecles(anchors: {{\"l.a\": \"2\"}}, derived: [\"l.b\"], criterion: L3)])"),
+        &["run.ron:3:", "L3"],
+    );
+    expect_bad_input(
+        &format!("(sources: [{source}],\n edits: [\n  Ecles(anchors: {{\"l.a\": \"2\"}}, derived: [\"l.b\"], primary: [\"l.c\"])])"),
+        &["run.ron:3:3", "edit 0", "primary", "l.c"],
+    );
+    expect_bad_input(
+        &format!("(sources: [{source}],\n edits: [\n  Ecles(anchors: {{\"l.a\": \"2\"}}, derived: [\"l.b\"], primary: [\"l.b\", \"l.b\"])])"),
+        &["run.ron:3:3", "listed twice"],
+    );
+}
+
+/// A source operation under another criterion: a spline translation under L1 and with the
+/// fewest changed control points still holds every row exactly; the fewest changed are
+/// proven minimal, no more than L1 changes, and fewer than the derived points.
+#[test]
+fn a_source_operation_takes_a_criterion() {
+    let text = std::fs::read_to_string(root().join("examples/worm.ron")).expect("worm");
+    let examples = root().join("examples").display().to_string();
+    let start = text.find("edits: [").expect("edits");
+    let mut chosen = Vec::new();
+    for criterion in ["L1", "Fewest"] {
+        let run = format!(
+            "{}edits: [Source(source: \"worm\", operation: (anchors: [\"v3\"], neighborhood: 2, translate: (\"0\", \"6\")), criterion: {criterion})])",
+            &text[..start]
+        )
+        .replace("\"meshes/", &format!("\"{examples}/meshes/"));
+        let (_dir, path, out) = run_file(&run);
+        let o = ecles(&[
+            "run",
+            &path.display().to_string(),
+            "--quiet",
+            "--out",
+            &out.display().to_string(),
+        ]);
+        assert!(o.status.success(), "{criterion}: {}", stderr(&o));
+        let report = read_report(&out);
+        let e = report["edits"][0].clone();
+        assert_eq!(e["solvable"], true, "{e}");
+        assert_eq!(e["max_residual"], "0");
+        assert_eq!(e["criterion"]["measure"], criterion);
+        chosen.push(e);
+    }
+    let changed = |e: &Value| e["criterion"]["changed"].as_array().expect("changed").len();
+    let fewest = &chosen[1];
+    assert_eq!(fewest["criterion"]["proven_minimal"], true);
+    assert_eq!(fewest["criterion"]["value"], changed(fewest).to_string());
+    assert!(changed(fewest) >= 1);
+    assert!(changed(fewest) <= changed(&chosen[0]));
+    assert!(changed(fewest) < fewest["derived"].as_array().expect("derived").len());
+}

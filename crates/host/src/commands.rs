@@ -432,11 +432,16 @@ fn criterion_line(c: &crate::report::CriterionReport) -> String {
         if !proven {
             line.push_str("; not proven minimal (heuristic beyond the exact search)");
         } else if sets > 1 {
-            let others: Vec<String> = c
+            // A few of the others; report.json lists up to 31.
+            let mut others: Vec<String> = c
                 .ties
                 .iter()
+                .take(3)
                 .map(|t| format!("[{}]", t.join(", ")))
                 .collect();
+            if sets > 4 {
+                others.push("…".into());
+            }
             line.push_str(&format!(
                 "; {sets} equally small choices, also {}",
                 others.join(" or ")
