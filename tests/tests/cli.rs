@@ -986,6 +986,10 @@ fn bad_criteria_are_refused_before_the_first_edit() {
         &format!("(sources: [{source}],\n edits: [\n  Ecles(anchors: {{\"l.a\": \"2\"}}, derived: [\"l.b\"], primary: [\"l.b\", \"l.b\"])])"),
         &["run.ron:3:3", "listed twice"],
     );
+    expect_bad_input(
+        &format!("(sources: [{source}],\n edits: [\n  Ecles(anchors: {{\"l.a\": \"2\"}}, derived: [\"l.b\"], hints: {{\"l.b\": \"5\"}}, criterion: Fewest)])"),
+        &["run.ron:3:3", "hints belong to least squares"],
+    );
 }
 
 /// A source operation under another criterion: a spline translation under L1 and with the

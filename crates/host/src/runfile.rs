@@ -411,7 +411,7 @@ pub enum EditKind {
 
 /// What an edit minimises among the changes that keep every constraint (Brenner 3.1; see the
 /// `criteria` crate).
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize, serde::Serialize)]
 pub enum MeasureName {
     /// Weighted least squares (ECLES; the default).
     #[default]
@@ -423,6 +423,14 @@ pub enum MeasureName {
 }
 
 impl MeasureName {
+    /// The criterion of this measure over every derived parameter.
+    pub fn criterion(self) -> ecles::Criterion {
+        ecles::Criterion {
+            measure: self.measure(),
+            primary: None,
+        }
+    }
+
     /// The measure the edit minimises.
     pub fn measure(self) -> ecles::Measure {
         match self {

@@ -810,3 +810,80 @@ fn explain_says_how_the_selected_points_can_move() {
     assert_eq!(status, 422, "{refused}");
     assert_eq!(state(&editor)["points"], before["points"]);
 }
+
+/// The page's change criterion (Brenner 3.1): frames and the release of a drag under
+/// "Fewest" are exact Updates under it (no motion response), the commit holds every row
+/// exactly and changes only the points the criterion names, and the saved session states the
+/// criterion, so `ecles run` reproduces the values.
+#[test]
+fn a_drag_under_another_criterion_commits_its_exact_choice() {
+    let (dir, run) = worm_copy();
+    let editor = start_at(run, true);
+    let before = state(&editor);
+    let frame = |dy: &str, commit: bool| json!({"selection": {"source": "worm", "anchors": ["v3"], "neighborhood": 2}, "motion": {"translate": {"dx": "0", "dy": dy}}, "commit": commit, "criterion": "Fewest"});
+    for n in 0..8 {
+        let (status, answer) = call(
+            &editor,
+            "POST",
+            "/api/drag",
+            &frame(&format!("{n}/4"), false),
+        );
+        assert_eq!(status, 200, "{answer}");
+        assert_eq!(answer["ok"], true, "{answer}");
+        assert!(
+            answer["affine"].is_null(),
+            "no motion response under Fewest"
+        );
+        if n > 0 {
+            assert_eq!(answer["criterion"]["measure"], "Fewest", "{answer}");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    let (status, released) = call(&editor, "POST", "/api/drag", &frame("3/2", true));
+    assert_eq!(status, 200, "{released}");
+    assert_eq!(released["committed"], true, "{released}");
+    let chosen = &released["criterion"];
+    assert_eq!(chosen["proven_minimal"], true, "{chosen}");
+    let after = state(&editor);
+    assert_eq!(after["violated_rows"], 0);
+    let moved: Vec<&str> = after["points"]
+        .as_array()
+        .expect("points")
+        .iter()
+        .zip(before["points"].as_array().expect("points"))
+        .filter(|(a, b)| a["exact"] != b["exact"])
+        .map(|(a, _)| a["name"].as_str().expect("name"))
+        .collect();
+    // The anchor and exactly the derived points the criterion changed.
+    assert_eq!(
+        moved.len() as u64,
+        chosen["changed"].as_u64().expect("count") + 1
+    );
+    assert!(moved.contains(&"worm.v3"), "{moved:?}");
+    let autosave =
+        std::fs::read_to_string(dir.path().join("worm.autosave.ron")).expect("an autosave");
+    assert!(autosave.contains("criterion: Fewest"), "{autosave}");
+    // `ecles run` on the autosaved session gives the committed values.
+    let out = dir.path().join("again");
+    let status = std::process::Command::new(env!("CARGO_BIN_EXE_ecles"))
+        .args(["run", "--quiet", "--out"])
+        .arg(&out)
+        .arg(dir.path().join("worm.autosave.ron"))
+        .status()
+        .expect("ecles runs");
+    assert!(status.success());
+    let report: Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).expect("report"))
+            .expect("json");
+    let edit = &report["edits"][0];
+    assert_eq!(edit["criterion"]["measure"], "Fewest");
+    for value in edit["values"].as_array().expect("values") {
+        let point = after["points"]
+            .as_array()
+            .expect("points")
+            .iter()
+            .find(|p| p["name"] == value["name"])
+            .expect("the point");
+        assert_eq!(point["exact"], value["exact"], "{}", value["name"]);
+    }
+}

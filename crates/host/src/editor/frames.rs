@@ -22,9 +22,13 @@
 //!   every move itself, the exact optimum rounded, without a round trip.
 //! * **The release** plans the operation exactly at the final motion (not interpolated) and
 //!   commits the run's kind of update; the page shows how far the last frame was from it.
+//! * **Another change criterion** (the page's selector: L1, fewest changed points; Brenner
+//!   3.1): every frame and the release are exact Updates under it ([`ecles::Edit::update_by`]),
+//!   committed as chosen (not snapped), and there is no motion response: the choice is
+//!   piecewise, not affine, in the motion.
 
 use super::motion::{DragRequest, Motion, Selection};
-use crate::runfile::CommitPolicy;
+use crate::runfile::{CommitPolicy, MeasureName};
 use crate::session::{ActiveEdit, PlannedEdit, Planning, Session};
 use api::{ParamId, PlannedStep, Rational};
 use num_traits::Zero;
@@ -241,6 +245,8 @@ pub(super) struct ActiveDrag {
     /// coordinates, for [`prepare_linear_steps`] after the mouse-down frame is answered.
     linear_pending: Option<(Motion, PlannedEdit, Vec<Rational>)>,
     frames: FrameKind,
+    /// The change criterion of the latest frame.
+    criterion: MeasureName,
     /// Rank of `R_ED` and its redundant rows in scalar equations (from the edit's report, made
     /// once).
     rank: usize,
@@ -437,6 +443,7 @@ pub(super) fn drag_frame(
                         .clone()
                         .map(|at| (motion.clone(), planned.clone(), at)),
                     frames: first_frame_kind(session.commit_policy(), initializing.elapsed()),
+                    criterion: request.criterion,
                     rank,
                     redundant,
                 });
@@ -448,6 +455,13 @@ pub(super) fn drag_frame(
     let Some(active) = drag.as_mut() else {
         return Err("no drag under way".into());
     };
+    active.criterion = request.criterion;
+    let criterion = request.criterion.criterion();
+    if !criterion.is_least_squares() {
+        // Its frames are not affine in the motion: no response is drawn from.
+        active.response = None;
+    }
+    let mut chosen = None;
     let to_f64 = |v: &[Rational]| {
         v.iter()
             .map(api::exact::rational_to_f64)
@@ -470,7 +484,19 @@ pub(super) fn drag_frame(
         if motion.is_identity() {
             return Err("a release that moves nothing commits nothing".into());
         }
-        let result = match session.committed_update(&active.edit, &step) {
+        let result = if criterion.is_least_squares() {
+            session.committed_update(&active.edit, &step)
+        } else {
+            let hints = session.criterion_hints(&criterion, &active.spec, &step);
+            active
+                .edit
+                .update_by(&criterion, &step, &hints)
+                .map(|(result, summary)| {
+                    chosen = Some(summary);
+                    result
+                })
+        };
+        let result = match result {
             Ok(result) => result,
             Err(e) => return Ok(conflict(session, active, &e)),
         };
@@ -495,6 +521,15 @@ pub(super) fn drag_frame(
                 .iter()
                 .map(|id| to_f64(values.get(*id)))
                 .collect()
+        } else if !criterion.is_least_squares() {
+            let hints = session.criterion_hints(&criterion, &active.spec, &step);
+            match active.edit.update_by(&criterion, &step, &hints) {
+                Ok((result, summary)) => {
+                    chosen = Some(summary);
+                    result.derived.iter().map(|(_, v)| to_f64(v)).collect()
+                }
+                Err(e) => return Ok(conflict(session, active, &e)),
+            }
         } else {
             match active.frames {
                 FrameKind::Optimum => match active.edit.preview(&step) {
@@ -538,6 +573,9 @@ pub(super) fn drag_frame(
         "snap_bound": snap_bound,
         "planned": planned_text(active.linear.is_some() || active.linear_pending.is_some()),
     });
+    if let Some(summary) = &chosen {
+        answer["criterion"] = criterion_json(session, summary);
+    }
     if let Some(response) = &active.response {
         match response.try_recv() {
             Ok(Some(response)) => {
@@ -570,8 +608,12 @@ pub(super) fn drag_frame(
         };
         // Source names are letters, digits, '_' and '-' (the run file's rule): `{:?}` is their
         // RON string.
+        let criterion_text = match request.criterion {
+            MeasureName::L2 => String::new(),
+            other => format!(", criterion: {other:?}"),
+        };
         let entry = format!(
-            "Source(source: {:?}, operation: {})",
+            "Source(source: {:?}, operation: {}{criterion_text})",
             selection.source,
             selection.operation(motion)?
         );
@@ -583,6 +625,21 @@ pub(super) fn drag_frame(
     }
     answer["server_ms"] = json!(started.elapsed().as_secs_f64() * 1e3);
     Ok(answer)
+}
+
+/// What a frame's change criterion chose, for the status bar.
+fn criterion_json(session: &Session, summary: &ecles::CriterionSummary) -> Value {
+    let supports = summary.supports.as_ref();
+    json!({
+        "measure": format!("{:?}", summary.measure),
+        "value": api::format_rational(&summary.value),
+        "changed": summary.changed.len(),
+        "changed_names": summary.changed.iter().take(8).map(|p| session.name(*p)).collect::<Vec<_>>(),
+        "unique": summary.optimal_face_dimension.map(|d| d == 0),
+        "optimal_face_dimension": summary.optimal_face_dimension,
+        "minimum_sets": supports.map(|s| s.count),
+        "proven_minimal": supports.map(|s| s.proven_minimal),
+    })
 }
 
 /// After the mouse-down frame of a translation or lift was answered: plans the unit motions and
@@ -599,7 +656,7 @@ pub(super) fn prepare_linear_steps(session: &Session, drag: &mut Option<ActiveDr
     active.linear = linear_steps(session, &active.key, &motion, &planned, &at)
         .ok()
         .flatten();
-    if let Some(linear) = &active.linear {
+    if let (Some(linear), MeasureName::L2) = (&active.linear, active.criterion) {
         // The steps at the origin and at unit motions, for the thread.
         let steps = LinearSteps {
             origin: linear.origin.clone(),

@@ -77,6 +77,10 @@ pub struct DragRequest {
     pub motion: Motion,
     /// Commit the exact result (the mouse was released).
     pub commit: bool,
+    /// The change criterion over every derived point (Brenner 3.1; least squares unless
+    /// named).
+    #[serde(default)]
+    pub criterion: crate::runfile::MeasureName,
 }
 
 /// An exact number from the page, bounded in length and written without an exponent (a short

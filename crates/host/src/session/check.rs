@@ -54,9 +54,21 @@ impl Session {
                     let rebuilt = self.rebuilt(source, config.text(), &place)?;
                     return rebuilt.check_edits_from(file, &edits[k + 1..], i + 1);
                 }
-                EditKind::Ecles(generic) => self.check_generic(generic).map_err(|message| {
-                    RunError::input(format!("{file}:{}: edit {i}: {message}", edit.at))
-                })?,
+                EditKind::Ecles(generic) => {
+                    let hinted = !generic.hints.is_empty()
+                        && matches!(
+                            edit.criterion.measure,
+                            runfile::MeasureName::L1 | runfile::MeasureName::Fewest
+                        );
+                    let checked = if hinted {
+                        Err("hints belong to least squares: L1 and Fewest measure the change from the current values".to_string())
+                    } else {
+                        self.check_generic(generic)
+                    };
+                    checked.map_err(|message| {
+                        RunError::input(format!("{file}:{}: edit {i}: {message}", edit.at))
+                    })?
+                }
                 EditKind::Source { source, operation } => {
                     let loaded = self.loaded(source)?;
                     loaded

@@ -313,8 +313,8 @@ impl Session {
                 // Another criterion commits its exact choice: snapping would move it off its
                 // optimum (and off the parameters it leaves in place).
                 _ if !criterion.is_least_squares() => {
-                    let (result, summary) =
-                        edit.update_by(&criterion, &step.anchors, &step.hints)?;
+                    let hints = self.criterion_hints(&criterion, spec, step);
+                    let (result, summary) = edit.update_by(&criterion, &step.anchors, &hints)?;
                     *chosen.borrow_mut() = Some(summary);
                     Ok(result)
                 }
@@ -497,6 +497,26 @@ impl Session {
                 )
             },
         })
+    }
+
+    /// What `criterion` measures changes from in `step`: the step's hints for least squares
+    /// (ECLES: as close to the hints as the constraints allow, primary parameters first), the
+    /// current values for L1 and Fewest (what moves: hints are a least-squares notion; a
+    /// source's soft hints would otherwise count points that follow them as unchanged).
+    pub fn criterion_hints(
+        &self,
+        criterion: &ecles::Criterion,
+        spec: &EditSpec,
+        step: &PlannedStep,
+    ) -> Vec<Vec<Rational>> {
+        match criterion.measure {
+            ecles::Measure::L2 => step.hints.clone(),
+            ecles::Measure::L1 | ecles::Measure::Fewest => spec
+                .derived
+                .iter()
+                .map(|id| self.values.get(*id).to_vec())
+                .collect(),
+        }
     }
 
     /// The report of what a criterion chose.
@@ -700,6 +720,17 @@ impl ActiveEdit {
     ) -> Result<(UpdateResult<Rational>, ecles::SnapSummary), EditError<Rational>> {
         self.edit
             .update_snapped(&step.anchors, &step.hints, grid_bits)
+    }
+
+    /// [`ActiveEdit::update`] under `criterion`, measuring changes from `hints` (see
+    /// [`Edit::update_by`] and [`Session::criterion_hints`]).
+    pub fn update_by(
+        &self,
+        criterion: &ecles::Criterion,
+        step: &PlannedStep,
+        hints: &[Vec<Rational>],
+    ) -> Result<(UpdateResult<Rational>, ecles::CriterionSummary), EditError<Rational>> {
+        self.edit.update_by(criterion, &step.anchors, hints)
     }
 
     /// The same verdict as [`ActiveEdit::update`] with the derived values as `f64`, cheaper

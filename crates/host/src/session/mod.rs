@@ -471,7 +471,8 @@ impl Session {
             .ok_or_else(|| RunError::input(format!("unknown parameter {name:?}")))
     }
 
-    fn name(&self, id: ParamId) -> String {
+    /// The name of parameter `id` (`source.local`).
+    pub(crate) fn name(&self, id: ParamId) -> String {
         self.system.params()[id.index()].name.clone()
     }
 }

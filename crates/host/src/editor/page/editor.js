@@ -25,7 +25,7 @@ let drag = null;           // the drag under way, see startDrag
 let pan = null;
 let orbit = null;          // turning the 3D scene (view mode)
 let image = null;          // the target image: an HTMLImageElement
-let last = { frame: null, server: null, draw: null, deviation: null, counts: null, local: false };
+let last = { frame: null, server: null, draw: null, deviation: null, counts: null, local: false, criterion: null };
 // The last 1000 drag frames' times in ms, for the status bar and measurements: `total` from
 // the mouse event to the painted frame, `request` the round trip of its request, `server`
 // the server's part of it, `deform` the model's deformation, `draw` the drawing, `ready` from
@@ -640,8 +640,19 @@ function report() {
     parts.push(`frame ${last.frame.toFixed(1)} ms (server ${last.server.toFixed(1)}, drawing ${last.draw.toFixed(1)})`);
   }
   if (last.deviation !== null) parts.push(`float deviation ${last.deviation.toExponential(1)}`);
+  if (last.criterion) parts.push(criterionText(last.criterion));
   if (s.autosave && s.autosave.error) parts.push(`AUTOSAVE FAILED: ${s.autosave.error}`);
   statusBar.textContent = parts.join(" · ");
+}
+
+// What a drag's change criterion chose, for the status bar.
+function criterionText(c) {
+  const names = c.changed_names.join(", ") + (c.changed > c.changed_names.length ? ", …" : "");
+  let text = `${c.measure} ${c.value}: ${c.changed} points changed (${names})`;
+  if (c.unique === false) text += `, not unique (optima of dimension ${c.optimal_face_dimension})`;
+  if (c.minimum_sets > 1) text += `, ${c.minimum_sets} equally small choices`;
+  if (c.proven_minimal === false) text += ", not proven minimal";
+  return text;
 }
 
 function showMessage(text) {
@@ -879,9 +890,10 @@ async function sendFrame(commit) {
   let record = null;
   try {
     const requested = performance.now();
-    const answer = await dragRequest({ selection: d.selection, motion: m, commit });
+    const answer = await dragRequest({ selection: d.selection, motion: m, commit, criterion: d.criterion });
     const request = performance.now() - requested;
-    if (answer.affine) d.affine = answer.affine;
+    if (answer.affine && d.criterion === "L2") d.affine = answer.affine;
+    last.criterion = answer.criterion || null;
     if (answer.ok && d.local > 0 && !commit) {
       // The page drew a later move itself already: this frame is stale.
       record = null;
@@ -1049,6 +1061,9 @@ function startDrag(id, e) {
   }
   drag = {
     selection: selection(),
+    // The change criterion of the whole drag (frames under L1 or Fewest are not affine in
+    // the motion: the server sends no motion response for them).
+    criterion: element("criterion").value,
     operation: op,
     lift: heights,
     center,
