@@ -413,3 +413,33 @@ fn continuity_and_files_chosen_in_the_page_change_the_session() {
     assert!(dir.path().join("worm.inputs/tri.obj").exists());
     assert_eq!(browser.eval("models.length"), serde_json::json!(1));
 }
+
+/// The change-criterion selector: a drag under "fewest points" commits exactly, and the
+/// status bar says what the criterion chose.
+#[test]
+#[ignore = "needs Chromium: .ci/run installs it and runs this with --ignored"]
+fn a_drag_under_the_fewest_points_criterion_commits_exactly_and_says_what_it_chose() {
+    let editor = start("worm.ron");
+    let mut browser = open(&editor);
+    let before = state(&editor);
+    browser.eval("document.getElementById('criterion').value = 'Fewest'");
+    let v3 = screen_position(&mut browser, "worm.v3");
+    mouse_drag(&mut browser, v3, (0.0, -50.0));
+    let after = wait_for_state(&editor, "the drag's commit", |s| s["can_undo"] == true);
+    assert_eq!(after["violated_rows"], 0);
+    assert_ne!(exact(&after, "worm.v3"), exact(&before, "worm.v3"));
+    browser.wait_for(
+        "drag === null && document.getElementById('status').textContent.includes('Fewest') && \
+         document.getElementById('status').textContent.includes('points changed')",
+    );
+    // Fewer points moved than there are derived points: the criterion kept the rest.
+    let moved = after["points"]
+        .as_array()
+        .expect("points")
+        .iter()
+        .zip(before["points"].as_array().expect("points"))
+        .filter(|(a, b)| a["exact"] != b["exact"])
+        .count();
+    let derived = browser.eval("derived.size").as_u64().expect("|D|") as usize;
+    assert!(moved <= derived, "{moved} moved, {derived} derived");
+}
