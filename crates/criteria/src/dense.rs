@@ -61,26 +61,6 @@ pub(crate) fn rank_of_columns(m: &Matrix, cols: &[usize]) -> usize {
     reduce_rows(&mut sub, &all).len()
 }
 
-/// Whether every right-hand side of `rhs` (each a column of `m.len()` values) is a combination
-/// of the columns `cols` of `m`.
-pub(crate) fn columns_span(m: &Matrix, cols: &[usize], rhs: &[Vec<Rational>]) -> bool {
-    let mut sub: Matrix = m
-        .iter()
-        .enumerate()
-        .map(|(i, row)| {
-            cols.iter()
-                .map(|&c| row[c].clone())
-                .chain(rhs.iter().map(|column| column[i].clone()))
-                .collect()
-        })
-        .collect();
-    let all: Vec<usize> = (0..cols.len()).collect();
-    let rank = reduce_rows(&mut sub, &all).len();
-    sub[rank..]
-        .iter()
-        .all(|row| row[cols.len()..].iter().all(Zero::is_zero))
-}
-
 /// The system `m y = t` with only independent rows: `m` reduced over all its columns; `None`
 /// when it has no solution.
 pub(crate) fn independent_rows(m: &Matrix, t: &[Rational]) -> Option<(Matrix, Vec<Rational>)> {
@@ -262,8 +242,6 @@ mod tests {
         assert_eq!(p.len(), 1);
         assert_eq!(&p[0][1] * q(1, 1) + &p[0][0], q(0, 1));
         assert_eq!(&t[0][0], &p[0][1]);
-        assert!(columns_span(&m, &[0, 2], &[vec![q(1, 1), q(2, 1)]]));
-        assert!(!columns_span(&m, &[0], &[vec![q(1, 1), q(2, 1)]]));
         assert_eq!(rank_of_columns(&m, &[0, 1, 2]), 2);
     }
 }

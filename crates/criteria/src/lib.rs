@@ -10,7 +10,8 @@
 //! * [`Measure::L1`]: least `Σ w_j |y_j|`, an exact rational linear program
 //!   ([`least_absolute`](crate::least_absolute)), with the dimension of the set of optima;
 //! * [`Measure::Fewest`]: fewest changed parameters (groups of unknowns), by branch over
-//!   supports with exact rank tests up to [`FEWEST_EXACT_TESTS`], a flagged heuristic beyond.
+//!   supports with exact rank tests (implicit hitting sets) up to [`FEWEST_EXACT_WORK`], a
+//!   flagged heuristic beyond.
 //!
 //! Each can be restricted to **primary** unknowns ([`Problem::primary`]): the measure is then
 //! minimised over the primary unknowns only, the others left free; among those optima the
@@ -35,9 +36,10 @@ use num_traits::{Signed, Zero};
 /// and simplex pivots cost about `rows × unknowns` rational operations each.
 pub const DENSE_LIMIT: usize = 250_000;
 
-/// Most rank tests the exact search for the fewest changed parameters makes before it falls
-/// back to its heuristic.
-pub const FEWEST_EXACT_TESTS: usize = 20_000;
+/// The work of the exact search for the fewest changed parameters, in matrix entries its rank
+/// tests eliminate (a test costs the entries of its matrix): beyond it the search falls back to
+/// its heuristic (the tie search stops there too). About a second on spline edits.
+pub const FEWEST_EXACT_WORK: usize = 20_000_000;
 
 /// What is minimised.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -90,10 +92,14 @@ pub struct Supports {
     pub chosen: Vec<usize>,
     /// Other supports of the same size, each as primary groups (at most 31 listed).
     pub ties: Vec<Vec<usize>>,
-    /// All supports of that size (the chosen one included).
+    /// The supports of that size found (the chosen one included): all of them when
+    /// `ties_complete`.
     pub count: usize,
+    /// Whether every support of that size was found (the tie search stayed within its
+    /// budget).
+    pub ties_complete: bool,
     /// Whether no support is smaller: false when the search exceeded
-    /// [`FEWEST_EXACT_TESTS`] and the heuristic answered.
+    /// [`FEWEST_EXACT_WORK`] and the heuristic answered.
     pub proven_minimal: bool,
     /// Exact rank tests made.
     pub rank_tests: usize,
@@ -189,7 +195,7 @@ pub fn solve(problem: &Problem, measure: Measure) -> Result<Solution, CriterionE
                 &projected_rhs,
                 &weights,
                 &groups,
-                FEWEST_EXACT_TESTS,
+                FEWEST_EXACT_WORK,
             )
             .ok_or(inconsistent(0))?;
             let rename = |set: &Vec<usize>| -> Vec<usize> {
@@ -202,6 +208,7 @@ pub fn solve(problem: &Problem, measure: Measure) -> Result<Solution, CriterionE
                 chosen: listed.next().unwrap_or_default(),
                 ties: listed.collect(),
                 count,
+                ties_complete: found.ties_complete,
                 proven_minimal: found.proven_minimal,
                 rank_tests: found.rank_tests,
             });

@@ -67,8 +67,10 @@ pub struct SupportSummary {
     /// Other sets of primary parameters of the same size that could carry the change (at most
     /// 31 listed).
     pub ties: Vec<Vec<ParamId>>,
-    /// All minimum supports, the chosen one included.
+    /// Minimum supports found, the chosen one included (all of them when `ties_complete`).
     pub count: usize,
+    /// Whether every minimum support was found.
+    pub ties_complete: bool,
     /// False when the exact search was over its budget and a heuristic answered.
     pub proven_minimal: bool,
     /// Exact rank tests made.
@@ -204,6 +206,7 @@ impl<F: Factorization<Scalar = Rational>> Edit<F> {
             supports: solution.supports.map(|s| SupportSummary {
                 ties: s.ties.iter().map(as_params).collect(),
                 count: s.count,
+                ties_complete: s.ties_complete,
                 proven_minimal: s.proven_minimal,
                 rank_tests: s.rank_tests,
             }),

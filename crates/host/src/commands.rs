@@ -431,6 +431,10 @@ fn criterion_line(c: &crate::report::CriterionReport) -> String {
     if let (Some(sets), Some(proven)) = (c.minimum_sets, c.proven_minimal) {
         if !proven {
             line.push_str("; not proven minimal (heuristic beyond the exact search)");
+        } else if c.ties_complete == Some(false) {
+            line.push_str(&format!(
+                "; at least {sets} equally small choice(s) (the search for ties was cut short)"
+            ));
         } else if sets > 1 {
             // A few of the others; report.json lists up to 31.
             let mut others: Vec<String> = c

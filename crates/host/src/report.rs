@@ -226,6 +226,10 @@ pub struct CriterionReport {
     /// Fewest: the number of sets of that size that could carry the change (1: no tie).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub minimum_sets: Option<usize>,
+    /// Fewest: whether every such set was found (false: `minimum_sets` is a lower bound, the
+    /// tie search was over its budget).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ties_complete: Option<bool>,
     /// Fewest: the other sets (at most 31 listed).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub ties: Vec<Vec<String>>,

@@ -638,6 +638,7 @@ fn criterion_json(session: &Session, summary: &ecles::CriterionSummary) -> Value
         "unique": summary.optimal_face_dimension.map(|d| d == 0),
         "optimal_face_dimension": summary.optimal_face_dimension,
         "minimum_sets": supports.map(|s| s.count),
+        "ties_complete": supports.map(|s| s.ties_complete),
         "proven_minimal": supports.map(|s| s.proven_minimal),
     })
 }

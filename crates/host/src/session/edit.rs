@@ -536,6 +536,7 @@ impl Session {
             optimal_face_dimension: summary.optimal_face_dimension,
             proven_minimal: supports.map(|s| s.proven_minimal),
             minimum_sets: supports.map(|s| s.count),
+            ties_complete: supports.map(|s| s.ties_complete),
             ties: supports
                 .map(|s| s.ties.iter().map(|t| names(t)).collect())
                 .unwrap_or_default(),
