@@ -43,8 +43,20 @@ fn criteria(c: &mut Criterion) {
         ];
         for (name, measure, primary) in cases {
             let criterion = ecles::Criterion { measure, primary };
-            edit.update_by(&criterion, &anchor_values, &hints)
+            let (_, chosen) = edit
+                .update_by(&criterion, &anchor_values, &hints)
                 .expect("the window absorbs the move");
+            // What the criterion chose, next to its time.
+            println!(
+                "{name}/{width}: measure {}, {} changed, face {:?}, supports {:?}",
+                chosen.value,
+                chosen.changed.len(),
+                chosen.optimal_face_dimension,
+                chosen
+                    .supports
+                    .as_ref()
+                    .map(|s| (s.proven_minimal, s.count, s.ties_complete, s.rank_tests))
+            );
             group.bench_function(BenchmarkId::new(name, width), |b| {
                 b.iter(|| black_box(edit.update_by(&criterion, &anchor_values, &hints).is_ok()))
             });
