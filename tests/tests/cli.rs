@@ -1031,3 +1031,43 @@ fn a_source_operation_takes_a_criterion() {
     assert!(changed(fewest) <= changed(&chosen[0]));
     assert!(changed(fewest) < fewest["derived"].as_array().expect("derived").len());
 }
+
+/// Terrain operations take criteria too: a z1 lift with the fewest changed heights and an xy
+/// translation with the least absolute change, every row exact.
+#[test]
+fn terrain_operations_take_criteria() {
+    let examples = root().join("examples").display().to_string();
+    let text = std::fs::read_to_string(root().join("examples/terrain.ron"))
+        .expect("terrain example")
+        .replace(
+            "dz: \"16\", steps: 2)),",
+            "dz: \"16\", steps: 2), criterion: Fewest),",
+        )
+        .replace(
+            "translate: (\"-6\", \"0\"))),",
+            "translate: (\"-6\", \"0\")), criterion: L1),",
+        );
+    let text = ["terrains/", "meshes/", "models/"]
+        .iter()
+        .fold(text, |t, dir| {
+            t.replace(&format!("\"{dir}"), &format!("\"{examples}/{dir}"))
+        });
+    let (_dir, path, out) = run_file(&text);
+    let o = ecles(&[
+        "run",
+        &path.display().to_string(),
+        "--quiet",
+        "--out",
+        &out.display().to_string(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let report = read_report(&out);
+    let edits = report["edits"].as_array().expect("edits");
+    for (e, measure) in edits.iter().zip(["Fewest", "L1"]) {
+        assert_eq!(e["solvable"], true, "{e}");
+        assert_eq!(e["max_residual"], "0");
+        assert_eq!(e["criterion"]["measure"], measure);
+        let changed = e["criterion"]["changed"].as_array().expect("changed").len();
+        assert!(changed >= 1 && changed < e["derived"].as_array().expect("derived").len());
+    }
+}
