@@ -52,10 +52,12 @@ fn criteria(c: &mut Criterion) {
                 chosen.value,
                 chosen.changed.len(),
                 chosen.optimal_face_dimension,
-                chosen
-                    .supports
-                    .as_ref()
-                    .map(|s| (s.proven_minimal, s.count, s.ties_complete, s.rank_tests))
+                chosen.supports.as_ref().map(|s| (
+                    s.proven_minimal,
+                    s.count,
+                    s.ties_complete,
+                    s.rank_tests
+                ))
             );
             group.bench_function(BenchmarkId::new(name, width), |b| {
                 b.iter(|| black_box(edit.update_by(&criterion, &anchor_values, &hints).is_ok()))
