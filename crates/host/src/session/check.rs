@@ -148,7 +148,7 @@ impl Session {
     /// Checks a generic edit: at least one anchor; every name a parameter; values of the right
     /// dimension; derived parameters distinct and not anchors; hints and weights only for
     /// derived parameters, weights positive.
-    fn check_generic(&self, edit: &GenericEdit) -> Result<(), String> {
+    pub(super) fn check_generic(&self, edit: &GenericEdit) -> Result<(), String> {
         if edit.anchors.is_empty() {
             return Err("anchors is empty: an edit needs at least one anchor".into());
         }

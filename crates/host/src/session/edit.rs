@@ -479,7 +479,7 @@ impl Session {
     }
 
     /// The ECLES criterion of a run file's choice (its primary names resolved).
-    pub(super) fn criterion(
+    pub fn criterion(
         &self,
         choice: &crate::runfile::CriterionChoice,
     ) -> Result<ecles::Criterion, RunError> {
@@ -496,6 +496,19 @@ impl Session {
                         .collect::<Result<_, _>>()?,
                 )
             },
+        })
+    }
+
+    /// Plans a generic edit given by a library caller: checked as a run file's edit is (names,
+    /// dimensions, weights, overlaps), then planned on the current values.
+    pub fn plan_generic(&self, edit: &GenericEdit) -> Result<PlannedEdit, RunError> {
+        self.check_generic(edit).map_err(RunError::input)?;
+        let (spec, steps) = self.generic_plan(edit)?;
+        Ok(PlannedEdit {
+            spec,
+            steps,
+            source: None,
+            summary: BTreeMap::new(),
         })
     }
 

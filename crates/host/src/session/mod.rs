@@ -146,6 +146,24 @@ impl Session {
     pub fn build(run_path: &Path, input_limit: u64) -> Result<Session, RunError> {
         let run =
             runfile::read(run_path, input_limit).map_err(|e| RunError::input(e.to_string()))?;
+        Session::of_run(run_path, run, input_limit)
+    }
+
+    /// [`Session::build`] from run-file text rather than a file: `name` stands for the file in
+    /// messages and reports, relative paths in it are read from `base_dir` (what a library
+    /// caller without a file gives, such as the Python package).
+    pub fn build_text(
+        text: &str,
+        name: &str,
+        base_dir: &Path,
+        input_limit: u64,
+    ) -> Result<Session, RunError> {
+        let run = runfile::parse(text, name).map_err(|e| RunError::input(e.to_string()))?;
+        Session::of_run(&base_dir.join(name), run, input_limit)
+    }
+
+    /// The session of `run`, read from `run_path`, with every source built in order.
+    fn of_run(run_path: &Path, run: RunFile, input_limit: u64) -> Result<Session, RunError> {
         let mut session = Session::empty(run_path, run, input_limit);
         let entries = session.run.sources.clone();
         for entry in &entries {
