@@ -5,10 +5,12 @@
 //! Long exact work runs with the GIL released; a panic becomes a Python exception (PyO3's
 //! `PanicException`), never an abort.
 
+mod spline;
+
 use api::exact::Exact;
 use api::{format_rational, parse_rational, PlannedStep, Rational};
 use host::runfile::{CriterionChoice, GenericEdit, MeasureName, ValueText};
-use host::session::{ActiveEdit, PlannedEdit, Session};
+use host::session::{ActiveEdit, PlannedEdit, Planning, Session};
 use pyo3::exceptions::{PyException, PyValueError};
 use pyo3::prelude::*;
 use std::collections::BTreeMap;
@@ -32,7 +34,7 @@ pyo3::create_exception!(
 /// The largest input file read, as the command line's default (`--max-input-bytes`).
 const DEFAULT_INPUT_LIMIT: u64 = 256 << 20;
 
-fn input_error(message: impl ToString) -> PyErr {
+pub(crate) fn input_error(message: impl ToString) -> PyErr {
     InputError::new_err(message.to_string())
 }
 
@@ -163,6 +165,12 @@ impl PySession {
         Ok(PySession { worker })
     }
 
+    /// The session of run-file text (relative paths from the working directory).
+    #[staticmethod]
+    fn from_run_text(py: Python<'_>, text: String) -> PyResult<PySession> {
+        PySession::of_text(py, text, "run text")
+    }
+
     /// A `linear` source named `source` in matrix form: `matrix · p = rhs` over integers
     /// (decimal text of any size), with optional names and exact initial values.
     #[staticmethod]
@@ -277,16 +285,7 @@ impl PySession {
         primary: Vec<String>,
         strong: bool,
     ) -> PyResult<PyEdit> {
-        let measure = match criterion {
-            "L2" => MeasureName::L2,
-            "L1" => MeasureName::L1,
-            "Fewest" => MeasureName::Fewest,
-            other => {
-                return Err(input_error(format!(
-                    "criterion {other:?}: expected \"L2\", \"L1\" or \"Fewest\""
-                )))
-            }
-        };
+        let measure = measure(criterion)?;
         if !hints.is_empty() && measure != MeasureName::L2 {
             return Err(input_error(
                 "hints belong to least squares: L1 and Fewest measure the change from the current values",
@@ -336,9 +335,121 @@ impl PySession {
         })
     }
 
+    /// `ψ` of source `source` (a spline2d source) at the current values, at each point;
+    /// `None` outside the mesh. Floats: for drawing and deforming, never for exact values.
+    fn evaluate(
+        &self,
+        py: Python<'_>,
+        source: String,
+        points: Vec<(f64, f64)>,
+    ) -> PyResult<Vec<Option<(f64, f64)>>> {
+        self.worker.run(py, move |session| {
+            Ok(spline::Evaluator::of(session, &source)?.evaluate(&points))
+        })
+    }
+
+    /// Model vertices `(x, y[, z])` deformed by source `source`'s `ψ` (z kept), and how many
+    /// lie outside the mesh (left where they are, as are those `ψ` leaves exactly in place).
+    fn deform(
+        &self,
+        py: Python<'_>,
+        source: String,
+        vertices: Vec<Vec<f64>>,
+    ) -> PyResult<(Vec<Vec<f64>>, usize)> {
+        self.worker.run(py, move |session| {
+            spline::Evaluator::of(session, &source)?.deform(&vertices)
+        })
+    }
+
+    /// Plans an operation of source `source` (RON text in its schema, as in run files) on the
+    /// current values: its anchors and derived parameters (2DSD Select and ExpandDerived).
+    fn plan(
+        &self,
+        py: Python<'_>,
+        source: String,
+        operation: String,
+    ) -> PyResult<(Vec<String>, Vec<String>)> {
+        self.worker.run(py, move |session| {
+            let plan = planned(session, &source, &operation)?;
+            let name = |id: &api::ParamId| session.system().params()[id.index()].name.clone();
+            Ok((
+                plan.spec.anchors.iter().map(name).collect(),
+                plan.spec.derived.iter().map(name).collect(),
+            ))
+        })
+    }
+
+    /// Runs and commits an operation of source `source` under `criterion` (`"L2"`, `"L1"`,
+    /// `"Fewest"`): the values of its anchors and derived parameters.
+    fn operate(
+        &self,
+        py: Python<'_>,
+        source: String,
+        operation: String,
+        criterion: String,
+    ) -> PyResult<Vec<(String, Vec<String>)>> {
+        let measure = measure(&criterion)?;
+        self.worker.run(py, move |session| {
+            let plan = planned(session, &source, &operation)?;
+            let criterion = measure.criterion();
+            let active = session
+                .initialize(&plan)
+                .map_err(|e| unsolvable(session, &plan, &e))?;
+            let step = plan
+                .steps
+                .last()
+                .ok_or_else(|| input_error("the operation planned no step"))?;
+            let result = if criterion.is_least_squares() {
+                active.update(step)
+            } else {
+                let hints = session.criterion_hints(&criterion, &plan.spec, step);
+                active.update_by(&criterion, step, &hints).map(|(r, _)| r)
+            }
+            .map_err(|e| unsolvable(session, &plan, &e))?;
+            let suffix = match measure {
+                MeasureName::L2 => String::new(),
+                other => format!(", criterion: {other:?}"),
+            };
+            let entry = format!(
+                "Source(source: {}, operation: {}{suffix})",
+                ron_string(&source),
+                operation.trim()
+            );
+            session
+                .apply(&active, &result, entry)
+                .map_err(input_error)?;
+            Ok(PyEdit::named(session, &result))
+        })
+    }
+
     /// Restores the state before the last applied edit; `False` when there is none.
     fn undo(&self, py: Python<'_>) -> PyResult<bool> {
         self.worker.run(py, |session| Ok(session.undo()))
+    }
+}
+
+/// A change criterion by name.
+fn measure(name: &str) -> PyResult<MeasureName> {
+    match name {
+        "L2" => Ok(MeasureName::L2),
+        "L1" => Ok(MeasureName::L1),
+        "Fewest" => Ok(MeasureName::Fewest),
+        other => Err(input_error(format!(
+            "criterion {other:?}: expected \"L2\", \"L1\" or \"Fewest\""
+        ))),
+    }
+}
+
+/// A source's plan of an operation; a source's refusal is bad input.
+fn planned(session: &Session, source: &str, operation: &str) -> PyResult<PlannedEdit> {
+    match session
+        .plan_operation(source, operation)
+        .map_err(input_error)?
+    {
+        Planning::Planned(plan) => Ok(plan),
+        Planning::Refused(message) => Err(input_error(format!(
+            "source {source:?} refused the operation: {message}"
+        ))),
     }
 }
 

@@ -201,3 +201,81 @@ def test_every_update_satisfies_every_equation_exactly(case):
     values = [out[n] for n in names]
     for row, rhs in zip(A, b):
         assert sum(a * v for a, v in zip(row, values)) == rhs
+
+
+def grid_mesh(n=4, cell=10):
+    """An (n+1)² grid of vertices `cell` apart, each square split by its rising diagonal."""
+    vertices = [(cell * i, cell * j) for j in range(n + 1) for i in range(n + 1)]
+    triangles = []
+    for j in range(n):
+        for i in range(n):
+            a, b = j * (n + 1) + i, j * (n + 1) + i + 1
+            c, d = a + n + 1, b + n + 1
+            triangles += [(a, b, d), (a, d, c)]
+    return vertices, triangles
+
+
+def test_a_spline_from_numpy_arrays_translates_exactly_and_deforms_like_the_cli(tmp_path):
+    np = pytest.importorskip("numpy")
+    vertices, triangles = grid_mesh()
+    s = ecles.Spline2d(np.array(vertices, dtype=np.int64), np.array(triangles), degree=5,
+                       smoothness=1, name="g")
+    anchors, derived = s.select(["v12"], neighborhood=2)
+    assert anchors == ["g.v12"] and len(derived) > 0
+    # Before any edit psi is the identity: evaluate gives the points back and deform returns
+    # every vertex exactly as given (no float noise on what does not move).
+    model = np.array([[3.25, 7.5, 1.0], [21.0, 19.0, -2.0], [40.0, 40.0, 0.5], [55.0, 1.0, 0.0]])
+    with pytest.warns(UserWarning, match="1 of 4 vertices lie outside"):
+        same = s.deform(model)
+    assert np.array_equal(same, model)
+    out = s.translate(["v12"], (Fraction(5, 2), -4), neighborhood=2)
+    assert out["g.v12"] == (Fraction(45, 2), 16)
+    assert s.analyze().to_dict()["satisfied"] is True
+    # psi at the vertex is the vertex's control point.
+    at = s.evaluate(np.array([[20.0, 20.0], [-5.0, 0.0]]))
+    assert at[0].tolist() == [22.5, 16.0]
+    assert np.isnan(at[1]).all()
+    # The same edit through the CLI, with the model deformed into an OBJ.
+    obj = tmp_path / "model.obj"
+    obj.write_text("".join(f"v {x} {y} {z}\n" for x, y, z in model[:3]) + "f 1 2 3\n")
+    mesh_text = ", ".join(f'("{x}", "{y}")' for x, y in vertices)
+    faces = ", ".join(f"({a}, {b}, {c})" for a, b, c in triangles)
+    run = tmp_path / "run.ron"
+    run.write_text(
+        f'(sources: [(name: "g", plugin: "spline2d", config: (mesh: (vertices: [{mesh_text}], '
+        f"triangles: [{faces}]), degree: 5, smoothness: 1))], cross_check: None, "
+        'edits: [Source(source: "g", operation: (anchors: ["v12"], neighborhood: 2, '
+        'translate: ("5/2", "-4")))], outputs: [(source: "g", output: (model: "model.obj"))])'
+    )
+    subprocess.run(
+        ["cargo", "run", "--release", "-q", "-p", "host", "--", "run", str(run), "--quiet",
+         "--out", str(tmp_path / "out")],
+        cwd=ROOT, check=True,
+    )
+    cli = [
+        [float(c) for c in line.split()[1:]]
+        for line in (tmp_path / "out" / "model-deformed.obj").read_text().splitlines()
+        if line.startswith("v ")
+    ]
+    ours = s.deform(model[:3])
+    assert np.allclose(ours, np.array(cli), rtol=0, atol=1e-12)
+    # Every value is exact and the CLI committed the same.
+    report = json.loads((tmp_path / "out" / "report.json").read_text())
+    for v in report["edits"][0]["values"]:
+        assert s.values[v["name"]] == tuple(Fraction(t) for t in v["exact"])
+
+
+def test_spline_operations_take_criteria_and_refuse_floats():
+    vertices, triangles = grid_mesh()
+    s = ecles.Spline2d(vertices, triangles, degree=3, smoothness=1, name="g")
+    before = s.values
+    out = s.rotate(["v12"], center=(20, 20), degrees=30, neighborhood=2, criterion="Fewest")
+    moved = [n for n in out if out[n] != before[n]]
+    assert "g.v12" not in moved  # rotating about itself leaves the vertex in place
+    assert s.analyze().to_dict()["satisfied"] is True
+    s.scale(["v6"], center=(0, 0), factor=Fraction(3, 2), neighborhood=1, criterion="L1")
+    assert s.analyze().to_dict()["satisfied"] is True
+    with pytest.raises(TypeError, match="not exact"):
+        ecles.Spline2d([(0.5, 0), (1, 0), (0, 1)], [(0, 1, 2)])
+    with pytest.raises(ecles.InputError):
+        ecles.Spline2d([(0, 0), (1, 0), (2, 0)], [(0, 1, 2)])  # zero area

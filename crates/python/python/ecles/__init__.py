@@ -16,6 +16,8 @@ Fraction(0, 1)
 from __future__ import annotations
 
 import json
+import re
+import warnings
 from fractions import Fraction
 from numbers import Integral
 from typing import Any, Dict, Iterable, List, Mapping, Optional, Sequence, Tuple, Union
@@ -23,7 +25,7 @@ from typing import Any, Dict, Iterable, List, Mapping, Optional, Sequence, Tuple
 from . import _ecles
 from ._ecles import InputError
 
-__all__ = ["System", "Edit", "Analysis", "InputError", "Unsolvable", "Exact"]
+__all__ = ["System", "Spline2d", "Edit", "Analysis", "InputError", "Unsolvable", "Exact"]
 
 Exact = Union[int, Fraction, str]
 Value = Union[Fraction, Tuple[Fraction, ...]]
@@ -275,3 +277,125 @@ class System:
     def undo(self) -> bool:
         """Restores the values before the last applied edit; ``False`` when there is none."""
         return self._native.undo()
+
+
+def _numbers(value: Any, what: str) -> str:
+    """A RON tuple of exact numbers as strings: `("1", "5/2")`."""
+    return "(" + ", ".join(f'"{t}"' for t in _texts(value, what)) + ")"
+
+
+class Spline2d(System):
+    """A C^r spline deformation of the plane (the `spline2d` source): degree-`degree` Bézier
+    patches over a reference triangulation given by `vertices` (exact: ints, Fractions or
+    decimal strings; numpy integer arrays) and counter-clockwise `triangles` (0-based).
+
+    Control points are named as in run files (`v3`, `e3-7:2`, `t5:2,2,1`); parameters are
+    `{name}.v3` and so on.
+    """
+
+    def __init__(
+        self,
+        vertices: Iterable[Sequence[Any]],
+        triangles: Iterable[Sequence[int]],
+        degree: int = 5,
+        smoothness: int = 1,
+        name: str = "spline",
+    ):
+        if not re.fullmatch(r"[A-Za-z0-9_-]+", name):
+            raise InputError(f"source name {name!r}: letters, digits, '_' and '-' only")
+        points = ", ".join(_numbers(v, "vertex") for v in vertices)
+        faces = ", ".join(
+            "(" + ", ".join(str(int(i)) for i in t) + ")" for t in triangles
+        )
+        text = (
+            f'(sources: [(name: "{name}", plugin: "spline2d", config: (mesh: '
+            f"(vertices: [{points}], triangles: [{faces}]), degree: {int(degree)}, "
+            f"smoothness: {int(smoothness)}))])"
+        )
+        super().__init__(_ecles.Session.from_run_text(text))
+        self.name = name
+
+    def _operation(self, anchors: Sequence[str], neighborhood: Optional[int], motion: str) -> str:
+        names = ", ".join(json.dumps(str(a)) for a in anchors)
+        reach = '"all"' if neighborhood is None else str(int(neighborhood))
+        return f"(anchors: [{names}], neighborhood: {reach}, {motion})"
+
+    def _operate(self, operation: str, criterion: str) -> Dict[str, Value]:
+        out = _raising(self._native.operate, self.name, operation, criterion)
+        return {name: _value(texts) for name, texts in out}
+
+    def select(
+        self, anchors: Sequence[str], neighborhood: Optional[int] = 3
+    ) -> Tuple[List[str], List[str]]:
+        """2DSD Select and ExpandDerived: the anchors' parameters and the derived set
+        (`neighborhood=None`: every control point)."""
+        operation = self._operation(anchors, neighborhood, 'translate: ("0", "0")')
+        return tuple(_raising(self._native.plan, self.name, operation))
+
+    def translate(
+        self,
+        anchors: Sequence[str],
+        by: Sequence[Any],
+        neighborhood: Optional[int] = 3,
+        criterion: str = "L2",
+    ) -> Dict[str, Value]:
+        """A soft translation of the anchors by `by` (exact), committed; the new values."""
+        motion = f"translate: {_numbers(by, 'translation')}"
+        return self._operate(self._operation(anchors, neighborhood, motion), criterion)
+
+    def rotate(
+        self,
+        anchors: Sequence[str],
+        center: Sequence[Any],
+        degrees: Any,
+        neighborhood: Optional[int] = 3,
+        criterion: str = "L2",
+    ) -> Dict[str, Value]:
+        """A soft exact rational rotation about `center` by `degrees`, committed."""
+        motion = (
+            f"rotate: (center: {_numbers(center, 'center')}, "
+            f'degrees: "{_text(degrees, "degrees")}")'
+        )
+        return self._operate(self._operation(anchors, neighborhood, motion), criterion)
+
+    def scale(
+        self,
+        anchors: Sequence[str],
+        center: Sequence[Any],
+        factor: Any,
+        neighborhood: Optional[int] = 3,
+        criterion: str = "L2",
+    ) -> Dict[str, Value]:
+        """A soft exact scaling about `center` by `factor` (positive), committed."""
+        motion = (
+            f"scale: (center: {_numbers(center, 'center')}, "
+            f'factor: "{_text(factor, "factor")}")'
+        )
+        return self._operate(self._operation(anchors, neighborhood, motion), criterion)
+
+    def evaluate(self, points: Any) -> Any:
+        """psi at each point of an (N, 2) array (floats), NaN outside the mesh; a numpy array
+        when numpy is installed, else a list of pairs."""
+        pairs = [(float(p[0]), float(p[1])) for p in points]
+        out = self._native.evaluate(self.name, pairs)
+        nan = float("nan")
+        rows = [(nan, nan) if v is None else v for v in out]
+        try:
+            import numpy
+        except ImportError:
+            return rows
+        return numpy.array(rows, dtype=float).reshape(len(rows), 2)
+
+    def deform(self, vertices: Any) -> Any:
+        """Model vertices, an (N, 2) or (N, 3) float array, deformed by psi (z kept). Vertices
+        outside the mesh stay where they are (with a warning), and so does every vertex psi
+        leaves exactly in place. A numpy array when numpy is installed, else a list."""
+        rows = [[float(c) for c in v] for v in vertices]
+        out, outside = self._native.deform(self.name, rows)
+        if outside:
+            warnings.warn(f"{outside} of {len(rows)} vertices lie outside the mesh and were not moved")
+        try:
+            import numpy
+        except ImportError:
+            return out
+        return numpy.array(out, dtype=float).reshape(len(out), len(rows[0]) if rows else 0)
