@@ -103,11 +103,33 @@ impl Worker {
         }
     }
 
-    /// Runs `job` on the session, the GIL released while it runs.
+    /// Runs `job` on the session, the GIL released while it runs. A `KeyboardInterrupt` (or
+    /// any signal handler's exception) raised meanwhile is raised at once; the job finishes
+    /// on the session's thread and its answer is dropped — for jobs that change nothing
+    /// (analyses, updates, evaluations). Jobs that commit use [`Worker::run_to_end`].
     fn run<T: Send + 'static>(
         &self,
         py: Python<'_>,
         job: impl FnOnce(&mut Session) -> PyResult<T> + Send + 'static,
+    ) -> PyResult<T> {
+        self.run_with(py, job, true)
+    }
+
+    /// [`Worker::run`] for a job that changes the session: it is waited for to the end, so a
+    /// commit is never half-known; signals are handled when it returns.
+    fn run_to_end<T: Send + 'static>(
+        &self,
+        py: Python<'_>,
+        job: impl FnOnce(&mut Session) -> PyResult<T> + Send + 'static,
+    ) -> PyResult<T> {
+        self.run_with(py, job, false)
+    }
+
+    fn run_with<T: Send + 'static>(
+        &self,
+        py: Python<'_>,
+        job: impl FnOnce(&mut Session) -> PyResult<T> + Send + 'static,
+        interruptible: bool,
     ) -> PyResult<T> {
         let (answer, answered) = mpsc::sync_channel(1);
         let job: Job = Box::new(move |session: &mut Session| {
@@ -118,13 +140,27 @@ impl Worker {
         self.jobs
             .send(job)
             .map_err(|_| PyException::new_err("the session thread stopped"))?;
-        match py.detach(move || answered.recv()) {
-            Ok(Ok(value)) => Ok(value),
-            Ok(Err(e)) => Err(e),
-            Err(_) => Err(PyException::new_err("the session thread stopped")),
+        let mut receiver = answered;
+        loop {
+            let (received, back) = py.detach(move || {
+                let received = receiver.recv_timeout(SIGNAL_CHECK_INTERVAL);
+                (received, receiver)
+            });
+            receiver = back;
+            match received {
+                Ok(outcome) => return outcome,
+                Err(mpsc::RecvTimeoutError::Timeout) if interruptible => py.check_signals()?,
+                Err(mpsc::RecvTimeoutError::Timeout) => {}
+                Err(mpsc::RecvTimeoutError::Disconnected) => {
+                    return Err(PyException::new_err("the session thread stopped"))
+                }
+            }
         }
     }
 }
+
+/// How often a waiting call looks for a `KeyboardInterrupt`.
+const SIGNAL_CHECK_INTERVAL: std::time::Duration = std::time::Duration::from_millis(50);
 
 /// A panic's message as an exception.
 fn panic_error(panic: &(dyn std::any::Any + Send)) -> PyErr {
@@ -389,7 +425,7 @@ impl PySession {
         criterion: String,
     ) -> PyResult<Vec<(String, Vec<String>)>> {
         let measure = measure(&criterion)?;
-        self.worker.run(py, move |session| {
+        self.worker.run_to_end(py, move |session| {
             let plan = planned(session, &source, &operation)?;
             let criterion = measure.criterion();
             let active = session
@@ -424,7 +460,7 @@ impl PySession {
 
     /// Restores the state before the last applied edit; `False` when there is none.
     fn undo(&self, py: Python<'_>) -> PyResult<bool> {
-        self.worker.run(py, |session| Ok(session.undo()))
+        self.worker.run_to_end(py, |session| Ok(session.undo()))
     }
 }
 
@@ -685,7 +721,7 @@ impl PyEdit {
         hints: Option<Vec<(String, Vec<String>)>>,
     ) -> PyResult<Vec<(String, Vec<String>)>> {
         let state = Arc::clone(&self.state);
-        self.worker.run(py, move |session| {
+        self.worker.run_to_end(py, move |session| {
             let step = PyEdit::step(&state, session, anchors, hints)?;
             let result = PyEdit::solve(&state, session, &step)?;
             session

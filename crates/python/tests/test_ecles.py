@@ -279,3 +279,35 @@ def test_spline_operations_take_criteria_and_refuse_floats():
         ecles.Spline2d([(0.5, 0), (1, 0), (0, 1)], [(0, 1, 2)])
     with pytest.raises(ecles.InputError):
         ecles.Spline2d([(0, 0), (1, 0), (2, 0)], [(0, 1, 2)])  # zero area
+
+
+def test_a_keyboard_interrupt_stops_waiting_for_a_long_analysis():
+    import _thread
+    import threading
+    import time
+
+    rng = random.Random(1)
+    n = 110
+    A = [[rng.randint(-10**12, 10**12) for _ in range(n)] for _ in range(n)]
+    s = ecles.System.from_matrix(A, [0] * n)
+    timer = threading.Timer(0.3, _thread.interrupt_main)
+    start = time.monotonic()
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        s.analyze()  # seconds of exact elimination
+    assert time.monotonic() - start < 2.0
+    # The session still answers (after the abandoned analysis finishes on its thread).
+    assert s.parameters["m.p0"] == 1
+
+
+def test_a_terrain_lift_from_a_run_file_is_exact():
+    t = ecles.System.from_run_file(ROOT / "examples" / "terrain.ron")
+    lift = '(mode: "z1", anchors: ["v4"], neighborhood: 3, dz: "16")'
+    anchors, derived = t.plan("terrain", lift)
+    assert anchors == ["terrain.top.v4"] and derived
+    before = t.values["terrain.top.v4"]
+    out = t.operate("terrain", lift, criterion="Fewest")
+    assert out["terrain.top.v4"] == before + 16
+    assert t.analyze().to_dict()["satisfied"] is True
+    with pytest.raises(ecles.InputError, match="terrain"):
+        t.operate("terrain", '(mode: "z7", anchors: ["v4"], dz: "1")')

@@ -278,6 +278,18 @@ class System:
         """Restores the values before the last applied edit; ``False`` when there is none."""
         return self._native.undo()
 
+    def plan(self, source: str, operation: str) -> Tuple[List[str], List[str]]:
+        """A source's plan of an operation written as in run files (for a terrain:
+        ``'(mode: "z1", anchors: ["v4"], neighborhood: 3, dz: "16")'``): its anchors and
+        derived parameters. Nothing changes."""
+        return tuple(_raising(self._native.plan, source, operation))
+
+    def operate(self, source: str, operation: str, criterion: str = "L2") -> Dict[str, Value]:
+        """Runs and commits a source's operation written as in run files, under ``criterion``;
+        returns the exact values of its anchors and derived parameters."""
+        out = _raising(self._native.operate, source, operation, criterion)
+        return {name: _value(texts) for name, texts in out}
+
 
 def _numbers(value: Any, what: str) -> str:
     """A RON tuple of exact numbers as strings: `("1", "5/2")`."""
