@@ -397,6 +397,32 @@ impl PySession {
         })
     }
 
+    /// The bottom and top heights of terrain source `source` at each point (`None` outside
+    /// the mesh). Floats.
+    fn terrain_heights(
+        &self,
+        py: Python<'_>,
+        source: String,
+        points: Vec<(f64, f64)>,
+    ) -> PyResult<Vec<Option<(f64, f64)>>> {
+        self.worker.run(py, move |session| {
+            Ok(spline::PrismsEvaluator::of(session, &source)?.heights(&points))
+        })
+    }
+
+    /// Model vertices `(x, y, z)` deformed by terrain source `source`'s `ψ`, and how many lie
+    /// outside its layer of prisms (left where they are).
+    fn terrain_deform(
+        &self,
+        py: Python<'_>,
+        source: String,
+        vertices: Vec<Vec<f64>>,
+    ) -> PyResult<(Vec<Vec<f64>>, usize)> {
+        self.worker.run(py, move |session| {
+            spline::PrismsEvaluator::of(session, &source)?.deform(&vertices)
+        })
+    }
+
     /// Plans an operation of source `source` (RON text in its schema, as in run files) on the
     /// current values: its anchors and derived parameters (2DSD Select and ExpandDerived).
     fn plan(

@@ -311,3 +311,44 @@ def test_a_terrain_lift_from_a_run_file_is_exact():
     assert t.analyze().to_dict()["satisfied"] is True
     with pytest.raises(ecles.InputError, match="terrain"):
         t.operate("terrain", '(mode: "z7", anchors: ["v4"], dz: "1")')
+
+
+def test_a_terrain_from_numpy_arrays_lifts_exactly_and_deforms_like_the_cli(tmp_path):
+    np = pytest.importorskip("numpy")
+    vertices, triangles = grid_mesh(3, 10)
+    t = ecles.Terrain(np.array(vertices), np.array(triangles), top=10, bottom=0, degree=3,
+                      name="hills")
+    model = np.array([[12.5, 7.5, 10.0], [15.0, 15.0, 5.0], [2.0, 2.0, 0.0], [9.0, 9.0, 11.0]])
+    with pytest.warns(UserWarning, match="1 of 4 vertices lie outside"):
+        same = t.deform(model)
+    assert np.array_equal(same, model)
+    out = t.lift(["v5"], dz=Fraction(7, 2), neighborhood=2)
+    assert out["hills.top.v5"] == Fraction(27, 2)
+    assert t.analyze().to_dict()["satisfied"] is True
+    heights = t.heights(np.array([[10.0, 10.0], [50.0, 0.0]]))
+    assert heights[0].tolist() == [0.0, 13.5]
+    assert np.isnan(heights[1]).all()
+    # The same lift through the CLI with the model as an OBJ.
+    obj = tmp_path / "model.obj"
+    obj.write_text("".join(f"v {x} {y} {z}\n" for x, y, z in model[:3]) + "f 1 2 3\n")
+    mesh_text = ", ".join(f'("{x}", "{y}")' for x, y in vertices)
+    faces = ", ".join(f"({a}, {b}, {c})" for a, b, c in triangles)
+    run = tmp_path / "run.ron"
+    run.write_text(
+        f'(sources: [(name: "hills", plugin: "terrain", config: (spline: (mesh: (vertices: '
+        f'[{mesh_text}], triangles: [{faces}]), degree: 3, smoothness: 1), top: "10", '
+        'bottom: "0"))], cross_check: None, edits: [Source(source: "hills", operation: '
+        '(mode: "z1", anchors: ["v5"], neighborhood: 2, dz: "7/2"))], '
+        'outputs: [(source: "hills", output: (model: "model.obj"))])'
+    )
+    subprocess.run(
+        ["cargo", "run", "--release", "-q", "-p", "host", "--", "run", str(run), "--quiet",
+         "--out", str(tmp_path / "out")],
+        cwd=ROOT, check=True,
+    )
+    cli = [
+        [float(c) for c in line.split()[1:]]
+        for line in (tmp_path / "out" / "model-deformed.obj").read_text().splitlines()
+        if line.startswith("v ")
+    ]
+    assert np.allclose(t.deform(model[:3]), np.array(cli), rtol=0, atol=1e-12)

@@ -25,7 +25,7 @@ from typing import Any, Dict, Iterable, List, Mapping, Optional, Sequence, Tuple
 from . import _ecles
 from ._ecles import InputError
 
-__all__ = ["System", "Spline2d", "Edit", "Analysis", "InputError", "Unsolvable", "Exact"]
+__all__ = ["System", "Spline2d", "Terrain", "Edit", "Analysis", "InputError", "Unsolvable", "Exact"]
 
 Exact = Union[int, Fraction, str]
 Value = Union[Fraction, Tuple[Fraction, ...]]
@@ -411,3 +411,87 @@ class Spline2d(System):
         except ImportError:
             return out
         return numpy.array(out, dtype=float).reshape(len(out), len(rows[0]) if rows else 0)
+
+
+class Terrain(System):
+    """A 2.5D deformation of a layer of prisms (the `terrain` source) over a reference
+    triangulation (exact `vertices`, counter-clockwise `triangles`), between `z = bottom` and
+    `z = top` (exact; `bottom` defaults to `-top`): bottom and top height splines, and with
+    `xy=True` a planar spline too. Control values are `{name}.bottom.v3`, `{name}.top.v3`,
+    `{name}.xy.v3`.
+    """
+
+    def __init__(
+        self,
+        vertices: Iterable[Sequence[Any]],
+        triangles: Iterable[Sequence[int]],
+        top: Any,
+        bottom: Any = None,
+        degree: int = 3,
+        smoothness: int = 1,
+        xy: bool = False,
+        name: str = "terrain",
+    ):
+        if not re.fullmatch(r"[A-Za-z0-9_-]+", name):
+            raise InputError(f"source name {name!r}: letters, digits, '_' and '-' only")
+        points = ", ".join(_numbers(v, "vertex") for v in vertices)
+        faces = ", ".join(
+            "(" + ", ".join(str(int(i)) for i in t) + ")" for t in triangles
+        )
+        layer = f'top: "{_text(top, "top")}"'
+        if bottom is not None:
+            layer += f', bottom: "{_text(bottom, "bottom")}"'
+        text = (
+            f'(sources: [(name: "{name}", plugin: "terrain", config: (spline: (mesh: '
+            f"(vertices: [{points}], triangles: [{faces}]), degree: {int(degree)}, "
+            f"smoothness: {int(smoothness)}), {layer}, xy: {'true' if xy else 'false'}))])"
+        )
+        super().__init__(_ecles.Session.from_run_text(text))
+        self.name = name
+
+    def lift(
+        self,
+        anchors: Sequence[str],
+        dz: Any,
+        surface: str = "z1",
+        neighborhood: Optional[int] = 3,
+        criterion: str = "L2",
+    ) -> Dict[str, Value]:
+        """Raises (or lowers) the anchors of the top (`"z1"`) or bottom (`"z0"`) surface by
+        `dz` (exact), the derived points following; committed. The new values."""
+        names = ", ".join(json.dumps(str(a)) for a in anchors)
+        reach = '"all"' if neighborhood is None else str(int(neighborhood))
+        operation = (
+            f"(mode: {json.dumps(surface)}, anchors: [{names}], neighborhood: {reach}, "
+            f'dz: "{_text(dz, "dz")}")'
+        )
+        return self.operate(self.name, operation, criterion)
+
+    def heights(self, points: Any) -> Any:
+        """The bottom and top heights at each point of an (N, 2) array (floats; NaN outside
+        the mesh): an (N, 2) numpy array when numpy is installed, else a list."""
+        pairs = [(float(p[0]), float(p[1])) for p in points]
+        nan = float("nan")
+        rows = [(nan, nan) if v is None else v
+                for v in self._native.terrain_heights(self.name, pairs)]
+        try:
+            import numpy
+        except ImportError:
+            return rows
+        return numpy.array(rows, dtype=float).reshape(len(rows), 2)
+
+    def deform(self, vertices: Any) -> Any:
+        """A model's (N, 3) float vertices deformed by psi. Vertices outside the mesh or the
+        layer stay where they are (with a warning), and so does every vertex of a prism whose
+        values did not move."""
+        rows = [[float(c) for c in v] for v in vertices]
+        out, outside = self._native.terrain_deform(self.name, rows)
+        if outside:
+            warnings.warn(
+                f"{outside} of {len(rows)} vertices lie outside the layer of prisms and were not moved"
+            )
+        try:
+            import numpy
+        except ImportError:
+            return out
+        return numpy.array(out, dtype=float).reshape(len(out), 3)
