@@ -108,6 +108,13 @@ def test_values_beyond_64_bits_round_trip_exactly():
     huge = 10**40 + 7
     m = ecles.System.from_matrix([[huge, 1]], [huge], values=[1, 0])
     assert m.analyze().consistent
+    # numpy: int64 arrays, and object arrays of Python ints beyond 64 bits.
+    np = pytest.importorskip("numpy")
+    m = ecles.System.from_matrix(np.array([[huge, 1]], dtype=object), np.array([huge], dtype=object),
+                                 values=np.array([1, 0], dtype=np.int64))
+    assert m.analyze().to_dict()["satisfied"] is True
+    with pytest.raises(TypeError, match="not exact"):
+        ecles.System.from_matrix(np.array([[1.5, 1.0]]), [1])
 
 
 def test_bad_input_raises_the_right_exceptions_with_the_item_named():
