@@ -145,16 +145,7 @@ pub(crate) fn eliminate(
     kept: &[usize],
 ) -> (Matrix, Vec<Vec<Rational>>) {
     let width = m.first().map_or(0, Vec::len);
-    let mut a: Matrix = m
-        .iter()
-        .enumerate()
-        .map(|(i, row)| {
-            row.iter()
-                .cloned()
-                .chain(rhs.iter().map(|column| column[i].clone()))
-                .collect()
-        })
-        .collect();
+    let mut a = augmented(m, rhs);
     let rank = reduce_rows(&mut a, eliminated).len();
     let rest = &a[rank..];
     let projected = rest
@@ -165,6 +156,19 @@ pub(crate) fn eliminate(
         .map(|k| rest.iter().map(|row| row[width + k].clone()).collect())
         .collect();
     (projected, projected_rhs)
+}
+
+/// `[m | t_0 … t_K]`: `m` with the right-hand sides as extra columns.
+pub(crate) fn augmented(m: &Matrix, rhs: &[Vec<Rational>]) -> Matrix {
+    m.iter()
+        .enumerate()
+        .map(|(i, row)| {
+            row.iter()
+                .cloned()
+                .chain(rhs.iter().map(|column| column[i].clone()))
+                .collect()
+        })
+        .collect()
 }
 
 /// `m y` for one right-hand side.

@@ -27,7 +27,7 @@
 //! of minimum size its columns are independent, so that change is the only one. Among ties
 //! the smallest weighted squared change is chosen, then the first in lexicographic order.
 
-use crate::dense::{least_norm, reduce_rows, weighted_squares, Matrix};
+use crate::dense::{augmented, least_norm, reduce_rows, weighted_squares, Matrix};
 use crate::least_absolute::least_absolute_change;
 use api::Rational;
 use num_traits::{One, Zero};
@@ -64,16 +64,7 @@ pub(crate) fn fewest_changed(
     let n = weights.len();
     let group_count = groups.iter().map(|g| g + 1).max().unwrap_or(0);
     // [M | t_0 … t_K] in Gauss–Jordan form; dependent rows must have zero right-hand sides.
-    let mut a: Matrix = m
-        .iter()
-        .enumerate()
-        .map(|(i, row)| {
-            row.iter()
-                .cloned()
-                .chain(rhs.iter().map(|t| t[i].clone()))
-                .collect()
-        })
-        .collect();
+    let mut a = augmented(m, rhs);
     let all: Vec<usize> = (0..n).collect();
     let pivots = reduce_rows(&mut a, &all);
     if a[pivots.len()..]
@@ -182,6 +173,18 @@ pub(crate) fn fewest_changed(
         set
     };
 
+    // The cut of a set that cannot carry the change (certificate `z`), grown first to a
+    // maximal such set: a short cut.
+    let maximal_cut = |set: Vec<usize>, z: Vec<Rational>| -> Vec<usize> {
+        let rest: Vec<usize> = live
+            .iter()
+            .copied()
+            .filter(|g| set.binary_search(g).is_err())
+            .collect();
+        let (_, z) = grow(set, &rest, z, &certificate);
+        cut(&z)
+    };
+
     // 2. Implicit hitting sets: a smallest set hitting every cut so far; carried → minimum;
     //    else its certificate is a new cut.
     let mut cuts: Vec<Vec<usize>> = Vec::new();
@@ -202,13 +205,7 @@ pub(crate) fn fewest_changed(
         match certificate(&set) {
             None => break Some(hitting.len()),
             Some(z) => {
-                let rest: Vec<usize> = live
-                    .iter()
-                    .copied()
-                    .filter(|g| set.binary_search(g).is_err())
-                    .collect();
-                let (_, z) = grow(set, &rest, z, &certificate);
-                let new = cut(&z);
+                let new = maximal_cut(set, z);
                 if new.is_empty() || new.iter().all(|g| necessary.binary_search(g).is_ok()) {
                     // No set can carry it: the system was inconsistent.
                     return None;
@@ -235,15 +232,7 @@ pub(crate) fn fewest_changed(
             let set = with_necessary(&hitting);
             match certificate(&set) {
                 None => found.push(set),
-                Some(z) => {
-                    let rest: Vec<usize> = live
-                        .iter()
-                        .copied()
-                        .filter(|g| set.binary_search(g).is_err())
-                        .collect();
-                    let (_, z) = grow(set, &rest, z, &certificate);
-                    cuts.push(cut(&z));
-                }
+                Some(z) => cuts.push(maximal_cut(set, z)),
             }
         }
     }

@@ -371,8 +371,8 @@ impl PySession {
         })
     }
 
-    /// `ψ` of source `source` (a spline2d source) at the current values, at each point;
-    /// `None` outside the mesh. Floats: for drawing and deforming, never for exact values.
+    /// `ψ` of spline source `source` at the current values, at each point; `None` outside
+    /// the mesh. Floats: for drawing and deforming, never for exact values.
     fn evaluate(
         &self,
         py: Python<'_>,
@@ -380,12 +380,26 @@ impl PySession {
         points: Vec<(f64, f64)>,
     ) -> PyResult<Vec<Option<(f64, f64)>>> {
         self.worker.run(py, move |session| {
-            Ok(spline::Evaluator::of(session, &source)?.evaluate(&points))
+            spline::Deformation::of(session, &source)?.evaluate(&points)
         })
     }
 
-    /// Model vertices `(x, y[, z])` deformed by source `source`'s `ψ` (z kept), and how many
-    /// lie outside the mesh (left where they are, as are those `ψ` leaves exactly in place).
+    /// The bottom and top heights of terrain source `source` at each point (`None` outside
+    /// the mesh). Floats.
+    fn heights(
+        &self,
+        py: Python<'_>,
+        source: String,
+        points: Vec<(f64, f64)>,
+    ) -> PyResult<Vec<Option<(f64, f64)>>> {
+        self.worker.run(py, move |session| {
+            spline::Deformation::of(session, &source)?.heights(&points)
+        })
+    }
+
+    /// Model vertices deformed by source `source`'s `ψ` (a spline's: `(x, y[, z])`, z kept; a
+    /// terrain's: `(x, y, z)`), and how many lie outside (left where they are, as is every
+    /// vertex `ψ` leaves exactly in place).
     fn deform(
         &self,
         py: Python<'_>,
@@ -393,33 +407,7 @@ impl PySession {
         vertices: Vec<Vec<f64>>,
     ) -> PyResult<(Vec<Vec<f64>>, usize)> {
         self.worker.run(py, move |session| {
-            spline::Evaluator::of(session, &source)?.deform(&vertices)
-        })
-    }
-
-    /// The bottom and top heights of terrain source `source` at each point (`None` outside
-    /// the mesh). Floats.
-    fn terrain_heights(
-        &self,
-        py: Python<'_>,
-        source: String,
-        points: Vec<(f64, f64)>,
-    ) -> PyResult<Vec<Option<(f64, f64)>>> {
-        self.worker.run(py, move |session| {
-            Ok(spline::PrismsEvaluator::of(session, &source)?.heights(&points))
-        })
-    }
-
-    /// Model vertices `(x, y, z)` deformed by terrain source `source`'s `ψ`, and how many lie
-    /// outside its layer of prisms (left where they are).
-    fn terrain_deform(
-        &self,
-        py: Python<'_>,
-        source: String,
-        vertices: Vec<Vec<f64>>,
-    ) -> PyResult<(Vec<Vec<f64>>, usize)> {
-        self.worker.run(py, move |session| {
-            spline::PrismsEvaluator::of(session, &source)?.deform(&vertices)
+            spline::Deformation::of(session, &source)?.deform(&vertices)
         })
     }
 

@@ -1,187 +1,152 @@
-//! Float evaluation of a source's triangular Bézier view (a `spline2d` source) at the
-//! session's current values: `ψ` at points, and models deformed by it. A vertex in a triangle
-//! whose control points are exactly those of the identity (`(i·v0 + j·v1 + k·v2)/d`) is
-//! returned as given: the float result never moves what the exact deformation leaves in place.
+//! Float evaluation of a source's view at the session's current values: `ψ` of a `spline2d`
+//! source (triangular Bézier patches) and of a `terrain` source (a layer of prisms), at points
+//! and on model vertices. Every patch is evaluated in displacement form, `p + Σ Bᵢ(β)·(cᵢ −
+//! idᵢ)`, the displacements of the control points formed exactly before rounding: a patch whose
+//! control points did not move has displacements exactly zero, so the float result never moves
+//! what the exact deformation leaves in place.
 
 use api::exact::rational_to_f64;
-use api::{BezierTriangles, Rational, SourceView};
+use api::{BezierTriangles, ParamId, Prisms, Rational, SourceView};
 use host::session::Session;
 use pyo3::PyResult;
 use spline2d::eval::Locator;
 use spline2d::mesh_io::{from_points, MeshOptions};
 
-/// A source's spline at the session's current values, ready to evaluate.
-pub(crate) struct Evaluator {
-    locator: Locator,
-    degree: usize,
-    /// Per triangle, its control points in the view's multi-index order.
-    patches: Vec<Vec<[f64; 2]>>,
-    /// Per triangle, whether its patch is exactly the identity.
-    identity: Vec<bool>,
+/// The locator of a view's reference mesh (validated again: the view comes from a source).
+fn locator(vertices: &[[Rational; 2]], triangles: &[[usize; 3]]) -> PyResult<Locator> {
+    let mesh = from_points(
+        vertices.to_vec(),
+        triangles.to_vec(),
+        &MeshOptions::default(),
+    )
+    .map_err(crate::input_error)?
+    .mesh;
+    Ok(Locator::new(&mesh))
 }
 
-impl Evaluator {
-    /// The evaluator of source `name`, which must draw itself as triangular Bézier patches.
-    pub(crate) fn of(session: &Session, name: &str) -> PyResult<Evaluator> {
-        let view = session.view(name).map_err(crate::input_error)?;
-        let Some(SourceView::BezierTriangles(view)) = view else {
-            return Err(crate::input_error(format!(
-                "source {name:?} is not a triangular Bézier spline (a spline2d source)"
-            )));
-        };
-        Evaluator::of_view(session, &view)
+/// The multi-indices `(i, j, k)` of degree `d`, lexicographically descending: the order of a
+/// view's control points in a patch.
+fn multi_indices(d: usize) -> Vec<[usize; 3]> {
+    (0..=d)
+        .rev()
+        .flat_map(|i| (0..=d - i).rev().map(move |j| [i, j, d - i - j]))
+        .collect()
+}
+
+/// The Bernstein weights `d!/(i! j! k!) β0^i β1^j β2^k` in the order of [`multi_indices`].
+fn bernstein(d: usize, beta: [f64; 3]) -> Vec<f64> {
+    let factorial = |n: usize| (1..=n).map(|m| m as f64).product::<f64>();
+    multi_indices(d)
+        .iter()
+        .map(|&[i, j, k]| {
+            factorial(d) / (factorial(i) * factorial(j) * factorial(k))
+                * beta[0].powi(i as i32)
+                * beta[1].powi(j as i32)
+                * beta[2].powi(k as i32)
+        })
+        .collect()
+}
+
+/// The planar displacements `c − id` of the control points `params` of triangle `t`, where
+/// the identity's control point `(i, j, k)` is `(i·v0 + j·v1 + k·v2)/d`; exact, then rounded.
+fn planar_displacements(
+    session: &Session,
+    vertices: &[[Rational; 2]],
+    t: &[usize; 3],
+    params: &[ParamId],
+    d: usize,
+) -> PyResult<Vec<[f64; 2]>> {
+    params
+        .iter()
+        .zip(multi_indices(d))
+        .map(|(id, w)| {
+            let value = session.values().get(*id);
+            if value.len() != 2 {
+                return Err(crate::input_error(
+                    "a control point is not a point of the plane",
+                ));
+            }
+            let mut out = [0.0; 2];
+            for (c, slot) in out.iter_mut().enumerate() {
+                let identity = (0..3)
+                    .map(|v| &vertices[t[v]][c] * Rational::from_integer(w[v].into()))
+                    .sum::<Rational>()
+                    / Rational::from_integer(d.into());
+                *slot = rational_to_f64(&(&value[c] - identity));
+            }
+            Ok(out)
+        })
+        .collect()
+}
+
+/// `Σ wᵢ·cᵢ` of planar values.
+fn planar_sum(weights: &[f64], values: &[[f64; 2]]) -> [f64; 2] {
+    let mut out = [0.0; 2];
+    for (w, c) in weights.iter().zip(values) {
+        out[0] += w * c[0];
+        out[1] += w * c[1];
+    }
+    out
+}
+
+/// `Σ wᵢ·cᵢ`.
+fn sum(weights: &[f64], values: &[f64]) -> f64 {
+    weights.iter().zip(values).map(|(w, c)| w * c).sum()
+}
+
+/// A source's deformation at the session's current values.
+pub(crate) enum Deformation {
+    /// A `spline2d` source: `ψ(x, y) = (x, y) + D(x, y)`.
+    Plane {
+        locator: Locator,
+        degree: usize,
+        /// Per triangle, the displacements of its control points.
+        displacements: Vec<Vec<[f64; 2]>>,
+    },
+    /// A `terrain` source: the layer of prisms between `z = a` and `z = b`.
+    Prisms {
+        locator: Locator,
+        degree: usize,
+        /// Per triangle, `σ0 − a` and `σ1 − b` at its control points.
+        bottom: Vec<Vec<f64>>,
+        top: Vec<Vec<f64>>,
+        /// Per triangle, the displacements of `φ`'s control points (none: the identity).
+        xy: Option<Vec<Vec<[f64; 2]>>>,
+        a: f64,
+        b: f64,
+    },
+}
+
+impl Deformation {
+    /// The deformation of source `name`.
+    pub(crate) fn of(session: &Session, name: &str) -> PyResult<Deformation> {
+        match session.view(name).map_err(crate::input_error)? {
+            Some(SourceView::BezierTriangles(view)) => Deformation::plane(session, &view),
+            Some(SourceView::Prisms(view)) => Deformation::prisms(session, &view),
+            None => Err(crate::input_error(format!(
+                "source {name:?} has no deformation to evaluate"
+            ))),
+        }
     }
 
-    fn of_view(session: &Session, view: &BezierTriangles) -> PyResult<Evaluator> {
-        let mesh = from_points(
-            view.vertices.to_vec(),
-            view.triangles.clone(),
-            &MeshOptions::default(),
-        )
-        .map_err(crate::input_error)?
-        .mesh;
-        let d = view.degree;
-        let multi_indices: Vec<[usize; 3]> = (0..=d)
-            .rev()
-            .flat_map(|i| (0..=d - i).rev().map(move |j| [i, j, d - i - j]))
-            .collect();
-        let mut patches = Vec::with_capacity(view.patches.len());
-        let mut identity = Vec::with_capacity(view.patches.len());
-        for (t, params) in view.triangles.iter().zip(&view.patches) {
-            let mut points = Vec::with_capacity(params.len());
-            let mut same = params.len() == multi_indices.len();
-            for (id, [i, j, k]) in params.iter().zip(&multi_indices) {
-                let value = session.values().get(*id);
-                if value.len() != 2 {
-                    return Err(crate::input_error(
-                        "a control point is not a point of the plane",
-                    ));
-                }
-                points.push([rational_to_f64(&value[0]), rational_to_f64(&value[1])]);
-                if same {
-                    let weights = [*i, *j, *k];
-                    let at = |c: usize| -> Rational {
-                        let sum: Rational = (0..3)
-                            .map(|v| {
-                                &view.vertices[t[v]][c] * Rational::from_integer(weights[v].into())
-                            })
-                            .sum();
-                        sum / Rational::from_integer(d.into())
-                    };
-                    same = value[0] == at(0) && value[1] == at(1);
-                }
-            }
-            patches.push(points);
-            identity.push(same);
-        }
-        Ok(Evaluator {
-            locator: Locator::new(&mesh),
-            degree: d,
-            patches,
-            identity,
+    fn plane(session: &Session, view: &BezierTriangles) -> PyResult<Deformation> {
+        let displacements = view
+            .triangles
+            .iter()
+            .zip(&view.patches)
+            .map(|(t, params)| {
+                planar_displacements(session, &view.vertices, t, params, view.degree)
+            })
+            .collect::<PyResult<_>>()?;
+        Ok(Deformation::Plane {
+            locator: locator(&view.vertices, &view.triangles)?,
+            degree: view.degree,
+            displacements,
         })
     }
 
-    /// `ψ(p)`, with the triangle it lies in; `None` outside the mesh.
-    fn at(&self, p: [f64; 2]) -> Option<(usize, [f64; 2])> {
-        let (t, beta) = self.locator.locate(p)?;
-        let d = self.degree;
-        // Σ d!/(i! j! k!) β0^i β1^j β2^k c_ijk, in the view's order.
-        let mut out = [0.0; 2];
-        let mut n = 0;
-        for i in (0..=d).rev() {
-            for j in (0..=d - i).rev() {
-                let k = d - i - j;
-                let weight = multinomial(d, i, j, k)
-                    * beta[0].powi(i as i32)
-                    * beta[1].powi(j as i32)
-                    * beta[2].powi(k as i32);
-                let c = self.patches[t][n];
-                out[0] += weight * c[0];
-                out[1] += weight * c[1];
-                n += 1;
-            }
-        }
-        Some((t, out))
-    }
-
-    /// `ψ` at each point; `None` outside the mesh.
-    pub(crate) fn evaluate(&self, points: &[(f64, f64)]) -> Vec<Option<(f64, f64)>> {
-        points
-            .iter()
-            .map(|&(x, y)| self.at([x, y]).map(|(_, [u, v])| (u, v)))
-            .collect()
-    }
-
-    /// Vertices `(x, y)` or `(x, y, z)` deformed by `ψ` (z kept); those outside the mesh and
-    /// those in identity patches are returned as given. Also the number outside.
-    pub(crate) fn deform(&self, vertices: &[Vec<f64>]) -> PyResult<(Vec<Vec<f64>>, usize)> {
-        let mut outside = 0;
-        let mut out = Vec::with_capacity(vertices.len());
-        for (n, v) in vertices.iter().enumerate() {
-            if v.len() != 2 && v.len() != 3 {
-                return Err(crate::input_error(format!(
-                    "vertex {n} has {} coordinates; expected 2 or 3",
-                    v.len()
-                )));
-            }
-            match self.at([v[0], v[1]]) {
-                Some((t, _)) if self.identity[t] => out.push(v.clone()),
-                Some((_, [x, y])) => {
-                    let mut moved = v.clone();
-                    moved[0] = x;
-                    moved[1] = y;
-                    out.push(moved);
-                }
-                None => {
-                    outside += 1;
-                    out.push(v.clone());
-                }
-            }
-        }
-        Ok((out, outside))
-    }
-}
-
-/// `d! / (i! j! k!)` as a float (degrees are small).
-fn multinomial(d: usize, i: usize, j: usize, k: usize) -> f64 {
-    let factorial = |n: usize| (1..=n).map(|m| m as f64).product::<f64>();
-    factorial(d) / (factorial(i) * factorial(j) * factorial(k))
-}
-
-/// A terrain source's `ψ` (a [`Prisms`](api::Prisms) view) at the session's current values,
-/// in the displacement form the source renders with: `(x + Dx, y + Dy, z + (1 − α)·(σ0 − a) +
-/// α·(σ1 − b))`, each displacement's control values formed exactly before rounding, so a
-/// prism whose values did not move leaves its vertices exactly in place.
-pub(crate) struct PrismsEvaluator {
-    locator: Locator,
-    degree: usize,
-    bottom: Vec<Vec<f64>>,
-    top: Vec<Vec<f64>>,
-    xy: Option<Vec<Vec<[f64; 2]>>>,
-    /// `a` and `b`, the reference layer's bottom and top.
-    a: f64,
-    b: f64,
-}
-
-impl PrismsEvaluator {
-    /// The evaluator of terrain source `name`.
-    pub(crate) fn of(session: &Session, name: &str) -> PyResult<PrismsEvaluator> {
-        let view = session.view(name).map_err(crate::input_error)?;
-        let Some(SourceView::Prisms(view)) = view else {
-            return Err(crate::input_error(format!(
-                "source {name:?} is not a layer of prisms (a terrain source)"
-            )));
-        };
-        let mesh = from_points(
-            view.vertices.to_vec(),
-            view.triangles.clone(),
-            &MeshOptions::default(),
-        )
-        .map_err(crate::input_error)?
-        .mesh;
-        let d = view.degree;
-        let scalar = |patches: &[Vec<api::ParamId>], reference: &Rational| -> Vec<Vec<f64>> {
+    fn prisms(session: &Session, view: &Prisms) -> PyResult<Deformation> {
+        let heights = |patches: &[Vec<ParamId>], reference: &Rational| -> Vec<Vec<f64>> {
             patches
                 .iter()
                 .map(|p| {
@@ -191,115 +156,141 @@ impl PrismsEvaluator {
                 })
                 .collect()
         };
-        let multi_indices: Vec<[usize; 3]> = (0..=d)
-            .rev()
-            .flat_map(|i| (0..=d - i).rev().map(move |j| [i, j, d - i - j]))
-            .collect();
-        let xy = view.xy.as_ref().map(|patches| {
-            patches
-                .iter()
-                .zip(&view.triangles)
-                .map(|(p, t)| {
-                    p.iter()
-                        .zip(&multi_indices)
-                        .map(|(id, w)| {
-                            let value = session.values().get(*id);
-                            let mut out = [0.0; 2];
-                            for (c, slot) in out.iter_mut().enumerate() {
-                                let identity: Rational = (0..3)
-                                    .map(|v| {
-                                        &view.vertices[t[v]][c]
-                                            * Rational::from_integer(w[v].into())
-                                    })
-                                    .sum::<Rational>()
-                                    / Rational::from_integer(d.into());
-                                *slot = rational_to_f64(&(&value[c] - identity));
-                            }
-                            out
-                        })
-                        .collect()
-                })
-                .collect()
-        });
-        let (a, b) = (
-            rational_to_f64(&view.reference_bottom),
-            rational_to_f64(&view.reference_top),
-        );
-        Ok(PrismsEvaluator {
-            locator: Locator::new(&mesh),
-            degree: d,
-            bottom: scalar(&view.bottom, &view.reference_bottom),
-            top: scalar(&view.top, &view.reference_top),
+        let xy = match &view.xy {
+            Some(patches) => Some(
+                view.triangles
+                    .iter()
+                    .zip(patches)
+                    .map(|(t, params)| {
+                        planar_displacements(session, &view.vertices, t, params, view.degree)
+                    })
+                    .collect::<PyResult<_>>()?,
+            ),
+            None => None,
+        };
+        Ok(Deformation::Prisms {
+            locator: locator(&view.vertices, &view.triangles)?,
+            degree: view.degree,
+            bottom: heights(&view.bottom, &view.reference_bottom),
+            top: heights(&view.top, &view.reference_top),
             xy,
-            a,
-            b,
+            a: rational_to_f64(&view.reference_bottom),
+            b: rational_to_f64(&view.reference_top),
         })
     }
 
-    /// The Bernstein weights of degree `d` at `beta`, in the view's multi-index order.
-    fn weights(&self, beta: [f64; 3]) -> Vec<f64> {
-        let d = self.degree;
-        let mut out = Vec::new();
-        for i in (0..=d).rev() {
-            for j in (0..=d - i).rev() {
-                let k = d - i - j;
-                out.push(
-                    multinomial(d, i, j, k)
-                        * beta[0].powi(i as i32)
-                        * beta[1].powi(j as i32)
-                        * beta[2].powi(k as i32),
-                );
-            }
-        }
-        out
-    }
-
-    /// The bottom and top heights `σ0`, `σ1` at each point; `None` outside the mesh.
-    pub(crate) fn heights(&self, points: &[(f64, f64)]) -> Vec<Option<(f64, f64)>> {
-        points
+    /// A spline's `ψ` at each point; `None` outside the mesh.
+    pub(crate) fn evaluate(&self, points: &[(f64, f64)]) -> PyResult<Vec<Option<(f64, f64)>>> {
+        let Deformation::Plane {
+            locator,
+            degree,
+            displacements,
+        } = self
+        else {
+            return Err(crate::input_error(
+                "evaluate is for a spline2d source; a terrain gives heights",
+            ));
+        };
+        Ok(points
             .iter()
             .map(|&(x, y)| {
-                let (t, beta) = self.locator.locate([x, y])?;
-                let w = self.weights(beta);
-                let dot = |c: &[f64]| -> f64 { w.iter().zip(c).map(|(w, c)| w * c).sum() };
-                Some((self.a + dot(&self.bottom[t]), self.b + dot(&self.top[t])))
+                let (t, beta) = locator.locate([x, y])?;
+                let [dx, dy] = planar_sum(&bernstein(*degree, beta), &displacements[t]);
+                Some((x + dx, y + dy))
             })
-            .collect()
+            .collect())
     }
 
-    /// Vertices `(x, y, z)` deformed by `ψ`; those outside the mesh or the layer `[a, b]` are
-    /// returned as given. Also how many were left so.
+    /// A terrain's bottom and top heights at each point; `None` outside the mesh.
+    pub(crate) fn heights(&self, points: &[(f64, f64)]) -> PyResult<Vec<Option<(f64, f64)>>> {
+        let Deformation::Prisms {
+            locator,
+            degree,
+            bottom,
+            top,
+            a,
+            b,
+            ..
+        } = self
+        else {
+            return Err(crate::input_error(
+                "heights are for a terrain source; a spline2d source is evaluated",
+            ));
+        };
+        Ok(points
+            .iter()
+            .map(|&(x, y)| {
+                let (t, beta) = locator.locate([x, y])?;
+                let w = bernstein(*degree, beta);
+                Some((a + sum(&w, &bottom[t]), b + sum(&w, &top[t])))
+            })
+            .collect())
+    }
+
+    /// Model vertices deformed: `(x, y)` or `(x, y, z)` by a spline (z kept), `(x, y, z)` by a
+    /// terrain. Vertices outside the mesh (or a terrain's layer, beyond `1e-9·(b − a)`) are
+    /// returned as given; also how many.
     pub(crate) fn deform(&self, vertices: &[Vec<f64>]) -> PyResult<(Vec<Vec<f64>>, usize)> {
-        let (a, b) = (self.a, self.b);
-        let slack = 1e-9 * (b - a);
         let mut outside = 0;
         let mut out = Vec::with_capacity(vertices.len());
         for (n, v) in vertices.iter().enumerate() {
-            if v.len() != 3 {
-                return Err(crate::input_error(format!(
-                    "vertex {n} has {} coordinates; a terrain deforms (x, y, z)",
-                    v.len()
-                )));
-            }
-            let z = v[2];
-            let located = self.locator.locate([v[0], v[1]]);
-            let Some((t, beta)) = located.filter(|_| z >= a - slack && z <= b + slack) else {
-                outside += 1;
-                out.push(v.clone());
-                continue;
+            let moved = match self {
+                Deformation::Plane {
+                    locator,
+                    degree,
+                    displacements,
+                } => {
+                    if v.len() != 2 && v.len() != 3 {
+                        return Err(crate::input_error(format!(
+                            "vertex {n} has {} coordinates; expected 2 or 3",
+                            v.len()
+                        )));
+                    }
+                    locator.locate([v[0], v[1]]).map(|(t, beta)| {
+                        let [dx, dy] = planar_sum(&bernstein(*degree, beta), &displacements[t]);
+                        let mut moved = v.clone();
+                        moved[0] += dx;
+                        moved[1] += dy;
+                        moved
+                    })
+                }
+                Deformation::Prisms {
+                    locator,
+                    degree,
+                    bottom,
+                    top,
+                    xy,
+                    a,
+                    b,
+                } => {
+                    if v.len() != 3 {
+                        return Err(crate::input_error(format!(
+                            "vertex {n} has {} coordinates; a terrain deforms (x, y, z)",
+                            v.len()
+                        )));
+                    }
+                    let (z, slack) = (v[2], 1e-9 * (b - a));
+                    locator
+                        .locate([v[0], v[1]])
+                        .filter(|_| z >= a - slack && z <= b + slack)
+                        .map(|(t, beta)| {
+                            let w = bernstein(*degree, beta);
+                            let (below, above) = ((b - z) / (b - a), (z - a) / (b - a));
+                            let mut moved = v.clone();
+                            moved[2] = z + below * sum(&w, &bottom[t]) + above * sum(&w, &top[t]);
+                            if let Some(xy) = xy {
+                                let [dx, dy] = planar_sum(&w, &xy[t]);
+                                moved[0] += dx;
+                                moved[1] += dy;
+                            }
+                            moved
+                        })
+                }
             };
-            let w = self.weights(beta);
-            let dot = |c: &[f64]| -> f64 { w.iter().zip(c).map(|(w, c)| w * c).sum() };
-            let (below, above) = ((b - z) / (b - a), (z - a) / (b - a));
-            let mut moved = v.clone();
-            moved[2] = z + below * dot(&self.bottom[t]) + above * dot(&self.top[t]);
-            if let Some(xy) = &self.xy {
-                let dx: f64 = w.iter().zip(&xy[t]).map(|(w, c)| w * c[0]).sum();
-                let dy: f64 = w.iter().zip(&xy[t]).map(|(w, c)| w * c[1]).sum();
-                moved[0] += dx;
-                moved[1] += dy;
-            }
-            out.push(moved);
+            out.push(moved.unwrap_or_else(|| {
+                outside += 1;
+                v.clone()
+            }));
         }
         Ok((out, outside))
     }

@@ -222,6 +222,37 @@ def grid_mesh(n=4, cell=10):
     return vertices, triangles
 
 
+def cli_deformed_model(tmp_path, source_config, edit, model):
+    """Runs `ecles run` on one source (`source_config`: its `(name: ..., ...)` entry), one
+    edit and the model (rows x y z) as an OBJ output; returns the deformed OBJ's vertices and
+    the report."""
+    obj = tmp_path / "model.obj"
+    obj.write_text("".join(f"v {x} {y} {z}\n" for x, y, z in model) + "f 1 2 3\n")
+    name = source_config.split('"')[1]
+    run = tmp_path / "run.ron"
+    run.write_text(
+        f"(sources: [{source_config}], cross_check: None, edits: [{edit}], "
+        f'outputs: [(source: "{name}", output: (model: "model.obj"))])'
+    )
+    subprocess.run(
+        ["cargo", "run", "--release", "-q", "-p", "host", "--", "run", str(run), "--quiet",
+         "--out", str(tmp_path / "out")],
+        cwd=ROOT, check=True,
+    )
+    vertices = [
+        [float(c) for c in line.split()[1:]]
+        for line in (tmp_path / "out" / "model-deformed.obj").read_text().splitlines()
+        if line.startswith("v ")
+    ]
+    return vertices, json.loads((tmp_path / "out" / "report.json").read_text())
+
+
+def inline_mesh(vertices, triangles):
+    points = ", ".join(f'("{x}", "{y}")' for x, y in vertices)
+    faces = ", ".join(f"({a}, {b}, {c})" for a, b, c in triangles)
+    return f"mesh: (vertices: [{points}], triangles: [{faces}])"
+
+
 def test_a_spline_from_numpy_arrays_translates_exactly_and_deforms_like_the_cli(tmp_path):
     np = pytest.importorskip("numpy")
     vertices, triangles = grid_mesh()
@@ -243,31 +274,17 @@ def test_a_spline_from_numpy_arrays_translates_exactly_and_deforms_like_the_cli(
     assert at[0].tolist() == [22.5, 16.0]
     assert np.isnan(at[1]).all()
     # The same edit through the CLI, with the model deformed into an OBJ.
-    obj = tmp_path / "model.obj"
-    obj.write_text("".join(f"v {x} {y} {z}\n" for x, y, z in model[:3]) + "f 1 2 3\n")
-    mesh_text = ", ".join(f'("{x}", "{y}")' for x, y in vertices)
-    faces = ", ".join(f"({a}, {b}, {c})" for a, b, c in triangles)
-    run = tmp_path / "run.ron"
-    run.write_text(
-        f'(sources: [(name: "g", plugin: "spline2d", config: (mesh: (vertices: [{mesh_text}], '
-        f"triangles: [{faces}]), degree: 5, smoothness: 1))], cross_check: None, "
-        'edits: [Source(source: "g", operation: (anchors: ["v12"], neighborhood: 2, '
-        'translate: ("5/2", "-4")))], outputs: [(source: "g", output: (model: "model.obj"))])'
+    cli, report = cli_deformed_model(
+        tmp_path,
+        f'(name: "g", plugin: "spline2d", config: ({inline_mesh(vertices, triangles)}, '
+        "degree: 5, smoothness: 1))",
+        'Source(source: "g", operation: (anchors: ["v12"], neighborhood: 2, '
+        'translate: ("5/2", "-4")))',
+        model[:3],
     )
-    subprocess.run(
-        ["cargo", "run", "--release", "-q", "-p", "host", "--", "run", str(run), "--quiet",
-         "--out", str(tmp_path / "out")],
-        cwd=ROOT, check=True,
-    )
-    cli = [
-        [float(c) for c in line.split()[1:]]
-        for line in (tmp_path / "out" / "model-deformed.obj").read_text().splitlines()
-        if line.startswith("v ")
-    ]
     ours = s.deform(model[:3])
     assert np.allclose(ours, np.array(cli), rtol=0, atol=1e-12)
     # Every value is exact and the CLI committed the same.
-    report = json.loads((tmp_path / "out" / "report.json").read_text())
     for v in report["edits"][0]["values"]:
         assert s.values[v["name"]] == tuple(Fraction(t) for t in v["exact"])
 
@@ -336,26 +353,12 @@ def test_a_terrain_from_numpy_arrays_lifts_exactly_and_deforms_like_the_cli(tmp_
     assert heights[0].tolist() == [0.0, 13.5]
     assert np.isnan(heights[1]).all()
     # The same lift through the CLI with the model as an OBJ.
-    obj = tmp_path / "model.obj"
-    obj.write_text("".join(f"v {x} {y} {z}\n" for x, y, z in model[:3]) + "f 1 2 3\n")
-    mesh_text = ", ".join(f'("{x}", "{y}")' for x, y in vertices)
-    faces = ", ".join(f"({a}, {b}, {c})" for a, b, c in triangles)
-    run = tmp_path / "run.ron"
-    run.write_text(
-        f'(sources: [(name: "hills", plugin: "terrain", config: (spline: (mesh: (vertices: '
-        f'[{mesh_text}], triangles: [{faces}]), degree: 3, smoothness: 1), top: "10", '
-        'bottom: "0"))], cross_check: None, edits: [Source(source: "hills", operation: '
-        '(mode: "z1", anchors: ["v5"], neighborhood: 2, dz: "7/2"))], '
-        'outputs: [(source: "hills", output: (model: "model.obj"))])'
+    cli, _ = cli_deformed_model(
+        tmp_path,
+        f'(name: "hills", plugin: "terrain", config: (spline: ({inline_mesh(vertices, triangles)}, '
+        'degree: 3, smoothness: 1), top: "10", bottom: "0"))',
+        'Source(source: "hills", operation: (mode: "z1", anchors: ["v5"], neighborhood: 2, '
+        'dz: "7/2"))',
+        model[:3],
     )
-    subprocess.run(
-        ["cargo", "run", "--release", "-q", "-p", "host", "--", "run", str(run), "--quiet",
-         "--out", str(tmp_path / "out")],
-        cwd=ROOT, check=True,
-    )
-    cli = [
-        [float(c) for c in line.split()[1:]]
-        for line in (tmp_path / "out" / "model-deformed.obj").read_text().splitlines()
-        if line.startswith("v ")
-    ]
     assert np.allclose(t.deform(model[:3]), np.array(cli), rtol=0, atol=1e-12)

@@ -296,7 +296,66 @@ def _numbers(value: Any, what: str) -> str:
     return "(" + ", ".join(f'"{t}"' for t in _texts(value, what)) + ")"
 
 
-class Spline2d(System):
+def _array(rows: List[Any], width: int) -> Any:
+    """Float rows as an (N, width) numpy array when numpy is installed, else as given."""
+    try:
+        import numpy
+    except ImportError:
+        return rows
+    return numpy.array(rows, dtype=float).reshape(len(rows), width)
+
+
+def _float_pairs(points: Any) -> List[Tuple[float, float]]:
+    return [(float(p[0]), float(p[1])) for p in points]
+
+
+class _MeshSource(System):
+    """A source built on a reference triangulation from arrays: its run-file mesh, its
+    operations (written as in run files) and the float deformation of models."""
+
+    def __init__(
+        self,
+        name: str,
+        plugin: str,
+        vertices: Iterable[Sequence[Any]],
+        triangles: Iterable[Sequence[int]],
+        config: str,
+    ):
+        if not re.fullmatch(r"[A-Za-z0-9_-]+", name):
+            raise InputError(f"source name {name!r}: letters, digits, '_' and '-' only")
+        points = ", ".join(_numbers(v, "vertex") for v in vertices)
+        faces = ", ".join("(" + ", ".join(str(int(i)) for i in t) + ")" for t in triangles)
+        mesh = f"mesh: (vertices: [{points}], triangles: [{faces}])"
+        text = (
+            f'(sources: [(name: "{name}", plugin: "{plugin}", '
+            f"config: ({config.replace('MESH', mesh)}))])"
+        )
+        super().__init__(_ecles.Session.from_run_text(text))
+        self.name = name
+
+    def _operation(
+        self, anchors: Sequence[str], neighborhood: Optional[int], motion: str, mode: str = ""
+    ) -> str:
+        names = ", ".join(json.dumps(str(a)) for a in anchors)
+        reach = '"all"' if neighborhood is None else str(int(neighborhood))
+        return f"({mode}anchors: [{names}], neighborhood: {reach}, {motion})"
+
+    def deform(self, vertices: Any) -> Any:
+        """Model vertices (floats) deformed by psi: (N, 2) or (N, 3) for a spline (z kept),
+        (N, 3) for a terrain. Vertices outside the mesh (or a terrain's layer) stay where they
+        are, with a warning, and so does every vertex psi leaves exactly in place. A numpy
+        array when numpy is installed, else a list."""
+        rows = [[float(c) for c in v] for v in vertices]
+        out, outside = self._native.deform(self.name, rows)
+        if outside:
+            warnings.warn(
+                f"{outside} of {len(rows)} vertices lie outside the {type(self).__name__} "
+                "and were not moved"
+            )
+        return _array(out, len(rows[0]) if rows else 0)
+
+
+class Spline2d(_MeshSource):
     """A C^r spline deformation of the plane (the `spline2d` source): degree-`degree` Bézier
     patches over a reference triangulation given by `vertices` (exact: ints, Fractions or
     decimal strings; numpy integer arrays) and counter-clockwise `triangles` (0-based).
@@ -313,36 +372,15 @@ class Spline2d(System):
         smoothness: int = 1,
         name: str = "spline",
     ):
-        if not re.fullmatch(r"[A-Za-z0-9_-]+", name):
-            raise InputError(f"source name {name!r}: letters, digits, '_' and '-' only")
-        points = ", ".join(_numbers(v, "vertex") for v in vertices)
-        faces = ", ".join(
-            "(" + ", ".join(str(int(i)) for i in t) + ")" for t in triangles
-        )
-        text = (
-            f'(sources: [(name: "{name}", plugin: "spline2d", config: (mesh: '
-            f"(vertices: [{points}], triangles: [{faces}]), degree: {int(degree)}, "
-            f"smoothness: {int(smoothness)}))])"
-        )
-        super().__init__(_ecles.Session.from_run_text(text))
-        self.name = name
-
-    def _operation(self, anchors: Sequence[str], neighborhood: Optional[int], motion: str) -> str:
-        names = ", ".join(json.dumps(str(a)) for a in anchors)
-        reach = '"all"' if neighborhood is None else str(int(neighborhood))
-        return f"(anchors: [{names}], neighborhood: {reach}, {motion})"
-
-    def _operate(self, operation: str, criterion: str) -> Dict[str, Value]:
-        out = _raising(self._native.operate, self.name, operation, criterion)
-        return {name: _value(texts) for name, texts in out}
+        config = f"MESH, degree: {int(degree)}, smoothness: {int(smoothness)}"
+        super().__init__(name, "spline2d", vertices, triangles, config)
 
     def select(
         self, anchors: Sequence[str], neighborhood: Optional[int] = 3
     ) -> Tuple[List[str], List[str]]:
         """2DSD Select and ExpandDerived: the anchors' parameters and the derived set
         (`neighborhood=None`: every control point)."""
-        operation = self._operation(anchors, neighborhood, 'translate: ("0", "0")')
-        return tuple(_raising(self._native.plan, self.name, operation))
+        return self.plan(self.name, self._operation(anchors, neighborhood, 'translate: ("0", "0")'))
 
     def translate(
         self,
@@ -353,7 +391,7 @@ class Spline2d(System):
     ) -> Dict[str, Value]:
         """A soft translation of the anchors by `by` (exact), committed; the new values."""
         motion = f"translate: {_numbers(by, 'translation')}"
-        return self._operate(self._operation(anchors, neighborhood, motion), criterion)
+        return self.operate(self.name, self._operation(anchors, neighborhood, motion), criterion)
 
     def rotate(
         self,
@@ -368,7 +406,7 @@ class Spline2d(System):
             f"rotate: (center: {_numbers(center, 'center')}, "
             f'degrees: "{_text(degrees, "degrees")}")'
         )
-        return self._operate(self._operation(anchors, neighborhood, motion), criterion)
+        return self.operate(self.name, self._operation(anchors, neighborhood, motion), criterion)
 
     def scale(
         self,
@@ -383,37 +421,17 @@ class Spline2d(System):
             f"scale: (center: {_numbers(center, 'center')}, "
             f'factor: "{_text(factor, "factor")}")'
         )
-        return self._operate(self._operation(anchors, neighborhood, motion), criterion)
+        return self.operate(self.name, self._operation(anchors, neighborhood, motion), criterion)
 
     def evaluate(self, points: Any) -> Any:
         """psi at each point of an (N, 2) array (floats), NaN outside the mesh; a numpy array
         when numpy is installed, else a list of pairs."""
-        pairs = [(float(p[0]), float(p[1])) for p in points]
-        out = self._native.evaluate(self.name, pairs)
         nan = float("nan")
-        rows = [(nan, nan) if v is None else v for v in out]
-        try:
-            import numpy
-        except ImportError:
-            return rows
-        return numpy.array(rows, dtype=float).reshape(len(rows), 2)
-
-    def deform(self, vertices: Any) -> Any:
-        """Model vertices, an (N, 2) or (N, 3) float array, deformed by psi (z kept). Vertices
-        outside the mesh stay where they are (with a warning), and so does every vertex psi
-        leaves exactly in place. A numpy array when numpy is installed, else a list."""
-        rows = [[float(c) for c in v] for v in vertices]
-        out, outside = self._native.deform(self.name, rows)
-        if outside:
-            warnings.warn(f"{outside} of {len(rows)} vertices lie outside the mesh and were not moved")
-        try:
-            import numpy
-        except ImportError:
-            return out
-        return numpy.array(out, dtype=float).reshape(len(out), len(rows[0]) if rows else 0)
+        out = self._native.evaluate(self.name, _float_pairs(points))
+        return _array([(nan, nan) if v is None else v for v in out], 2)
 
 
-class Terrain(System):
+class Terrain(_MeshSource):
     """A 2.5D deformation of a layer of prisms (the `terrain` source) over a reference
     triangulation (exact `vertices`, counter-clockwise `triangles`), between `z = bottom` and
     `z = top` (exact; `bottom` defaults to `-top`): bottom and top height splines, and with
@@ -432,22 +450,14 @@ class Terrain(System):
         xy: bool = False,
         name: str = "terrain",
     ):
-        if not re.fullmatch(r"[A-Za-z0-9_-]+", name):
-            raise InputError(f"source name {name!r}: letters, digits, '_' and '-' only")
-        points = ", ".join(_numbers(v, "vertex") for v in vertices)
-        faces = ", ".join(
-            "(" + ", ".join(str(int(i)) for i in t) + ")" for t in triangles
-        )
         layer = f'top: "{_text(top, "top")}"'
         if bottom is not None:
             layer += f', bottom: "{_text(bottom, "bottom")}"'
-        text = (
-            f'(sources: [(name: "{name}", plugin: "terrain", config: (spline: (mesh: '
-            f"(vertices: [{points}], triangles: [{faces}]), degree: {int(degree)}, "
-            f"smoothness: {int(smoothness)}), {layer}, xy: {'true' if xy else 'false'}))])"
+        config = (
+            f"spline: (MESH, degree: {int(degree)}, smoothness: {int(smoothness)}), "
+            f"{layer}, xy: {'true' if xy else 'false'}"
         )
-        super().__init__(_ecles.Session.from_run_text(text))
-        self.name = name
+        super().__init__(name, "terrain", vertices, triangles, config)
 
     def lift(
         self,
@@ -459,39 +469,14 @@ class Terrain(System):
     ) -> Dict[str, Value]:
         """Raises (or lowers) the anchors of the top (`"z1"`) or bottom (`"z0"`) surface by
         `dz` (exact), the derived points following; committed. The new values."""
-        names = ", ".join(json.dumps(str(a)) for a in anchors)
-        reach = '"all"' if neighborhood is None else str(int(neighborhood))
-        operation = (
-            f"(mode: {json.dumps(surface)}, anchors: [{names}], neighborhood: {reach}, "
-            f'dz: "{_text(dz, "dz")}")'
+        operation = self._operation(
+            anchors, neighborhood, f'dz: "{_text(dz, "dz")}"', mode=f"mode: {json.dumps(surface)}, "
         )
         return self.operate(self.name, operation, criterion)
 
     def heights(self, points: Any) -> Any:
         """The bottom and top heights at each point of an (N, 2) array (floats; NaN outside
         the mesh): an (N, 2) numpy array when numpy is installed, else a list."""
-        pairs = [(float(p[0]), float(p[1])) for p in points]
         nan = float("nan")
-        rows = [(nan, nan) if v is None else v
-                for v in self._native.terrain_heights(self.name, pairs)]
-        try:
-            import numpy
-        except ImportError:
-            return rows
-        return numpy.array(rows, dtype=float).reshape(len(rows), 2)
-
-    def deform(self, vertices: Any) -> Any:
-        """A model's (N, 3) float vertices deformed by psi. Vertices outside the mesh or the
-        layer stay where they are (with a warning), and so does every vertex of a prism whose
-        values did not move."""
-        rows = [[float(c) for c in v] for v in vertices]
-        out, outside = self._native.terrain_deform(self.name, rows)
-        if outside:
-            warnings.warn(
-                f"{outside} of {len(rows)} vertices lie outside the layer of prisms and were not moved"
-            )
-        try:
-            import numpy
-        except ImportError:
-            return out
-        return numpy.array(out, dtype=float).reshape(len(out), 3)
+        out = self._native.heights(self.name, _float_pairs(points))
+        return _array([(nan, nan) if v is None else v for v in out], 2)
