@@ -6,7 +6,8 @@ mod common;
 
 use base64::Engine as _;
 use common::{
-    ecles, expect_bad_input, library, read_report, root, run_file, stderr, temp, without_origin,
+    ecles, example_text, expect_bad_input, library, read_report, root, run_file, run_text_ok,
+    stderr, temp, without_origin,
 };
 use serde_json::Value;
 
@@ -997,26 +998,14 @@ fn bad_criteria_are_refused_before_the_first_edit() {
 /// proven minimal, no more than L1 changes, and fewer than the derived points.
 #[test]
 fn a_source_operation_takes_a_criterion() {
-    let text = std::fs::read_to_string(root().join("examples/worm.ron")).expect("worm");
-    let examples = root().join("examples").display().to_string();
+    let text = example_text("worm.ron", &["meshes/"]);
     let start = text.find("edits: [").expect("edits");
     let mut chosen = Vec::new();
     for criterion in ["L1", "Fewest"] {
-        let run = format!(
+        let report = run_text_ok(&format!(
             "{}edits: [Source(source: \"worm\", operation: (anchors: [\"v3\"], neighborhood: 2, translate: (\"0\", \"6\")), criterion: {criterion})])",
             &text[..start]
-        )
-        .replace("\"meshes/", &format!("\"{examples}/meshes/"));
-        let (_dir, path, out) = run_file(&run);
-        let o = ecles(&[
-            "run",
-            &path.display().to_string(),
-            "--quiet",
-            "--out",
-            &out.display().to_string(),
-        ]);
-        assert!(o.status.success(), "{criterion}: {}", stderr(&o));
-        let report = read_report(&out);
+        ));
         let e = report["edits"][0].clone();
         assert_eq!(e["solvable"], true, "{e}");
         assert_eq!(e["max_residual"], "0");
@@ -1036,9 +1025,7 @@ fn a_source_operation_takes_a_criterion() {
 /// translation with the least absolute change, every row exact.
 #[test]
 fn terrain_operations_take_criteria() {
-    let examples = root().join("examples").display().to_string();
-    let text = std::fs::read_to_string(root().join("examples/terrain.ron"))
-        .expect("terrain example")
+    let text = example_text("terrain.ron", &["terrains/", "meshes/", "models/"])
         .replace(
             "dz: \"16\", steps: 2)),",
             "dz: \"16\", steps: 2), criterion: Fewest),",
@@ -1047,21 +1034,7 @@ fn terrain_operations_take_criteria() {
             "translate: (\"-6\", \"0\"))),",
             "translate: (\"-6\", \"0\")), criterion: L1),",
         );
-    let text = ["terrains/", "meshes/", "models/"]
-        .iter()
-        .fold(text, |t, dir| {
-            t.replace(&format!("\"{dir}"), &format!("\"{examples}/{dir}"))
-        });
-    let (_dir, path, out) = run_file(&text);
-    let o = ecles(&[
-        "run",
-        &path.display().to_string(),
-        "--quiet",
-        "--out",
-        &out.display().to_string(),
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let report = read_report(&out);
+    let report = run_text_ok(&text);
     let edits = report["edits"].as_array().expect("edits");
     for (e, measure) in edits.iter().zip(["Fewest", "L1"]) {
         assert_eq!(e["solvable"], true, "{e}");

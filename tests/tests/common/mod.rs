@@ -105,6 +105,31 @@ pub fn run_file(text: &str) -> (tempfile::TempDir, PathBuf, PathBuf) {
     (dir, path, out)
 }
 
+/// Runs the run-file text `text` (written in a temporary directory) with `--quiet`; asserts it
+/// succeeds and returns its report.
+pub fn run_text_ok(text: &str) -> Value {
+    let (_dir, path, out) = run_file(text);
+    let o = ecles(&[
+        "run",
+        &path.display().to_string(),
+        "--quiet",
+        "--out",
+        &out.display().to_string(),
+    ]);
+    assert!(o.status.success(), "{text}\n{}", stderr(&o));
+    read_report(&out)
+}
+
+/// A bundled example's text with its relative paths into `dirs` (`"meshes/"`, …) made
+/// absolute, to run from anywhere.
+pub fn example_text(name: &str, dirs: &[&str]) -> String {
+    let examples = root().join("examples").display().to_string();
+    let text = std::fs::read_to_string(root().join("examples").join(name)).expect("an example");
+    dirs.iter().fold(text, |t, dir| {
+        t.replace(&format!("\"{dir}"), &format!("\"{examples}/{dir}"))
+    })
+}
+
 pub fn expect_bad_input(text: &str, needles: &[&str]) {
     let (_dir, path, out) = run_file(text);
     let o = ecles(&[
