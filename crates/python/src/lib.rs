@@ -31,6 +31,9 @@ pyo3::create_exception!(
     "An edit the constraints forbid: args are (message, conflicting row labels, explanation lines)."
 );
 
+/// Exact values by name, each coordinate as (numerator, denominator) in lowest terms.
+type ExactValues = Vec<(String, Vec<(num_bigint::BigInt, num_bigint::BigInt)>)>;
+
 /// The largest input file read, as the command line's default (`--max-input-bytes`).
 const DEFAULT_INPUT_LIMIT: u64 = 256 << 20;
 
@@ -91,7 +94,7 @@ impl Worker {
                     }
                 };
                 let _ = ready.send(Ok(()));
-                while let Ok(job) = queue.recv() {
+                while let Some(job) = next_job(&queue) {
                     job(&mut session);
                 }
             })
@@ -143,7 +146,10 @@ impl Worker {
         let mut receiver = answered;
         loop {
             let (received, back) = py.detach(move || {
-                let received = receiver.recv_timeout(SIGNAL_CHECK_INTERVAL);
+                let received = match spin_receive(&receiver) {
+                    Some(outcome) => Ok(outcome),
+                    None => receiver.recv_timeout(SIGNAL_CHECK_INTERVAL),
+                };
                 (received, receiver)
             });
             receiver = back;
@@ -157,6 +163,31 @@ impl Worker {
             }
         }
     }
+}
+
+/// How long the session's thread and a waiting caller poll before they sleep: a parked
+/// thread takes tens of microseconds to wake, more than a small update costs, and calls come
+/// in bursts (the frames of a drag).
+const SPIN: std::time::Duration = std::time::Duration::from_micros(200);
+
+/// A message from `receiver` if one comes within [`SPIN`], polling (with `yield_now`) rather
+/// than sleeping.
+fn spin_receive<T>(receiver: &mpsc::Receiver<T>) -> Option<T> {
+    let start = std::time::Instant::now();
+    loop {
+        match receiver.try_recv() {
+            Ok(message) => return Some(message),
+            Err(mpsc::TryRecvError::Disconnected) => return None,
+            Err(mpsc::TryRecvError::Empty) if start.elapsed() < SPIN => std::thread::yield_now(),
+            Err(mpsc::TryRecvError::Empty) => return None,
+        }
+    }
+}
+
+/// The session thread's next job: one that comes within [`SPIN`] of the last is taken at once,
+/// else the thread sleeps until one comes; `None` once the session is dropped.
+fn next_job(queue: &mpsc::Receiver<Job>) -> Option<Job> {
+    spin_receive(queue).or_else(|| queue.recv().ok())
 }
 
 /// How often a waiting call looks for a `KeyboardInterrupt`.
@@ -282,8 +313,8 @@ impl PySession {
         })
     }
 
-    /// Every parameter's current value: (name, exact coordinates as text).
-    fn values(&self, py: Python<'_>) -> PyResult<Vec<(String, Vec<String>)>> {
+    /// Every parameter's current value: (name, exact coordinates as (numerator, denominator)).
+    fn values(&self, py: Python<'_>) -> PyResult<ExactValues> {
         self.worker.run(py, |session| {
             Ok(session
                 .system()
@@ -292,7 +323,13 @@ impl PySession {
                 .enumerate()
                 .map(|(i, p)| {
                     let value = session.values().get(api::ParamId(i as u32));
-                    (p.name.clone(), value.iter().map(format_rational).collect())
+                    (
+                        p.name.clone(),
+                        value
+                            .iter()
+                            .map(|r| (r.numer().clone(), r.denom().clone()))
+                            .collect(),
+                    )
                 })
                 .collect())
         })
@@ -437,7 +474,7 @@ impl PySession {
         source: String,
         operation: String,
         criterion: String,
-    ) -> PyResult<Vec<(String, Vec<String>)>> {
+    ) -> PyResult<ExactValues> {
         let measure = measure(&criterion)?;
         self.worker.run_to_end(py, move |session| {
             let plan = planned(session, &source, &operation)?;
@@ -646,10 +683,9 @@ impl PyEdit {
         result.map_err(|e| unsolvable(session, &state.plan, &e))
     }
 
-    fn named(
-        session: &Session,
-        result: &ecles::UpdateResult<Rational>,
-    ) -> Vec<(String, Vec<String>)> {
+    /// The values of an update by name, each coordinate as (numerator, denominator): Python
+    /// ints, cheaper to turn into `Fraction`s than text.
+    fn named(session: &Session, result: &ecles::UpdateResult<Rational>) -> ExactValues {
         result
             .anchors
             .iter()
@@ -657,7 +693,9 @@ impl PyEdit {
             .map(|(id, v)| {
                 (
                     session.system().params()[id.index()].name.clone(),
-                    v.iter().map(format_rational).collect(),
+                    v.iter()
+                        .map(|r| (r.numer().clone(), r.denom().clone()))
+                        .collect(),
                 )
             })
             .collect()
@@ -674,7 +712,7 @@ impl PyEdit {
         py: Python<'_>,
         anchors: Option<Vec<(String, Vec<String>)>>,
         hints: Option<Vec<(String, Vec<String>)>>,
-    ) -> PyResult<Vec<(String, Vec<String>)>> {
+    ) -> PyResult<ExactValues> {
         let state = Arc::clone(&self.state);
         self.worker.run(py, move |session| {
             let step = PyEdit::step(&state, session, anchors, hints)?;
@@ -733,7 +771,7 @@ impl PyEdit {
         py: Python<'_>,
         anchors: Option<Vec<(String, Vec<String>)>>,
         hints: Option<Vec<(String, Vec<String>)>>,
-    ) -> PyResult<Vec<(String, Vec<String>)>> {
+    ) -> PyResult<ExactValues> {
         let state = Arc::clone(&self.state);
         self.worker.run_to_end(py, move |session| {
             let step = PyEdit::step(&state, session, anchors, hints)?;

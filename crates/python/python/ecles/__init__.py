@@ -72,8 +72,10 @@ def _texts(value: Any, what: str) -> List[str]:
     return [_text(v, what) for v in value]
 
 
-def _value(texts: Sequence[str]) -> Value:
-    values = tuple(Fraction(t) for t in texts)
+def _value(pairs: Sequence[Tuple[int, int]]) -> Value:
+    """A parameter's exact value from its coordinates as (numerator, denominator) in lowest
+    terms: a Fraction, or a tuple of them for a point."""
+    values = tuple(Fraction(n, d) for n, d in pairs)
     return values[0] if len(values) == 1 else values
 
 
@@ -159,7 +161,7 @@ class Edit:
         out = _raising(
             self._native.update, self._pairs(anchors, "anchor"), self._pairs(hints, "hint")
         )
-        return {name: _value(texts) for name, texts in out}
+        return {name: _value(pairs) for name, pairs in out}
 
     def preview(
         self,
@@ -181,7 +183,7 @@ class Edit:
         out = _raising(
             self._native.apply, self._pairs(anchors, "anchor"), self._pairs(hints, "hint")
         )
-        return {name: _value(texts) for name, texts in out}
+        return {name: _value(pairs) for name, pairs in out}
 
     def __repr__(self) -> str:
         return f"Edit(anchors={self.anchors}, derived={len(self.derived)}, rank={self.rank})"
@@ -240,7 +242,7 @@ class System:
     @property
     def values(self) -> Dict[str, Value]:
         """Parameter name → exact current value (a Fraction, or a tuple for points)."""
-        return {name: _value(texts) for name, texts in self._native.values()}
+        return {name: _value(pairs) for name, pairs in self._native.values()}
 
     def explain(self, name: str) -> List[str]:
         """Why a parameter (or coordinate ``name[k]``) is fixed, limited or free."""
@@ -288,7 +290,7 @@ class System:
         """Runs and commits a source's operation written as in run files, under ``criterion``;
         returns the exact values of its anchors and derived parameters."""
         out = _raising(self._native.operate, source, operation, criterion)
-        return {name: _value(texts) for name, texts in out}
+        return {name: _value(pairs) for name, pairs in out}
 
 
 def _numbers(value: Any, what: str) -> str:
