@@ -1,7 +1,8 @@
 //! The native module of the `ecles` Python package (`ecles._ecles`): the host library's
-//! [`Session`] for Python, nothing implemented twice. Exact values cross the boundary as
-//! text (`"7/3"`, `"-12"`, decimals read exactly); the Python layer (`python/ecles`) turns
-//! them into `int` and `fractions.Fraction` and refuses floats where a value must be exact.
+//! [`Session`] for Python, nothing implemented twice. Exact values go in as text (`"7/3"`,
+//! `"-12"`, decimals read exactly) and come back as (numerator, denominator) ints; the Python
+//! layer (`python/ecles`) turns them into and from `int` and `fractions.Fraction` and refuses
+//! floats where a value must be exact.
 //! Long exact work runs with the GIL released; a panic becomes a Python exception (PyO3's
 //! `PanicException`), never an abort.
 
