@@ -3,8 +3,8 @@
 //! `"-12"`, decimals read exactly) and come back as (numerator, denominator) ints; the Python
 //! layer (`python/ecles`) turns them into and from `int` and `fractions.Fraction` and refuses
 //! floats where a value must be exact.
-//! Long exact work runs with the GIL released; a panic becomes a Python exception (PyO3's
-//! `PanicException`), never an abort.
+//! Long exact work runs on the session's own thread with the GIL released; a panic there
+//! becomes a Python exception ("internal error …"), never an abort, and the session goes on.
 
 mod spline;
 
@@ -38,6 +38,7 @@ type ExactValues = Vec<(String, Vec<(num_bigint::BigInt, num_bigint::BigInt)>)>;
 /// The largest input file read, as the command line's default (`--max-input-bytes`).
 const DEFAULT_INPUT_LIMIT: u64 = 256 << 20;
 
+/// Bad input as `ecles.InputError`, with the host's message.
 pub(crate) fn input_error(message: impl ToString) -> PyErr {
     InputError::new_err(message.to_string())
 }
