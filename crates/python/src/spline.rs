@@ -120,7 +120,7 @@ pub(crate) enum Deformation {
 impl Deformation {
     /// The deformation of source `name`.
     pub(crate) fn of(session: &Session, name: &str) -> PyResult<Deformation> {
-        match session.view(name).map_err(crate::input_error)? {
+        match session.deformation_view(name).map_err(crate::input_error)? {
             Some(SourceView::BezierTriangles(view)) => Deformation::plane(session, &view),
             Some(SourceView::Prisms(view)) => Deformation::prisms(session, &view),
             None => Err(crate::input_error(format!(

@@ -872,6 +872,24 @@ mod tests {
     const WORM: &str =
         r#"(sources: [(name: "worm", plugin: "spline2d", config: (mesh: "meshes/worm.obj"))])"#;
 
+    /// A session from run text: built like a run file's; text over the input limit is refused
+    /// before it is read. The deformation view is the view without the outputs' models.
+    #[test]
+    fn run_text_builds_a_session_within_the_input_limit() {
+        let text = r#"(sources: [(name: "eq", plugin: "linear", config: (parameters: {"a": "1"}, equations: ["a = 1"]))])"#;
+        let session = Session::build_text(text, "run text", std::path::Path::new("."), 1 << 20)
+            .expect("built");
+        assert_eq!(session.system().params().len(), 1);
+        let refused = Session::build_text(text, "run text", std::path::Path::new("."), 10)
+            .err()
+            .expect("over the limit");
+        assert!(refused.to_string().starts_with("run text: "), "{refused}");
+        assert!(
+            refused.to_string().contains("input limit of 10"),
+            "{refused}"
+        );
+    }
+
     /// An editor draws a spline source from its view and the current values: every patch's
     /// points are parameters of the system; other sources draw nothing; unknown ones are named.
     #[test]
@@ -922,6 +940,17 @@ mod tests {
             assert_eq!(placed.embedding.len(), placed.vertices.len());
             assert!(placed.embedding.iter().any(Option::is_some));
             assert_eq!(placed.name, format!("models/{model}-model.obj"));
+            // The deformation view is the same spline without the models.
+            let Some(api::SourceView::BezierTriangles(alone)) =
+                session.deformation_view(name).expect("view")
+            else {
+                panic!("spline2d draws Bézier triangles");
+            };
+            assert!(alone.models.is_empty());
+            assert_eq!(
+                (alone.patches, alone.vertices),
+                (view.patches, view.vertices)
+            );
         }
     }
 

@@ -158,6 +158,12 @@ impl Session {
         base_dir: &Path,
         input_limit: u64,
     ) -> Result<Session, RunError> {
+        if text.len() as u64 > input_limit {
+            return Err(RunError::input(format!(
+                "{name}: {} bytes of run text, more than the input limit of {input_limit}",
+                text.len()
+            )));
+        }
         let run = runfile::parse(text, name).map_err(|e| RunError::input(e.to_string()))?;
         Session::of_run(&base_dir.join(name), run, input_limit)
     }
@@ -451,7 +457,6 @@ impl Session {
     /// source draws nothing. The request names the run file's outputs for this source (their
     /// `output` text, in run-file order), so the view carries the models they deform.
     pub fn view(&self, name: &str) -> Result<Option<api::SourceView>, RunError> {
-        let loaded = self.loaded(name)?;
         let outputs = self
             .run
             .outputs
@@ -459,6 +464,23 @@ impl Session {
             .filter(|entry| entry.source == name)
             .map(|entry| entry.output.text().to_string())
             .collect();
+        self.view_with(name, outputs)
+    }
+
+    /// [`Session::view`] without the outputs' models: the spline or prisms alone, for a caller
+    /// that evaluates the deformation itself (placing a large model in the mesh is work it
+    /// does not need).
+    pub fn deformation_view(&self, name: &str) -> Result<Option<api::SourceView>, RunError> {
+        self.view_with(name, Vec::new())
+    }
+
+    /// The view of source `name` with the models of `outputs`, checked against the system.
+    fn view_with(
+        &self,
+        name: &str,
+        outputs: Vec<String>,
+    ) -> Result<Option<api::SourceView>, RunError> {
+        let loaded = self.loaded(name)?;
         let view = loaded
             .source
             .view(&api::ViewRequest {
