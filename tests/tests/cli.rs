@@ -6,8 +6,8 @@ mod common;
 
 use base64::Engine as _;
 use common::{
-    ecles, example_text, expect_bad_input, library, read_report, root, run_file, run_text_ok,
-    stderr, temp, without_origin,
+    ecles, example_text, expect_bad_input, library, read_report, root, run_file, run_quietly,
+    run_text_ok, stderr, temp, without_origin,
 };
 use serde_json::Value;
 
@@ -753,13 +753,7 @@ fn dynamic_plugins_give_the_same_results_as_the_static_ones() {
             )"#
         );
         let (dir, path, out) = run_file(&text);
-        let o = ecles(&[
-            "run",
-            &path.display().to_string(),
-            "--quiet",
-            "--out",
-            &out.display().to_string(),
-        ]);
+        let o = run_quietly(&path, &out);
         assert!(o.status.success(), "{}", stderr(&o));
         let svg = std::fs::read(out.join("w.svg")).expect("picture");
         (without_origin(read_report(&out)), svg, dir)

@@ -105,17 +105,22 @@ pub fn run_file(text: &str) -> (tempfile::TempDir, PathBuf, PathBuf) {
     (dir, path, out)
 }
 
-/// Runs the run-file text `text` (written in a temporary directory) with `--quiet`; asserts it
-/// succeeds and returns its report.
-pub fn run_text_ok(text: &str) -> Value {
-    let (_dir, path, out) = run_file(text);
-    let o = ecles(&[
+/// `ecles run PATH --quiet --out OUT`.
+pub fn run_quietly(path: &Path, out: &Path) -> Output {
+    ecles(&[
         "run",
         &path.display().to_string(),
         "--quiet",
         "--out",
         &out.display().to_string(),
-    ]);
+    ])
+}
+
+/// Runs the run-file text `text` (written in a temporary directory) with `--quiet`; asserts it
+/// succeeds and returns its report.
+pub fn run_text_ok(text: &str) -> Value {
+    let (_dir, path, out) = run_file(text);
+    let o = run_quietly(&path, &out);
     assert!(o.status.success(), "{text}\n{}", stderr(&o));
     read_report(&out)
 }
@@ -132,13 +137,7 @@ pub fn example_text(name: &str, dirs: &[&str]) -> String {
 
 pub fn expect_bad_input(text: &str, needles: &[&str]) {
     let (_dir, path, out) = run_file(text);
-    let o = ecles(&[
-        "run",
-        &path.display().to_string(),
-        "--quiet",
-        "--out",
-        &out.display().to_string(),
-    ]);
+    let o = run_quietly(&path, &out);
     let err = stderr(&o);
     assert_eq!(o.status.code(), Some(2), "{text}\n{err}");
     for needle in needles {
