@@ -574,7 +574,8 @@ pub(super) fn drag_frame(
         "planned": planned_text(active.linear.is_some() || active.linear_pending.is_some()),
     });
     if let Some(summary) = &chosen {
-        answer["criterion"] = criterion_json(session, summary);
+        // What report.json says of it: the page's status bar shows it.
+        answer["criterion"] = json!(session.criterion_report(summary));
     }
     if let Some(response) = &active.response {
         match response.try_recv() {
@@ -625,22 +626,6 @@ pub(super) fn drag_frame(
     }
     answer["server_ms"] = json!(started.elapsed().as_secs_f64() * 1e3);
     Ok(answer)
-}
-
-/// What a frame's change criterion chose, for the status bar.
-fn criterion_json(session: &Session, summary: &ecles::CriterionSummary) -> Value {
-    let supports = summary.supports.as_ref();
-    json!({
-        "measure": format!("{:?}", summary.measure),
-        "value": api::format_rational(&summary.value),
-        "changed": summary.changed.len(),
-        "changed_names": summary.changed.iter().take(8).map(|p| session.name(*p)).collect::<Vec<_>>(),
-        "unique": summary.optimal_face_dimension.map(|d| d == 0),
-        "optimal_face_dimension": summary.optimal_face_dimension,
-        "minimum_sets": supports.map(|s| s.count),
-        "ties_complete": supports.map(|s| s.ties_complete),
-        "proven_minimal": supports.map(|s| s.proven_minimal),
-    })
 }
 
 /// After the mouse-down frame of a translation or lift was answered: plans the unit motions and

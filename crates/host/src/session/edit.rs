@@ -532,8 +532,9 @@ impl Session {
         }
     }
 
-    /// The report of what a criterion chose.
-    fn criterion_report(
+    /// The report of what a criterion chose (report.json's `criterion`; the editor's frames
+    /// carry it too).
+    pub fn criterion_report(
         &self,
         summary: &ecles::CriterionSummary,
     ) -> crate::report::CriterionReport {

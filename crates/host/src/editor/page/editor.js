@@ -647,8 +647,8 @@ function report() {
 
 // What a drag's change criterion chose, for the status bar.
 function criterionText(c) {
-  const names = c.changed_names.join(", ") + (c.changed > c.changed_names.length ? ", …" : "");
-  let text = `${c.measure} ${c.value}: ${c.changed} points changed (${names})`;
+  const names = c.changed.slice(0, 8).join(", ") + (c.changed.length > 8 ? ", …" : "");
+  let text = `${c.measure} ${c.value}: ${c.changed.length} points changed (${names})`;
   if (c.unique === false) text += `, not unique (optima of dimension ${c.optimal_face_dimension})`;
   if (c.minimum_sets > 1) text += `, ${c.minimum_sets} equally small choices`;
   if (c.proven_minimal === false) text += ", not proven minimal";
