@@ -289,7 +289,7 @@ pub fn reduced_ratio(numer: BigInt, denom: BigInt) -> api::Rational {
 /// [`reduced_ratio`] of values within 127 bits, in machine words: no big-integer arithmetic,
 /// only the two results allocated (the values of small edits and drag frames). `None` when a
 /// value is `i128::MIN` (its magnitude has no `i128`) or the denominator is zero.
-fn reduced_small_ratio(n: i128, d: i128) -> Option<api::Rational> {
+pub fn reduced_small_ratio(n: i128, d: i128) -> Option<api::Rational> {
     if d == 0 || n == i128::MIN || d == i128::MIN {
         return None;
     }

@@ -44,7 +44,7 @@ pub use blocks::{
     component_matrices, components, submatrix, BlockFactorization, BlockLeastSquares,
 };
 pub use factorization::ExactFactorization;
-pub use gcd::{gcd_bigint, reduced_ratio};
+pub use gcd::{gcd_bigint, reduced_ratio, reduced_small_ratio};
 pub use ldu::{Ldu, Pivoting, Simplification, StageSnapshot};
 pub use lsq::ExactLeastSquares;
 pub use memo::forget_last_factoring;

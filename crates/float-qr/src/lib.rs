@@ -51,6 +51,7 @@
 //! assert!((x[3] - x[2] - 5.0).abs() < 1e-12);
 //! ```
 
+mod column_order;
 mod convert;
 mod factorization;
 mod lsq;

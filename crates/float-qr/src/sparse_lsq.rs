@@ -10,8 +10,9 @@
 //! triangular solves. Weak consistency is decided on every row of `A` with the dense backend's
 //! test: `|a_i·x − b_i| ≤ tolerance · (‖a_i‖ ‖x‖ + |b_i|)`.
 
+use crate::column_order::{column_order, RowPattern};
 use crate::convert::matrix_rows;
-use crate::sparse_rank::{column_order, rotate_in, sparse_row_rank, SparseRowRank, SparseVector};
+use crate::sparse_rank::{rotate_in, sparse_row_rank, SparseRowRank, SparseVector};
 use api::{BackendError, IntMatrix};
 
 /// Prepared weighted least squares (see the module documentation).
@@ -66,7 +67,7 @@ impl SparseLeastSquares {
             }
         }
         let r_count = rank.independent.len();
-        let order = column_order(&columns, r_count);
+        let order = column_order(&RowPattern::of_rows(&columns, r_count)?);
         let mut position = vec![0u32; r_count];
         for (p, &k) in order.iter().enumerate() {
             position[k] = p as u32;

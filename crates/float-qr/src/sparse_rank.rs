@@ -25,6 +25,7 @@
 //! sorted sparse rows. Every operation is a plain `f64` operation in a fixed order, so the
 //! answer is the same on every machine.
 
+use crate::column_order::{column_order, RowPattern};
 use crate::convert::{local_column, local_columns, matrix_rows, part_row};
 use api::{BackendError, IntMatrix, RankMargin};
 
@@ -47,7 +48,7 @@ pub fn sparse_row_rank(matrix: &IntMatrix, tolerance: f64) -> Result<SparseRowRa
     let n = matrix.cols();
     u32::try_from(n).map_err(|_| BackendError::Numerical("too many columns".into()))?;
     let rows = matrix_rows(matrix, "matrix")?;
-    let position = positions(&column_order(&rows, n));
+    let position = positions(&column_order(&RowPattern::of_rows(&rows, n)?));
     let scaled = rows
         .iter()
         .enumerate()
@@ -71,17 +72,14 @@ pub fn sparse_part_row_rank(
     let n = cols.len();
     u32::try_from(n).map_err(|_| BackendError::Numerical("too many columns".into()))?;
     let local = local_columns(matrix.cols(), cols);
-    let pattern = rows
-        .iter()
-        .map(|&i| {
-            matrix
-                .row(i)
-                .iter()
-                .map(|(j, _)| Ok((local_column(&local, i, *j, "matrix")?, ())))
-                .collect::<Result<Vec<_>, BackendError>>()
-        })
-        .collect::<Result<Vec<_>, BackendError>>()?;
-    let position = positions(&column_order(&pattern, n));
+    let mut pattern = RowPattern::with_capacity(rows.len(), n)?;
+    for &i in rows {
+        for (j, _) in matrix.row(i) {
+            pattern.push(local_column(&local, i, *j, "matrix")?)?;
+        }
+        pattern.end_row();
+    }
+    let position = positions(&column_order(&pattern));
     drop(pattern);
     let scaled = rows
         .iter()
@@ -147,57 +145,6 @@ fn rank_of_scaled(
             tolerance,
         },
     }
-}
-
-/// An order of the columns of `A` that keeps `R` sparse: approximate minimum degree (the `amd`
-/// crate) on the pattern of `Aᵀ A`; the natural order if it cannot be computed.
-///
-/// The pattern is gathered column by column through the transpose of `A` with a marker per
-/// column, so it is held once, without the repeats of a row per shared column (at a whole mesh
-/// those repeats were the analysis's peak of memory).
-pub(crate) fn column_order<T>(rows: &[Vec<(usize, T)>], cols: usize) -> Vec<usize> {
-    let natural = || (0..cols).collect::<Vec<_>>();
-    let (Some((starts, indices)), Ok(size)) = (normal_pattern(rows, cols), isize::try_from(cols))
-    else {
-        return natural();
-    };
-    match amd::order::<isize>(size, &starts, &indices, &amd::Control::default()) {
-        Ok((order, _, _)) if order.len() == cols => order.into_iter().map(|k| k as usize).collect(),
-        _ => natural(),
-    }
-}
-
-/// The pattern of `Aᵀ A` (every column with itself, and with every column it shares a row
-/// with), as column starts and sorted row indices; `None` if an index does not fit an `isize`.
-fn normal_pattern<T>(rows: &[Vec<(usize, T)>], cols: usize) -> Option<(Vec<isize>, Vec<isize>)> {
-    let mut rows_of: Vec<Vec<u32>> = vec![Vec::new(); cols];
-    for (r, row) in rows.iter().enumerate() {
-        let r = u32::try_from(r).ok()?;
-        for (c, _) in row {
-            rows_of[*c].push(r);
-        }
-    }
-    let index = |k: usize| isize::try_from(k).ok();
-    let mut mark = vec![usize::MAX; cols];
-    let mut starts = Vec::with_capacity(cols + 1);
-    let mut indices = Vec::new();
-    starts.push(0);
-    for (c, its_rows) in rows_of.iter().enumerate() {
-        let from = indices.len();
-        mark[c] = c;
-        indices.push(index(c)?);
-        for r in its_rows {
-            for (d, _) in &rows[*r as usize] {
-                if mark[*d] != c {
-                    mark[*d] = c;
-                    indices.push(index(*d)?);
-                }
-            }
-        }
-        indices[from..].sort_unstable();
-        starts.push(index(indices.len())?);
-    }
-    Some((starts, indices))
 }
 
 /// Rotates the row `x` into `R` (George–Heath): while its first position `k` holds a row of
@@ -312,28 +259,5 @@ mod tests {
         let rank = sparse_row_rank(&matrix(n, &refs), 1e-10).expect("finite");
         assert_eq!(rank.rank, n - 1);
         assert_eq!(rank.independent.len(), n - 1);
-    }
-
-    /// The pattern of `Aᵀ A`: each column with itself and with the columns it shares a row
-    /// with, once, sorted (an empty column with itself alone); the order a permutation.
-    #[test]
-    fn the_normal_pattern_has_each_pair_once() {
-        let rows: Vec<Vec<(usize, f64)>> = vec![
-            vec![(3, 1.0), (0, 2.0)],
-            vec![(0, 1.0), (1, -1.0), (3, 4.0)],
-            vec![(1, 2.0), (1, 2.0)],
-        ];
-        let (starts, indices) = normal_pattern(&rows, 5).expect("small");
-        let columns: Vec<&[isize]> = starts
-            .windows(2)
-            .map(|w| &indices[w[0] as usize..w[1] as usize])
-            .collect();
-        assert_eq!(
-            columns,
-            vec![&[0, 1, 3][..], &[0, 1, 3], &[2], &[0, 1, 3], &[4]]
-        );
-        let mut order = column_order(&rows, 5);
-        order.sort_unstable();
-        assert_eq!(order, vec![0, 1, 2, 3, 4]);
     }
 }

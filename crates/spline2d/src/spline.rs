@@ -9,7 +9,7 @@
 //!   are the barycentric coordinates of `v`'s opposite vertex relative to `u`. The coefficients
 //!   are rational; each row is scaled to coprime integers.
 
-use crate::mesh::{Mesh, Point, Topology};
+use crate::mesh::{twice_area, Mesh, Point, Topology};
 use api::{Integer, Rational};
 use num_integer::Integer as _;
 use num_traits::{One, Zero};
@@ -249,6 +249,48 @@ fn scaled_vertices(mesh: &Mesh) -> (Integer, Vec<[Integer; 2]>) {
     (common, scaled)
 }
 
+/// The scaled vertex coordinates and the positions' denominator in machine words, when the
+/// coordinates fit an `i64` and the denominator (`common · d`) an `i128`: the nominal
+/// positions of a mesh with integer or short decimal coordinates are then sums of three
+/// products in `i128` (see [`nominal_in_words`]).
+fn nominal_words(
+    scaled: &[[Integer; 2]],
+    denominator: &Integer,
+    degree: usize,
+) -> Option<(Vec<[i128; 2]>, i128)> {
+    use num_traits::ToPrimitive;
+    // Three terms of at most 2^63 · d each must not overflow: d below 2^60 is plenty.
+    if degree >= 1 << 60 {
+        return None;
+    }
+    let scaled = scaled
+        .iter()
+        .map(|[x, y]| Some([i128::from(x.to_i64()?), i128::from(y.to_i64()?)]))
+        .collect::<Option<Vec<_>>>()?;
+    Some((scaled, denominator.to_i128()?))
+}
+
+/// The nominal position `(i a + j b + k c) / d` of the control point with weights `idx` on the
+/// corners `tri`, in machine words (checked: `None` if a sum overflows).
+fn nominal_in_words(
+    tri: &[usize; 3],
+    idx: &[usize; 3],
+    scaled: &[[i128; 2]],
+    denominator: i128,
+) -> Option<Point> {
+    let mut sums = [0i128; 2];
+    for (v, w) in tri.iter().zip(idx) {
+        let w = i128::try_from(*w).ok()?;
+        for (sum, c) in sums.iter_mut().zip(scaled[*v]) {
+            *sum = sum.checked_add(c.checked_mul(w)?)?;
+        }
+    }
+    Some([
+        exact_ldu::reduced_small_ratio(sums[0], denominator)?,
+        exact_ldu::reduced_small_ratio(sums[1], denominator)?,
+    ])
+}
+
 impl Spline {
     /// The index of the control point named `name` (see [`ControlPoint::name`]).
     pub fn point_index(&self, name: &str) -> Option<usize> {
@@ -367,10 +409,17 @@ impl Spline {
         let (common, scaled) = scaled_vertices(&self.mesh);
         let denominator = &common * Integer::from(d);
         let indices = multi_indices(d);
+        let words = nominal_words(&scaled, &denominator, d);
         let mut done = vec![false; self.points.len()];
         for (tri, own) in self.mesh.triangles().iter().zip(&self.triangle_points) {
             for (idx, &point) in indices.iter().zip(own) {
                 if std::mem::replace(&mut done[point], true) {
+                    continue;
+                }
+                if let Some(position) = words.as_ref().and_then(|(scaled, denominator)| {
+                    nominal_in_words(tri, idx, scaled, *denominator)
+                }) {
+                    f(point, position);
                     continue;
                 }
                 let mut sums = [Integer::zero(), Integer::zero()];
@@ -612,22 +661,22 @@ impl Spline {
 
     /// Number of distinct lines through vertex `v` and one of `neighbours`.
     fn slopes_towards(&self, v: usize, neighbours: &[usize]) -> usize {
-        let p = &self.mesh.vertices()[v];
-        let mut directions: Vec<(Rational, Rational)> = Vec::new();
+        let vertices = self.mesh.vertices();
+        let p = &vertices[v];
+        // One neighbour per line: `q` is on the line of `r` when `p`, `r`, `q` are collinear
+        // (a line, not a ray: either side of `p`), which `twice_area` decides exactly, in
+        // machine words for short coordinates.
+        let mut lines: Vec<usize> = Vec::new();
         for &other in neighbours {
-            let q = &self.mesh.vertices()[other];
-            let (dx, dy) = (&q[0] - &p[0], &q[1] - &p[1]);
-            // Normalise the direction up to sign: a line, not a ray.
-            let dir = if dx.is_zero() {
-                (Rational::zero(), Rational::one())
-            } else {
-                (Rational::one(), dy / dx)
-            };
-            if !directions.contains(&dir) {
-                directions.push(dir);
+            let q = &vertices[other];
+            if !lines
+                .iter()
+                .any(|&r| twice_area(p, &vertices[r], q).is_zero())
+            {
+                lines.push(other);
             }
         }
-        directions.len()
+        lines.len()
     }
 }
 

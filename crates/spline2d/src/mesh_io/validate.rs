@@ -21,7 +21,8 @@ pub(super) fn validate(
     }
     let count = vertices.len();
     let mut warnings = Vec::new();
-    let mut seen: HashMap<[usize; 3], usize> = HashMap::new();
+    let mut seen: HashMap<[usize; 3], usize, foldhash::fast::FixedState> =
+        HashMap::with_capacity_and_hasher(triangles.len(), Default::default());
     for (t, tri) in triangles.iter_mut().enumerate() {
         if let Some(&bad) = tri.iter().find(|&&v| v >= count) {
             let hint = if count == 0 {
@@ -79,27 +80,30 @@ pub(super) fn validate(
         seen.insert(key, t);
     }
 
-    // Directed edges `(triangle, from, to)` per undirected edge `(a, b)`, in triangle order.
-    type Sides = Vec<(usize, usize, usize)>;
-    let mut edges: HashMap<(usize, usize), Sides> = HashMap::new();
+    // Directed sides `(a, b, triangle, from, to)` of the undirected edges `(a, b)`, sorted by
+    // edge, then triangle: each edge's sides are a run in triangle order (a sort, not a map of
+    // vectors: no allocation per edge, which at a whole mesh was most of the check's time).
+    let mut sides: Vec<(usize, usize, usize, usize, usize)> =
+        Vec::with_capacity(3 * triangles.len());
     for (t, tri) in triangles.iter().enumerate() {
         for k in 0..3 {
             let (p, q) = (tri[k], tri[(k + 1) % 3]);
-            edges
-                .entry((p.min(q), p.max(q)))
-                .or_default()
-                .push((t, p, q));
+            sides.push((p.min(q), p.max(q), t, p, q));
         }
     }
+    sides.sort_unstable();
+    let on_edge_of = |a: usize, b: usize| {
+        let from = sides.partition_point(|s| (s.0, s.1) < (a, b));
+        let to = from + sides[from..].partition_point(|s| (s.0, s.1) == (a, b));
+        &sides[from..to]
+    };
     for (t, tri) in triangles.iter().enumerate() {
         for k in 0..3 {
             let (p, q) = (tri[k], tri[(k + 1) % 3]);
             let (a, b) = (p.min(q), p.max(q));
-            let Some(on_edge) = edges.get(&(a, b)) else {
-                continue;
-            };
+            let on_edge = on_edge_of(a, b);
             if on_edge.len() > 2 {
-                let third = on_edge[2].0;
+                let third = on_edge[2].2;
                 return Err(origins.error(
                     origins.triangle_line(third),
                     None,
@@ -109,12 +113,12 @@ pub(super) fn validate(
                         b,
                         triangles: on_edge
                             .iter()
-                            .map(|&(s, _, _)| (s, origins.triangle_line(s)))
+                            .map(|&(_, _, s, _, _)| (s, origins.triangle_line(s)))
                             .collect(),
                     },
                 ));
             }
-            if let [(first, from, to), (second, _, _)] = on_edge[..] {
+            if let [(_, _, first, from, to), (_, _, second, _, _)] = *on_edge {
                 if second == t && (from, to) == (p, q) {
                     return Err(origins.error(
                         origins.triangle_line(t),
