@@ -14,17 +14,28 @@ pub type Point = [Rational; 2];
 
 /// Twice the signed area of the triangle `a b c` (positive when counter-clockwise).
 pub fn twice_area(a: &Point, b: &Point, c: &Point) -> Rational {
-    if let Some(area) = twice_area_in_words(a, b, c) {
-        return area;
+    if let Some((numer, denom)) = twice_area_in_words(a, b, c) {
+        return Rational::new(numer.into(), denom.into());
     }
     (&b[0] - &a[0]) * (&c[1] - &a[1]) - (&b[1] - &a[1]) * (&c[0] - &a[0])
 }
 
-/// [`twice_area`] in `i128` when every coordinate's numerator and denominator fits an `i64`
-/// and no step overflows (checked), reduced once at the end; `None` otherwise. Meshes with
-/// integer or short decimal coordinates (a whole mesh's hundred thousand triangles) take this
-/// path instead of a dozen reduced big-rational operations per triangle.
-fn twice_area_in_words(a: &Point, b: &Point, c: &Point) -> Option<Rational> {
+/// The sign of [`twice_area`]: `Greater` when `a b c` turn counter-clockwise, `Equal` when they
+/// are collinear. Without building the area as a fraction when the words suffice (the mesh
+/// checks and the count of lines through each vertex ask only this).
+pub fn orientation(a: &Point, b: &Point, c: &Point) -> std::cmp::Ordering {
+    match twice_area_in_words(a, b, c) {
+        Some((numer, _)) => numer.cmp(&0),
+        None => twice_area(a, b, c).cmp(&Rational::zero()),
+    }
+}
+
+/// [`twice_area`] in `i128` as an unreduced fraction with a positive denominator, when every
+/// coordinate's numerator and denominator fits an `i64` and no step overflows (checked);
+/// `None` otherwise. Meshes with integer or short decimal coordinates (a whole mesh's hundred
+/// thousand triangles) take this path instead of a dozen reduced big-rational operations per
+/// triangle.
+fn twice_area_in_words(a: &Point, b: &Point, c: &Point) -> Option<(i128, i128)> {
     use num_traits::ToPrimitive;
     let word = |x: &Rational| -> Option<(i128, i128)> {
         Some((x.numer().to_i64()?.into(), x.denom().to_i64()?.into()))
@@ -55,7 +66,7 @@ fn twice_area_in_words(a: &Point, b: &Point, c: &Point) -> Option<Rational> {
             left_d.checked_mul(right_d)?,
         )
     };
-    Some(Rational::new(numer.into(), denom.into()))
+    Some((numer, denom))
 }
 
 /// A validated triangle mesh of the plane.
@@ -248,9 +259,11 @@ pub(crate) mod tests {
                 .collect();
             let (a, b, c) = ([x[0].clone(), x[1].clone()], [x[2].clone(), x[3].clone()], [x[4].clone(), x[5].clone()]);
             let exact = (&b[0] - &a[0]) * (&c[1] - &a[1]) - (&b[1] - &a[1]) * (&c[0] - &a[0]);
-            if let Some(words) = twice_area_in_words(&a, &b, &c) {
-                proptest::prop_assert_eq!(&words, &exact);
+            if let Some((numer, denom)) = twice_area_in_words(&a, &b, &c) {
+                proptest::prop_assert!(denom > 0);
+                proptest::prop_assert_eq!(&Rational::new(numer.into(), denom.into()), &exact);
             }
+            proptest::prop_assert_eq!(orientation(&a, &b, &c), exact.cmp(&Rational::zero()));
             proptest::prop_assert_eq!(twice_area(&a, &b, &c), exact);
         }
     }

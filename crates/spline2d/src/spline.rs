@@ -9,7 +9,7 @@
 //!   are the barycentric coordinates of `v`'s opposite vertex relative to `u`. The coefficients
 //!   are rational; each row is scaled to coprime integers.
 
-use crate::mesh::{twice_area, Mesh, Point, Topology};
+use crate::mesh::{orientation, Mesh, Point, Topology};
 use api::{Integer, Rational};
 use num_integer::Integer as _;
 use num_traits::{One, Zero};
@@ -664,14 +664,14 @@ impl Spline {
         let vertices = self.mesh.vertices();
         let p = &vertices[v];
         // One neighbour per line: `q` is on the line of `r` when `p`, `r`, `q` are collinear
-        // (a line, not a ray: either side of `p`), which `twice_area` decides exactly, in
+        // (a line, not a ray: either side of `p`), which `orientation` decides exactly, in
         // machine words for short coordinates.
         let mut lines: Vec<usize> = Vec::new();
         for &other in neighbours {
             let q = &vertices[other];
             if !lines
                 .iter()
-                .any(|&r| twice_area(p, &vertices[r], q).is_zero())
+                .any(|&r| orientation(p, &vertices[r], q).is_eq())
             {
                 lines.push(other);
             }

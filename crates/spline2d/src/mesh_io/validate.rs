@@ -4,8 +4,7 @@
 
 use super::error::{MeshErrorKind, MeshWarning, Origins};
 use super::{MeshError, MeshOptions, MeshRead, OrientationPolicy};
-use crate::mesh::{twice_area, Mesh, Point};
-use num_traits::{Signed, Zero};
+use crate::mesh::{orientation, Mesh, Point};
 use std::collections::HashMap;
 
 /// Validates and orients the triangles, then builds the mesh (see the module documentation for
@@ -45,11 +44,11 @@ pub(super) fn validate(
         if b == c {
             return Err(origins.triangle_error(t, MeshErrorKind::RepeatedVertex { vertex: b }));
         }
-        let area = twice_area(&vertices[a], &vertices[b], &vertices[c]);
-        if area.is_zero() {
+        let area = orientation(&vertices[a], &vertices[b], &vertices[c]);
+        if area.is_eq() {
             return Err(origins.triangle_error(t, MeshErrorKind::ZeroArea { vertices: *tri }));
         }
-        if area.is_negative() {
+        if area.is_lt() {
             match options.orientation {
                 OrientationPolicy::Fix => {
                     *tri = [a, c, b];
