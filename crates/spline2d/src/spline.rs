@@ -9,7 +9,7 @@
 //!   are the barycentric coordinates of `v`'s opposite vertex relative to `u`. The coefficients
 //!   are rational; each row is scaled to coprime integers.
 
-use crate::mesh::{orientation, Mesh, Point, Topology};
+use crate::mesh::{Mesh, Point, Topology};
 use api::{Integer, Rational};
 use num_integer::Integer as _;
 use num_traits::{One, Zero};
@@ -663,21 +663,64 @@ impl Spline {
     fn slopes_towards(&self, v: usize, neighbours: &[usize]) -> usize {
         let vertices = self.mesh.vertices();
         let p = &vertices[v];
-        // One neighbour per line: `q` is on the line of `r` when `p`, `r`, `q` are collinear
-        // (a line, not a ray: either side of `p`), which `orientation` decides exactly, in
-        // machine words for short coordinates.
-        let mut lines: Vec<usize> = Vec::new();
-        for &other in neighbours {
-            let q = &vertices[other];
-            if !lines
-                .iter()
-                .any(|&r| orientation(p, &vertices[r], q).is_eq())
-            {
-                lines.push(other);
-            }
-        }
-        lines.len()
+        let others = || neighbours.iter().map(|&q| &vertices[q]);
+        slopes_in_words(p, others()).unwrap_or_else(|| slopes_by_division(p, others()))
     }
+}
+
+/// The number of distinct lines through `p` and each of `neighbours`, in rationals: each
+/// direction normalised to `(1, dy / dx)` or `(0, 1)`.
+fn slopes_by_division<'a>(p: &Point, neighbours: impl Iterator<Item = &'a Point>) -> usize {
+    let mut directions: Vec<(Rational, Rational)> = Vec::new();
+    for q in neighbours {
+        let (dx, dy) = (&q[0] - &p[0], &q[1] - &p[1]);
+        let dir = if dx.is_zero() {
+            (Rational::zero(), Rational::one())
+        } else {
+            (Rational::one(), dy / dx)
+        };
+        if !directions.contains(&dir) {
+            directions.push(dir);
+        }
+    }
+    directions.len()
+}
+
+/// The number of distinct lines through `p` and each of `neighbours`, in machine words: each
+/// direction `q − p` becomes its primitive integer vector with a positive first nonzero entry
+/// (a line, not a ray), compared exactly. `None` when a coordinate's numerator or denominator
+/// does not fit an `i64` or a step overflows (checked); the caller then divides rationals.
+fn slopes_in_words<'a>(p: &Point, neighbours: impl Iterator<Item = &'a Point>) -> Option<usize> {
+    use num_traits::ToPrimitive;
+    let word = |x: &Rational| -> Option<(i128, i128)> {
+        Some((x.numer().to_i64()?.into(), x.denom().to_i64()?.into()))
+    };
+    let (px, py) = (word(&p[0])?, word(&p[1])?);
+    let mut lines: Vec<(i128, i128)> = Vec::new();
+    for q in neighbours {
+        let (qx, qy) = (word(&q[0])?, word(&q[1])?);
+        // q − p per coordinate as a fraction n / d, d > 0.
+        let difference = |(qn, qd): (i128, i128), (pn, pd): (i128, i128)| -> Option<(i128, i128)> {
+            Some((
+                qn.checked_mul(pd)?.checked_sub(pn.checked_mul(qd)?)?,
+                qd.checked_mul(pd)?,
+            ))
+        };
+        let ((xn, xd), (yn, yd)) = (difference(qx, px)?, difference(qy, py)?);
+        // The direction over the common denominator xd · yd (positive), then primitive.
+        let (mut x, mut y) = (xn.checked_mul(yd)?, yn.checked_mul(xd)?);
+        let g = num_integer::gcd(x, y);
+        if g != 0 {
+            (x, y) = (x / g, y / g);
+        }
+        if x < 0 || (x == 0 && y < 0) {
+            (x, y) = (x.checked_neg()?, y.checked_neg()?);
+        }
+        if !lines.contains(&(x, y)) {
+            lines.push((x, y));
+        }
+    }
+    Some(lines.len())
 }
 
 /// The primitive row of integer coefficients (merging repeated control points, dropping zeros,
@@ -768,6 +811,41 @@ pub(crate) mod tests {
             &[(0, 0), (2, 0), (2, 2), (0, 2), (1, 1)],
             &[[0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]],
         )
+    }
+
+    proptest::proptest! {
+        /// Lines counted in machine words are the lines counted by dividing rationals, for
+        /// neighbours on a few lines through `p` (both sides of it, short and 18-digit
+        /// coordinates, so the words path also declines).
+        #[test]
+        fn slopes_in_words_are_the_slopes_by_division(
+            centre in (-50i64..50, -50i64..50, 1i64..4),
+            steps in proptest::collection::vec((0usize..4, -3i64..4, 1i64..3), 1..8),
+            huge in proptest::bool::ANY,
+        ) {
+            let scale: i64 = if huge { 1_000_000_000_000_000_000 } else { 1 };
+            let (cx, cy, cd) = centre;
+            let p: Point = [
+                Rational::new(Integer::from(cx) * scale, cd.into()),
+                Rational::new(Integer::from(cy) * scale, cd.into()),
+            ];
+            let lines = [(1i64, 0i64), (0, 1), (2, 3), (-1, 5)];
+            let neighbours: Vec<Point> = steps
+                .iter()
+                .filter(|(_, t, _)| *t != 0)
+                .map(|&(l, t, d)| {
+                    let (dx, dy) = lines[l];
+                    [
+                        &p[0] + Rational::new((dx * t).into(), d.into()),
+                        &p[1] + Rational::new((dy * t).into(), d.into()),
+                    ]
+                })
+                .collect();
+            let expected = slopes_by_division(&p, neighbours.iter());
+            if let Some(words) = slopes_in_words(&p, neighbours.iter()) {
+                proptest::prop_assert_eq!(words, expected);
+            }
+        }
     }
 
     /// A hexagon around a centre with six distinct edge slopes.
