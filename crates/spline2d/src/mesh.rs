@@ -36,25 +36,10 @@ pub fn orientation(a: &Point, b: &Point, c: &Point) -> std::cmp::Ordering {
 /// thousand triangles) take this path instead of a dozen reduced big-rational operations per
 /// triangle.
 fn twice_area_in_words(a: &Point, b: &Point, c: &Point) -> Option<(i128, i128)> {
-    use num_traits::ToPrimitive;
-    let word = |x: &Rational| -> Option<(i128, i128)> {
-        Some((x.numer().to_i64()?.into(), x.denom().to_i64()?.into()))
-    };
-    // `p − q` as an unreduced fraction.
-    let difference = |p: &Rational, q: &Rational| -> Option<(i128, i128)> {
-        let ((pn, pd), (qn, qd)) = (word(p)?, word(q)?);
-        if pd == qd {
-            return Some((pn.checked_sub(qn)?, pd));
-        }
-        Some((
-            pn.checked_mul(qd)?.checked_sub(qn.checked_mul(pd)?)?,
-            pd.checked_mul(qd)?,
-        ))
-    };
-    let (un, ud) = difference(&b[0], &a[0])?;
-    let (vn, vd) = difference(&c[1], &a[1])?;
-    let (wn, wd) = difference(&b[1], &a[1])?;
-    let (xn, xd) = difference(&c[0], &a[0])?;
+    let (un, ud) = difference_in_words(&b[0], &a[0])?;
+    let (vn, vd) = difference_in_words(&c[1], &a[1])?;
+    let (wn, wd) = difference_in_words(&b[1], &a[1])?;
+    let (xn, xd) = difference_in_words(&c[0], &a[0])?;
     let (left, left_d) = (un.checked_mul(vn)?, ud.checked_mul(vd)?);
     let (right, right_d) = (wn.checked_mul(xn)?, wd.checked_mul(xd)?);
     let (numer, denom) = if left_d == right_d {
@@ -67,6 +52,21 @@ fn twice_area_in_words(a: &Point, b: &Point, c: &Point) -> Option<(i128, i128)> 
         )
     };
     Some((numer, denom))
+}
+
+/// `p − q` as an unreduced fraction `(numerator, denominator)` in `i128`, the denominator
+/// positive, when both numerators and denominators fit an `i64` (then no step overflows);
+/// `None` otherwise.
+pub(crate) fn difference_in_words(p: &Rational, q: &Rational) -> Option<(i128, i128)> {
+    use num_traits::ToPrimitive;
+    let word = |x: &Rational| -> Option<(i128, i128)> {
+        Some((x.numer().to_i64()?.into(), x.denom().to_i64()?.into()))
+    };
+    let ((pn, pd), (qn, qd)) = (word(p)?, word(q)?);
+    if pd == qd {
+        return Some((pn - qn, pd));
+    }
+    Some((pn * qd - qn * pd, pd * qd))
 }
 
 /// A validated triangle mesh of the plane.

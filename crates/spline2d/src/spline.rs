@@ -9,7 +9,7 @@
 //!   are the barycentric coordinates of `v`'s opposite vertex relative to `u`. The coefficients
 //!   are rational; each row is scaled to coprime integers.
 
-use crate::mesh::{Mesh, Point, Topology};
+use crate::mesh::{difference_in_words, Mesh, Point, Topology};
 use api::{Integer, Rational};
 use num_integer::Integer as _;
 use num_traits::{One, Zero};
@@ -691,22 +691,10 @@ fn slopes_by_division<'a>(p: &Point, neighbours: impl Iterator<Item = &'a Point>
 /// (a line, not a ray), compared exactly. `None` when a coordinate's numerator or denominator
 /// does not fit an `i64` or a step overflows (checked); the caller then divides rationals.
 fn slopes_in_words<'a>(p: &Point, neighbours: impl Iterator<Item = &'a Point>) -> Option<usize> {
-    use num_traits::ToPrimitive;
-    let word = |x: &Rational| -> Option<(i128, i128)> {
-        Some((x.numer().to_i64()?.into(), x.denom().to_i64()?.into()))
-    };
-    let (px, py) = (word(&p[0])?, word(&p[1])?);
     let mut lines: Vec<(i128, i128)> = Vec::new();
     for q in neighbours {
-        let (qx, qy) = (word(&q[0])?, word(&q[1])?);
-        // q − p per coordinate as a fraction n / d, d > 0.
-        let difference = |(qn, qd): (i128, i128), (pn, pd): (i128, i128)| -> Option<(i128, i128)> {
-            Some((
-                qn.checked_mul(pd)?.checked_sub(pn.checked_mul(qd)?)?,
-                qd.checked_mul(pd)?,
-            ))
-        };
-        let ((xn, xd), (yn, yd)) = (difference(qx, px)?, difference(qy, py)?);
+        let (xn, xd) = difference_in_words(&q[0], &p[0])?;
+        let (yn, yd) = difference_in_words(&q[1], &p[1])?;
         // The direction over the common denominator xd · yd (positive), then primitive.
         let (mut x, mut y) = (xn.checked_mul(yd)?, yn.checked_mul(xd)?);
         let g = num_integer::gcd(x, y);
