@@ -20,7 +20,8 @@ pub(super) fn validate(
     }
     let count = vertices.len();
     let mut warnings = Vec::new();
-    let mut seen: HashMap<[usize; 3], usize, foldhash::fast::FixedState> =
+    // A fast hash with a random seed per process: the keys come from the user's file.
+    let mut seen: HashMap<[usize; 3], usize, foldhash::fast::RandomState> =
         HashMap::with_capacity_and_hasher(triangles.len(), Default::default());
     for (t, tri) in triangles.iter_mut().enumerate() {
         if let Some(&bad) = tri.iter().find(|&&v| v >= count) {
