@@ -39,6 +39,7 @@ mod reduce_words;
 mod ring;
 mod snap;
 pub mod sparse;
+mod word_division;
 
 pub use blocks::{
     component_matrices, components, submatrix, BlockFactorization, BlockLeastSquares,

@@ -21,6 +21,7 @@
 
 use crate::gcd::{from_limbs, gcd_bigint, reduced_ratio, Limbs};
 use crate::montgomery::Montgomery;
+use crate::word_division::{exact_quotient, WordRemainder};
 use api::Rational;
 use num_bigint::{BigInt, BigUint};
 use num_integer::Integer;
@@ -96,11 +97,16 @@ pub fn reduce_over(numerators: Vec<BigInt>, den: &BigInt) -> Vec<Rational> {
         Some(m) => gcd_bigint(&BigInt::from(product_modulo(&residues, m)), &rest),
     };
     let rough = (!g.is_one()).then(|| part_made_of(&rest, &g));
-    let smooth = SmoothPart::new(&smooth);
+    let limbs = numerators
+        .iter()
+        .map(|n| n.magnitude().iter_u64_digits().len())
+        .max()
+        .unwrap_or(0);
+    let smooth = SmoothPart::new(&smooth, limbs);
     numerators
         .into_par_iter()
         .zip(residues)
-        .map(|(n, residue)| {
+        .map_init(Vec::new, |quotients, (n, residue)| {
             if n.is_zero() {
                 return Rational::from_integer(BigInt::zero());
             }
@@ -118,10 +124,31 @@ pub fn reduce_over(numerators: Vec<BigInt>, den: &BigInt) -> Vec<Rational> {
             if common.is_one() {
                 Rational::new_raw(n, den.clone())
             } else {
-                Rational::new_raw(n, &den / common)
+                Rational::new_raw(n, reduced_denominator(&den, common, quotients))
             }
         })
         .collect()
+}
+
+/// How many distinct common factors [`reduced_denominator`] remembers per worker.
+const QUOTIENT_MEMO: usize = 16;
+
+/// `den / common`, remembered in `quotients`: the values of one solution share few distinct
+/// common factors with its denominator (powers of the same small primes), so most values
+/// take a denominator already divided.
+fn reduced_denominator(
+    den: &BigInt,
+    common: BigInt,
+    quotients: &mut Vec<(BigInt, BigInt)>,
+) -> BigInt {
+    if let Some((_, quotient)) = quotients.iter().find(|(c, _)| *c == common) {
+        return quotient.clone();
+    }
+    let quotient = exact_quotient(den.clone(), &common);
+    if quotients.len() < QUOTIENT_MEMO {
+        quotients.push((common, quotient.clone()));
+    }
+    quotient
 }
 
 /// [`reduce_over`] by [`crate::reduce_words`] when the denominator and every value fit an `i128`.
@@ -178,31 +205,42 @@ struct PrimePower {
 /// in the group), and the others as `(p, e)`, divided out one factor at a time.
 #[derive(Debug, Default)]
 struct SmoothPart {
-    groups: Vec<(u64, Vec<PrimePower>)>,
+    groups: Vec<(WordRemainder, Vec<PrimePower>)>,
     large: Vec<(u32, u32)>,
 }
 
 impl SmoothPart {
-    fn new(smooth: &[(u32, u32)]) -> Self {
-        let mut part = SmoothPart::default();
+    /// For values of about `limbs` limbs.
+    fn new(smooth: &[(u32, u32)], limbs: usize) -> Self {
+        let mut groups: Vec<(u64, Vec<PrimePower>)> = Vec::new();
+        let mut large = Vec::new();
         for &(p, e) in smooth {
             let power = (0..e).try_fold(1u64, |acc, _| {
                 acc.checked_mul(u64::from(p)).filter(|v| *v < 1 << 32)
             });
             let Some(power) = power else {
-                part.large.push((p, e));
+                large.push((p, e));
                 continue;
             };
             let pp = PrimePower { p, e, power };
-            match part.groups.last_mut() {
+            match groups.last_mut() {
                 Some((product, members)) if *product * power < 1 << 32 => {
                     *product *= power;
                     members.push(pp);
                 }
-                _ => part.groups.push((power, vec![pp])),
+                _ => groups.push((power, vec![pp])),
             }
         }
-        part
+        SmoothPart {
+            groups: groups
+                .into_iter()
+                .map(|(product, members)| {
+                    // Below 2^32 by construction.
+                    (WordRemainder::new(product as u32, limbs), members)
+                })
+                .collect(),
+            large,
+        }
     }
 
     /// `n / c` and `c = gcd(n, S)`: for each word-sized power `pᵉ`, the exponent of `p` in
@@ -220,7 +258,7 @@ impl SmoothPart {
                 }
             };
         for (product, members) in &self.groups {
-            let remainder = (n.magnitude() % *product as u32).to_u64().unwrap_or(0);
+            let remainder = product.of(n.magnitude());
             for pp in members {
                 let mut r = remainder % pp.power;
                 let mut v = 0;
@@ -238,7 +276,11 @@ impl SmoothPart {
             }
         }
         let common = BigInt::from(common * word);
-        let mut n = if common.is_one() { n } else { n / &common };
+        let mut n = if common.is_one() {
+            n
+        } else {
+            exact_quotient(n, &common)
+        };
         let mut extra = BigInt::one();
         for &(p, e) in &self.large {
             for _ in 0..e {
@@ -270,17 +312,24 @@ fn word_groups(factors: &[(u32, u32)]) -> Vec<&[(u32, u32)]> {
     groups
 }
 
-/// `Π rᵢ` over the nonzero residues, times a power of `R⁻¹`, modulo `m` (in parallel chains):
+/// `Π rᵢ` over the nonzero residues, times a power of `2^−64`, modulo `m` (in parallel chains):
 /// shares its primes with `m` exactly as the product of the values does.
 fn product_modulo(residues: &[Option<Limbs>], m: &Montgomery) -> BigUint {
     let one = || vec![1u64];
     let chain = |chunk: &[Option<Limbs>]| -> Limbs {
-        chunk.iter().flatten().fold(one(), |acc, r| m.mul(&acc, r))
+        let mut scratch = Vec::new();
+        chunk.iter().flatten().fold(one(), |mut acc, r| {
+            m.mul_assign(&mut acc, r, &mut scratch);
+            acc
+        })
     };
     let product = residues
         .par_chunks(CHAIN)
         .map(chain)
-        .reduce(one, |a, b| m.mul(&a, &b));
+        .reduce(one, |mut a, b| {
+            m.mul_assign(&mut a, &b, &mut Vec::new());
+            a
+        });
     from_limbs(&product)
 }
 
