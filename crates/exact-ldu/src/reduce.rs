@@ -21,7 +21,7 @@
 
 use crate::gcd::{from_limbs, gcd_bigint, reduced_ratio, Limbs};
 use crate::montgomery::Montgomery;
-use crate::word_division::{exact_quotient, WordRemainder};
+use crate::word_division::{exact_quotient, word_inverse, WordRemainder};
 use api::Rational;
 use num_bigint::{BigInt, BigUint};
 use num_integer::Integer;
@@ -192,12 +192,54 @@ fn split_smooth(d: &BigUint) -> (Vec<(u32, u32)>, BigUint) {
     (factors, rest)
 }
 
-/// A prime `p` of the smooth part with its exponent `e` in `d`, and `pᵉ < 2^32`.
+/// A prime `p` of the smooth part with its exponent `e` in `d` (`pᵉ < 2^32`).
 #[derive(Debug, Clone, Copy)]
 struct PrimePower {
     p: u32,
     e: u32,
-    power: u64,
+    /// `p⁻¹ mod 2^64` for an odd `p` (`0` for 2).
+    inverse: u64,
+    /// `(2^64 − 1) / p`.
+    limit: u64,
+}
+
+impl PrimePower {
+    fn new(p: u32, e: u32) -> Self {
+        let inverse = if p % 2 == 1 {
+            word_inverse(u64::from(p))
+        } else {
+            0
+        };
+        PrimePower {
+            p,
+            e,
+            inverse,
+            limit: u64::MAX / u64::from(p),
+        }
+    }
+
+    /// `min(v_p(n), e)` read on `r ≡ n (mod pᵉ)`: the exponent of `p` in `r` (all of `e` for
+    /// `r = 0`). For an odd `p`, `r` is a multiple of `p` exactly when `r · p⁻¹ mod 2^64` is at
+    /// most `(2^64 − 1) / p`, and that product is then `r / p` (Granlund and Montgomery 1994):
+    /// a multiplication per factor instead of a division.
+    fn exponent_in(&self, mut r: u64) -> u32 {
+        if r == 0 {
+            return self.e;
+        }
+        if self.p == 2 {
+            return r.trailing_zeros().min(self.e);
+        }
+        let mut v = 0;
+        while v < self.e {
+            let q = r.wrapping_mul(self.inverse);
+            if q > self.limit {
+                break;
+            }
+            r = q;
+            v += 1;
+        }
+        v
+    }
 }
 
 /// The smooth part's primes: those whose power `pᵉ` fits a word, in groups whose product fits
@@ -222,7 +264,7 @@ impl SmoothPart {
                 large.push((p, e));
                 continue;
             };
-            let pp = PrimePower { p, e, power };
+            let pp = PrimePower::new(p, e);
             match groups.last_mut() {
                 Some((product, members)) if *product * power < 1 << 32 => {
                     *product *= power;
@@ -260,17 +302,8 @@ impl SmoothPart {
         for (product, members) in &self.groups {
             let remainder = product.of(n.magnitude());
             for pp in members {
-                let mut r = remainder % pp.power;
-                let mut v = 0;
-                if r == 0 {
-                    v = pp.e;
-                } else {
-                    while r % u64::from(pp.p) == 0 {
-                        r /= u64::from(pp.p);
-                        v += 1;
-                    }
-                }
-                for _ in 0..v {
+                // `remainder` is modulo a multiple of `pᵉ`.
+                for _ in 0..pp.exponent_in(remainder) {
                     push(pp.p, &mut word, &mut common);
                 }
             }
@@ -409,6 +442,30 @@ mod tests {
                 .map(|n| Rational::new(n.clone(), den.clone()))
                 .collect();
             prop_assert_eq!(reduce_over(numerators, &den), expected);
+        }
+    }
+
+    proptest! {
+        /// `min(v_p(r), e)` as repeated division finds it, for 2, odd primes and `r = 0`.
+        #[test]
+        fn exponents_by_inverses(
+            p in prop::sample::select(vec![2u32, 3, 5, 17, 4093]),
+            e in 1u32..32,
+            factors in 0u32..40,
+            cofactor in any::<u64>(),
+        ) {
+            let pp = PrimePower::new(p, e);
+            let r = (0..factors).fold(cofactor, |r, _| r.wrapping_mul(u64::from(p)));
+            let mut expected = 0;
+            let mut rest = r;
+            while rest != 0 && expected < e && rest % u64::from(p) == 0 {
+                rest /= u64::from(p);
+                expected += 1;
+            }
+            if r == 0 {
+                expected = e;
+            }
+            prop_assert_eq!(pp.exponent_in(r), expected);
         }
     }
 

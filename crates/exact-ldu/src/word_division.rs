@@ -8,6 +8,7 @@
 
 use num_bigint::{BigInt, BigUint, Sign};
 use num_traits::ToPrimitive;
+use std::cell::RefCell;
 
 /// `odd⁻¹ mod 2^64` by Newton's iteration (5, 10, 20, 40, 80 correct bits).
 pub(crate) fn word_inverse(odd: u64) -> u64 {
@@ -25,51 +26,60 @@ pub(crate) fn exact_quotient(x: BigInt, c: &BigInt) -> BigInt {
     let negative = (x.sign() == Sign::Minus) != (c.sign() == Sign::Minus);
     let quotient = match c.magnitude().to_u64() {
         Some(1) => x.into_parts().1,
-        Some(word) => exact_quotient_by_word(x.magnitude(), word),
+        Some(word) => exact_quotient_by_word(x.into_parts().1, word),
         None => return x / c,
     };
     BigInt::from_biguint(if negative { Sign::Minus } else { Sign::Plus }, quotient)
 }
 
-/// `x / c` for a word `c > 1` dividing `x`. The odd part by Jebelean's exact division (as in
-/// GMP's `divexact_1`): each quotient limb is the limb times `odd⁻¹ mod 2^64`, the borrow into
-/// the next the high word of `qᵢ · odd` — two multiplications per limb where `num-bigint`
-/// divides each limb in hardware (tens of cycles; 11 % of a δ = 8 spline update). The power of
-/// two is shifted out on the way, and the limbs go straight into `num-bigint`'s 32-bit digits.
-fn exact_quotient_by_word(x: &BigUint, c: u64) -> BigUint {
+thread_local! {
+    /// The quotient's 32-bit digits on their way back into the dividend's own buffer.
+    static DIGITS: RefCell<Vec<u32>> = const { RefCell::new(Vec::new()) };
+}
+
+/// `x / c` for a word `c > 1` dividing `x`, in `x`'s buffer. The odd part by Jebelean's exact
+/// division (as in GMP's `divexact_1`): each quotient limb is the limb times `odd⁻¹ mod 2^64`,
+/// the borrow into the next the high word of `qᵢ · odd` — two multiplications per limb where
+/// `num-bigint` divides each limb in hardware (tens of cycles; 11 % of a δ = 8 spline
+/// update). The power of two is shifted out on the way; the digits pass through a reused
+/// buffer (`num-bigint` takes digits back only as 32-bit slices).
+fn exact_quotient_by_word(mut x: BigUint, c: u64) -> BigUint {
     let shift = c.trailing_zeros();
     let odd = c >> shift;
     let inverse = word_inverse(odd);
-    let mut borrow = 0u64;
-    let mut previous: Option<u64> = None;
-    let mut digits: Vec<u32> = Vec::with_capacity(2 * x.iter_u64_digits().len());
-    let mut emit = |limb: u64| {
-        digits.push(limb as u32);
-        digits.push((limb >> 32) as u32);
-    };
-    for limb in x.iter_u64_digits() {
-        let q = if odd == 1 {
-            limb
-        } else {
-            let (t, under) = limb.overflowing_sub(borrow);
-            let q = t.wrapping_mul(inverse);
-            borrow = ((u128::from(q) * u128::from(odd)) >> 64) as u64 + u64::from(under);
-            q
+    DIGITS.with_borrow_mut(|digits| {
+        digits.clear();
+        let mut emit = |limb: u64| {
+            digits.push(limb as u32);
+            digits.push((limb >> 32) as u32);
         };
-        if let Some(p) = previous {
-            emit(if shift == 0 {
-                p
+        let mut borrow = 0u64;
+        let mut previous: Option<u64> = None;
+        for limb in x.iter_u64_digits() {
+            let q = if odd == 1 {
+                limb
             } else {
-                (p >> shift) | (q << (64 - shift))
-            });
+                let (t, under) = limb.overflowing_sub(borrow);
+                let q = t.wrapping_mul(inverse);
+                borrow = ((u128::from(q) * u128::from(odd)) >> 64) as u64 + u64::from(under);
+                q
+            };
+            if let Some(p) = previous {
+                emit(if shift == 0 {
+                    p
+                } else {
+                    (p >> shift) | (q << (64 - shift))
+                });
+            }
+            previous = Some(q);
         }
-        previous = Some(q);
-    }
-    if let Some(p) = previous {
-        emit(p >> shift);
-    }
-    debug_assert_eq!(borrow, 0, "the divisor does not divide");
-    BigUint::new(digits)
+        if let Some(p) = previous {
+            emit(p >> shift);
+        }
+        debug_assert_eq!(borrow, 0, "the divisor does not divide");
+        x.assign_from_slice(digits);
+    });
+    x
 }
 
 /// Remainders modulo one word `p < 2^32` of values of at most `powers.len()` limbs.
