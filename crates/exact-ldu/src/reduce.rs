@@ -19,7 +19,7 @@
 //! On the figure mesh at δ_max = 16 (811 values over 7 100-bit denominators) this takes 20 ms
 //! of CPU per coordinate against 60–110 ms for one GCD per value.
 
-use crate::gcd::{from_limbs, gcd_bigint, reduced_ratio, Limbs};
+use crate::gcd::{from_limbs, gcd_bigint, gcd_biguint, reduced_ratio, Limbs};
 use crate::montgomery::Montgomery;
 use crate::word_division::{exact_quotient, word_inverse, WordRemainder};
 use api::Rational;
@@ -166,28 +166,44 @@ fn reduce_in_words(numerators: &[BigInt], den: &BigInt) -> Option<Vec<Rational>>
     )
 }
 
+/// The product of the primes below [`SMALL_PRIME_BOUND`] (once; about 5 700 bits).
+fn primorial() -> &'static BigUint {
+    static PRODUCT: OnceLock<BigUint> = OnceLock::new();
+    PRODUCT.get_or_init(|| {
+        small_primes()
+            .iter()
+            .fold(BigUint::one(), |product, &p| product * p)
+    })
+}
+
 /// `d = Π pᵉ · rest` over the primes `p` below [`SMALL_PRIME_BOUND`]: the `(p, e)` with `e > 0`
-/// and `rest`.
+/// and `rest`. The primes are those of `gcd(d, Π p)`, one GCD with the primorial (a division
+/// and a Lehmer GCD of `d`'s length) where trial division took a pass over `d`'s limbs per
+/// group of primes, ~190 passes of hardware divisions; then each of them divides `d` out.
 fn split_smooth(d: &BigUint) -> (Vec<(u32, u32)>, BigUint) {
+    let mut shared = gcd_biguint(d, primorial());
     let mut rest = d.clone();
     let mut factors = Vec::new();
-    // One pass over the limbs per group of primes whose product fits a word, then each prime
-    // against the group's remainder.
-    let primes: Vec<(u32, u32)> = small_primes().iter().map(|&p| (p, 1)).collect();
-    for group in word_groups(&primes) {
-        let product: u64 = group.iter().map(|(p, _)| u64::from(*p)).product();
-        let remainder = (&rest % product as u32).to_u64().unwrap_or(0);
-        for &(p, _) in group {
-            if remainder % u64::from(p) != 0 {
-                continue;
-            }
-            let mut e = 0;
+    for &p in small_primes() {
+        if shared.is_one() {
+            break;
+        }
+        if !(&shared % p).is_zero() {
+            continue;
+        }
+        shared /= p;
+        let mut e = 0;
+        if p == 2 {
+            let zeros = rest.trailing_zeros().unwrap_or(0);
+            rest >>= zeros;
+            e = zeros as u32;
+        } else {
             while (&rest % p).is_zero() {
                 rest /= p;
                 e += 1;
             }
-            factors.push((p, e));
         }
+        factors.push((p, e));
     }
     (factors, rest)
 }
@@ -326,23 +342,6 @@ impl SmoothPart {
         }
         (n, common * extra)
     }
-}
-
-/// Consecutive runs of `(p, e)` whose primes multiply to less than `2^32`.
-fn word_groups(factors: &[(u32, u32)]) -> Vec<&[(u32, u32)]> {
-    let mut groups = Vec::new();
-    let mut start = 0;
-    while start < factors.len() {
-        let mut product: u64 = 1;
-        let mut end = start;
-        while end < factors.len() && product * u64::from(factors[end].0) < 1 << 32 {
-            product *= u64::from(factors[end].0);
-            end += 1;
-        }
-        groups.push(&factors[start..end]);
-        start = end;
-    }
-    groups
 }
 
 /// `Π rᵢ` over the nonzero residues, times a power of `2^−64`, modulo `m` (in parallel chains):
