@@ -451,8 +451,11 @@ pub(super) fn combine<R: Ring>(
             }) {
                 return BigInt::from(value);
             }
-            let shift: BigInt = moved.iter().zip(&factors).map(|(r, f)| f * &r.num[s]).sum();
-            b * &base_scale - shift
+            let mut value = b * &base_scale;
+            for (r, f) in moved.iter().zip(&factors) {
+                value -= f * &r.num[s];
+            }
+            value
         })
         .collect();
     Numerators {
