@@ -181,7 +181,9 @@ fn primorial() -> &'static BigUint {
 /// and a Lehmer GCD of `d`'s length) where trial division took a pass over `d`'s limbs per
 /// group of primes, ~190 passes of hardware divisions; then each of them divides `d` out.
 fn split_smooth(d: &BigUint) -> (Vec<(u32, u32)>, BigUint) {
-    let mut shared = gcd_biguint(d, primorial());
+    // gcd(d, P) = gcd(d, P mod d): the division brings the primorial down to d's length
+    // before the GCD (which would otherwise take the long way for operands this unequal).
+    let mut shared = gcd_biguint(d, &(primorial() % d));
     let mut rest = d.clone();
     let mut factors = Vec::new();
     for &p in small_primes() {
