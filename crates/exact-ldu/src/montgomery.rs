@@ -101,23 +101,27 @@ impl Montgomery {
     pub(crate) fn residue(&self, n: &BigUint) -> Vec<u64> {
         let k = self.limbs();
         let (bits, modulus_bits) = (n.bits(), self.bits);
+        let digits = n.iter_u64_digits();
         if bits < modulus_bits {
-            let mut t: Vec<u64> = n.iter_u64_digits().collect();
+            let mut t = Vec::with_capacity(k);
+            t.extend(digits);
             t.resize(k, 0);
             return t;
         }
         // n < 2^bits and m ≥ 2^(modulus_bits − 1): after j rows with 2^(64j) ≥ n / m, the value
         // is below n / 2^(64j) + m ≤ 2m.
         let rows = (bits - modulus_bits + 1).div_ceil(64) as usize;
-        let digits = n.iter_u64_digits().len();
-        let mut t: Vec<u64> = n.iter_u64_digits().collect();
-        t.resize(digits.max(rows + k) + 1, 0);
+        let length = digits.len().max(rows + k) + 1;
+        let mut t = Vec::with_capacity(length);
+        t.extend(digits);
+        t.resize(length, 0);
         for row in 0..rows {
             self.redc_row(&mut t, row);
         }
-        let high = &mut t[rows..];
-        self.subtract_if_not_below(high);
-        high[..k].to_vec()
+        self.subtract_if_not_below(&mut t[rows..]);
+        t.truncate(rows + k);
+        t.drain(..rows);
+        t
     }
 
     /// `a · b · R⁻¹ mod m` for `a, b < m` (at most `k` limbs each).
