@@ -119,6 +119,11 @@ impl Montgomery {
             self.redc_row(&mut t, row);
         }
         self.subtract_if_not_below(&mut t[rows..]);
+        if length > 2 * k {
+            // A value much longer than the modulus: keep only the residue's limbs (residues of
+            // a whole solution are held at once).
+            return t[rows..rows + k].to_vec();
+        }
         t.truncate(rows + k);
         t.drain(..rows);
         t
