@@ -335,22 +335,46 @@ mod tests {
         (BigUint::from(1u32) << (64 * k)) % m
     }
 
+    /// `mul(a, b) · R ≡ a b` modulo `m` and below it, the same by the word rows whatever the
+    /// length, and for a short factor (the chain starts from `1`).
+    fn check_products(
+        mont: &Montgomery,
+        m: &BigUint,
+        a: &[u64],
+        b: &[u64],
+    ) -> Result<(), TestCaseError> {
+        let k = mont.limbs();
+        let r = r_mod(m, k);
+        let (a, b) = (big(a) % m, big(b) % m);
+        let mut a_limbs = a.to_u64_digits();
+        a_limbs.resize(k, 0);
+        let mut b_limbs = b.to_u64_digits();
+        b_limbs.resize(k, 0);
+        let p = big(&mont.mul(&a_limbs, &b_limbs));
+        prop_assert!(&p < m);
+        prop_assert_eq!((&p * &r) % m, (&a * &b) % m);
+        prop_assert_eq!(big(&mont.mul_any_length(&a_limbs, &b_limbs)), p);
+        let one = big(&mont.mul(&[1], &b_limbs));
+        prop_assert_eq!((&one * &r) % m, b);
+        Ok(())
+    }
+
     proptest! {
-        /// `residue(n) · 2^(64j) ≡ n` modulo `m` for some `j` and `mul(a, b) · R ≡ a b`,
-        /// results below `m`, for moduli of one to twelve limbs and values on both sides of
-        /// `m R`.
+        /// `residue(n) · 2^(64j) ≡ n` modulo `m` for some `j` and the products of
+        /// [`check_products`], for moduli of one to a hundred limbs (the unrolled lengths up to
+        /// 32, the word rows over slices above, whole products from 96) and values on both
+        /// sides of `m R`.
         #[test]
         fn agrees_with_division(
-            m in prop::collection::vec(any::<u64>(), 1..12),
-            n in prop::collection::vec(any::<u64>(), 0..26),
-            a in prop::collection::vec(any::<u64>(), 0..12),
-            b in prop::collection::vec(any::<u64>(), 0..12),
+            m in prop::collection::vec(any::<u64>(), 1..100),
+            n in prop::collection::vec(any::<u64>(), 0..200),
+            a in prop::collection::vec(any::<u64>(), 0..100),
+            b in prop::collection::vec(any::<u64>(), 0..100),
         ) {
             let m = big(&m) | BigUint::from(1u32);
             prop_assume!(m > BigUint::from(1u32));
             let mont = Montgomery::new(&m).expect("odd");
             let k = mont.limbs();
-            let r = r_mod(&m, k);
             let n = big(&n);
             let t = mont.residue(&n);
             prop_assert_eq!(t.len(), k);
@@ -358,21 +382,10 @@ mod tests {
             prop_assert!(t < m);
             let n_mod = &n % &m;
             prop_assert!(
-                (0..=90).any(|j| (&t << (64 * j)) % &m == n_mod),
+                (0..=200).any(|j| (&t << (64 * j)) % &m == n_mod),
                 "no power of 2^64 takes the residue back to n mod m"
             );
-            let (a, b) = (big(&a) % &m, big(&b) % &m);
-            let mut a_limbs = a.to_u64_digits();
-            a_limbs.resize(k, 0);
-            let mut b_limbs = b.to_u64_digits();
-            b_limbs.resize(k, 0);
-            let p = big(&mont.mul(&a_limbs, &b_limbs));
-            prop_assert!(p < m);
-            prop_assert_eq!((&p * &r) % &m, (&a * &b) % &m);
-            prop_assert_eq!(big(&mont.mul_any_length(&a_limbs, &b_limbs)), p);
-            // A shorter factor (the chain starts from `1`) takes the same path.
-            let one = big(&mont.mul(&[1], &b_limbs));
-            prop_assert_eq!((&one * &r) % &m, b);
+            check_products(&mont, &m, &a, &b)?;
         }
     }
 
@@ -389,19 +402,7 @@ mod tests {
             let m = big(&m) | BigUint::from(1u32);
             let mont = Montgomery::new(&m).expect("odd");
             prop_assert!(mont.long.is_some());
-            let k = mont.limbs();
-            let r = r_mod(&m, k);
-            let (a, b) = (big(&a) % &m, big(&b) % &m);
-            let mut a_limbs = a.to_u64_digits();
-            a_limbs.resize(k, 0);
-            let mut b_limbs = b.to_u64_digits();
-            b_limbs.resize(k, 0);
-            let p = big(&mont.mul(&a_limbs, &b_limbs));
-            prop_assert!(p < m);
-            prop_assert_eq!((&p * &r) % &m, (&a * &b) % &m);
-            prop_assert_eq!(big(&mont.mul_any_length(&a_limbs, &b_limbs)), p);
-            let one = big(&mont.mul(&[1], &b_limbs));
-            prop_assert_eq!((&one * &r) % &m, b);
+            check_products(&mont, &m, &a, &b)?;
         }
     }
 
