@@ -4,12 +4,14 @@
 //! meshes (denominators of thousands of digits). But the common factors are structured: on the
 //! least-squares solutions of mesh edits `gcd(nᵢ, d)` is a product of small primes that divide
 //! `d`, different for each value. So `d = S · B` is split into its smooth part `S` (primes below
-//! [`SMALL_PRIME_BOUND`], found by trial division once per vector) and the rest `B`:
+//! [`SMALL_PRIME_BOUND`], those of one GCD of `d` with their product, once per vector) and the
+//! rest `B`:
 //!
-//! - `gcd(nᵢ, S)` is read off by dividing `nᵢ` by the few primes of `S` (a pass over `nᵢ`'s
-//!   limbs per prime, instead of a GCD);
+//! - `gcd(nᵢ, S)` is read off `nᵢ`'s remainders modulo the word-sized prime powers of `S` (a
+//!   pass over `nᵢ`'s limbs per group of them, instead of a GCD) and divided out exactly
+//!   ([`crate::word_division`]);
 //! - a value with a small reduced denominator (a parameter the constraints leave at its hint)
-//!   is a multiple of `B`: `nᵢ mod B = 0` (a division with a small quotient) says so, and
+//!   is a multiple of `B`: its Montgomery residue (a row or two of REDC) is zero, and
 //!   `gcd(nᵢ, B) = B`;
 //! - every prime dividing both `B` and one of the other `nᵢ` divides
 //!   `g = gcd(Π (nᵢ mod B) mod B, B)` (one product chain modulo `B` and one GCD). Usually
