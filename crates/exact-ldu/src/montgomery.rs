@@ -117,23 +117,8 @@ impl Montgomery {
     /// limbs are the result.
     fn subtract_if_not_below(&self, t: &mut [u64]) {
         let k = self.limbs();
-        let not_below = t[k] != 0
-            || t[..k]
-                .iter()
-                .rev()
-                .zip(self.modulus.iter().rev())
-                .find(|(a, b)| a != b)
-                .is_none_or(|(a, b)| a > b);
-        if not_below {
-            let mut borrow = false;
-            for (x, m) in t.iter_mut().zip(&self.modulus) {
-                let (d, b1) = x.overflowing_sub(*m);
-                let (d, b2) = d.overflowing_sub(u64::from(borrow));
-                *x = d;
-                borrow = b1 || b2;
-            }
-            t[k] = t[k].wrapping_sub(u64::from(borrow));
-        }
+        let (low, high) = t.split_at_mut(k);
+        subtract_if_not_below(low, high[0], &self.modulus);
     }
 
     /// One REDC row on `t`: adds the multiple `u m 2^(64 row)` that clears limb `row` (`t` long
@@ -302,22 +287,29 @@ fn cios_fixed<const K: usize>(m: &[u64; K], ninv: u64, a: &mut [u64; K], b: &[u6
         t[K - 1] = sum;
         t_k = t_k1 + u64::from(overflow);
     }
-    let not_below = t_k != 0
-        || t.iter()
+    subtract_if_not_below(&mut t, t_k, m);
+    *a = t;
+}
+
+/// `low − m` in place when the value `high · 2^(64k) + low` (below `2m`) is at least `m`; the
+/// result fits `low`'s `k` limbs.
+fn subtract_if_not_below(low: &mut [u64], high: u64, modulus: &[u64]) {
+    let not_below = high != 0
+        || low
+            .iter()
             .rev()
-            .zip(m.iter().rev())
+            .zip(modulus.iter().rev())
             .find(|(x, y)| x != y)
             .is_none_or(|(x, y)| x > y);
     if not_below {
         let mut borrow = false;
-        for (x, y) in t.iter_mut().zip(m) {
+        for (x, y) in low.iter_mut().zip(modulus) {
             let (d, b1) = x.overflowing_sub(*y);
             let (d, b2) = d.overflowing_sub(u64::from(borrow));
             *x = d;
             borrow = b1 || b2;
         }
     }
-    *a = t;
 }
 
 #[cfg(test)]
