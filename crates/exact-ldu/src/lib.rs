@@ -39,6 +39,7 @@ mod reduce_words;
 mod ring;
 mod snap;
 pub mod sparse;
+mod word_combination;
 mod word_division;
 
 pub use blocks::{

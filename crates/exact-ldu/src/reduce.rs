@@ -23,7 +23,7 @@
 
 use crate::gcd::{from_limbs, gcd_bigint, gcd_biguint, reduced_ratio, Limbs};
 use crate::montgomery::Montgomery;
-use crate::word_division::{exact_quotient, word_inverse, WordRemainder};
+use crate::word_division::{exact_quotient, exact_word_quotient, word_inverse, WordRemainder};
 use api::Rational;
 use num_bigint::{BigInt, BigUint};
 use num_integer::Integer;
@@ -115,15 +115,15 @@ pub fn reduce_over(numerators: Vec<BigInt>, den: &BigInt) -> Vec<Rational> {
             let (mut n, mut common) = smooth.divide_out(n);
             if montgomery.is_some() && residue.is_none() {
                 n /= &rest;
-                common *= &rest;
+                common = common.times(&rest);
             } else if let Some(part) = &rough {
                 let c = gcd_bigint(&n.mod_floor(part), part);
                 if !c.is_one() {
                     n /= &c;
-                    common *= c;
+                    common = common.times(&c);
                 }
             }
-            if common.is_one() {
+            if common == CommonFactor::Word(1) {
                 Rational::new_raw(n, den.clone())
             } else {
                 Rational::new_raw(n, reduced_denominator(&den, common, quotients))
@@ -135,18 +135,44 @@ pub fn reduce_over(numerators: Vec<BigInt>, den: &BigInt) -> Vec<Rational> {
 /// How many distinct common factors [`reduced_denominator`] remembers per worker.
 const QUOTIENT_MEMO: usize = 16;
 
+/// The common factor of a value and the denominator: a word while it fits (no allocation for
+/// the usual factors, products of small primes), else a big integer.
+#[derive(Debug, Clone, PartialEq, Eq)]
+enum CommonFactor {
+    Word(u64),
+    Long(BigInt),
+}
+
+impl CommonFactor {
+    /// `self · f`.
+    fn times(self, f: &BigInt) -> Self {
+        CommonFactor::Long(match self {
+            CommonFactor::Word(w) => f * w,
+            CommonFactor::Long(c) => c * f,
+        })
+    }
+
+    /// `x / self` for a multiple `x` of `self`.
+    fn divide(&self, x: BigInt) -> BigInt {
+        match self {
+            CommonFactor::Word(w) => exact_word_quotient(x, *w),
+            CommonFactor::Long(c) => exact_quotient(x, c),
+        }
+    }
+}
+
 /// `den / common`, remembered in `quotients`: the values of one solution share few distinct
 /// common factors with its denominator (powers of the same small primes), so most values
 /// take a denominator already divided.
 fn reduced_denominator(
     den: &BigInt,
-    common: BigInt,
-    quotients: &mut Vec<(BigInt, BigInt)>,
+    common: CommonFactor,
+    quotients: &mut Vec<(CommonFactor, BigInt)>,
 ) -> BigInt {
     if let Some((_, quotient)) = quotients.iter().find(|(c, _)| *c == common) {
         return quotient.clone();
     }
-    let quotient = exact_quotient(den.clone(), &common);
+    let quotient = common.divide(den.clone());
     if quotients.len() < QUOTIENT_MEMO {
         quotients.push((common, quotient.clone()));
     }
@@ -308,43 +334,50 @@ impl SmoothPart {
     /// `n / c` and `c = gcd(n, S)`: for each word-sized power `pᵉ`, the exponent of `p` in
     /// `n mod pᵉ` (all of `e` when the remainder is zero) read on words, one division of `n` by
     /// their product; then the large powers a factor at a time.
-    fn divide_out(&self, n: BigInt) -> (BigInt, BigInt) {
-        let mut common = BigUint::one();
+    fn divide_out(&self, n: BigInt) -> (BigInt, CommonFactor) {
+        // The factor found so far: `long · word`, `long` only once `word` would overflow.
+        let mut long: Option<BigUint> = None;
         let mut word: u64 = 1;
-        let push =
-            |p: u32, word: &mut u64, common: &mut BigUint| match word.checked_mul(u64::from(p)) {
-                Some(w) => *word = w,
-                None => {
-                    *common *= *word;
-                    *word = u64::from(p);
-                }
-            };
+        let mut push = |p: u32| match word.checked_mul(u64::from(p)) {
+            Some(w) => word = w,
+            None => {
+                *long.get_or_insert_with(BigUint::one) *= word;
+                word = u64::from(p);
+            }
+        };
         for (product, members) in &self.groups {
             let remainder = product.of(n.magnitude());
             for pp in members {
                 // `remainder` is modulo a multiple of `pᵉ`.
                 for _ in 0..pp.exponent_in(remainder) {
-                    push(pp.p, &mut word, &mut common);
+                    push(pp.p);
                 }
             }
         }
-        let common = BigInt::from(common * word);
-        let mut n = if common.is_one() {
+        let common = match long {
+            None => CommonFactor::Word(word),
+            Some(long) => CommonFactor::Long(BigInt::from(long * word)),
+        };
+        let mut n = if common == CommonFactor::Word(1) {
             n
         } else {
-            exact_quotient(n, &common)
+            common.divide(n)
         };
-        let mut extra = BigInt::one();
+        let mut extra: Option<BigInt> = None;
         for &(p, e) in &self.large {
             for _ in 0..e {
                 if !(n.magnitude() % p).is_zero() {
                     break;
                 }
                 n /= p;
-                extra *= p;
+                *extra.get_or_insert_with(BigInt::one) *= p;
             }
         }
-        (n, common * extra)
+        let common = match extra {
+            None => common,
+            Some(extra) => common.times(&extra),
+        };
+        (n, common)
     }
 }
 

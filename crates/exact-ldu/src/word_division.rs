@@ -23,13 +23,21 @@ pub(crate) fn word_inverse(odd: u64) -> u64 {
 /// `x / c` for a nonzero divisor `c` of `x`: by [`exact_quotient_by_word`] when `|c|` fits a
 /// word, else `num-bigint`'s long division.
 pub(crate) fn exact_quotient(x: BigInt, c: &BigInt) -> BigInt {
-    let negative = (x.sign() == Sign::Minus) != (c.sign() == Sign::Minus);
-    let quotient = match c.magnitude().to_u64() {
-        Some(1) => x.into_parts().1,
-        Some(word) => exact_quotient_by_word(x.into_parts().1, word),
-        None => return x / c,
-    };
-    BigInt::from_biguint(if negative { Sign::Minus } else { Sign::Plus }, quotient)
+    match c.magnitude().to_u64() {
+        Some(word) if c.sign() == Sign::Minus => -exact_word_quotient(x, word),
+        Some(word) => exact_word_quotient(x, word),
+        None => x / c,
+    }
+}
+
+/// `x / c` for a nonzero word `c` dividing `x`, by [`exact_quotient_by_word`].
+pub(crate) fn exact_word_quotient(x: BigInt, c: u64) -> BigInt {
+    debug_assert!(c != 0);
+    if c == 1 {
+        return x;
+    }
+    let (sign, magnitude) = x.into_parts();
+    BigInt::from_biguint(sign, exact_quotient_by_word(magnitude, c))
 }
 
 thread_local! {
@@ -48,14 +56,18 @@ fn exact_quotient_by_word(mut x: BigUint, c: u64) -> BigUint {
     let odd = c >> shift;
     let inverse = word_inverse(odd);
     DIGITS.with_borrow_mut(|digits| {
+        let limbs = x.iter_u64_digits();
+        let n = limbs.len();
         digits.clear();
-        let mut emit = |limb: u64| {
-            digits.push(limb as u32);
-            digits.push((limb >> 32) as u32);
+        digits.resize(2 * n, 0);
+        // Quotient limb `i − 1` is complete once limb `i` is known (the shift takes its low bits).
+        let mut emit = |i: usize, limb: u64| {
+            digits[2 * i] = limb as u32;
+            digits[2 * i + 1] = (limb >> 32) as u32;
         };
         let mut borrow = 0u64;
-        let mut previous: Option<u64> = None;
-        for limb in x.iter_u64_digits() {
+        let mut previous = 0u64;
+        for (i, limb) in limbs.enumerate() {
             let q = if odd == 1 {
                 limb
             } else {
@@ -64,17 +76,20 @@ fn exact_quotient_by_word(mut x: BigUint, c: u64) -> BigUint {
                 borrow = ((u128::from(q) * u128::from(odd)) >> 64) as u64 + u64::from(under);
                 q
             };
-            if let Some(p) = previous {
-                emit(if shift == 0 {
-                    p
-                } else {
-                    (p >> shift) | (q << (64 - shift))
-                });
+            if i > 0 {
+                emit(
+                    i - 1,
+                    if shift == 0 {
+                        previous
+                    } else {
+                        (previous >> shift) | (q << (64 - shift))
+                    },
+                );
             }
-            previous = Some(q);
+            previous = q;
         }
-        if let Some(p) = previous {
-            emit(p >> shift);
+        if n > 0 {
+            emit(n - 1, previous >> shift);
         }
         debug_assert_eq!(borrow, 0, "the divisor does not divide");
         x.assign_from_slice(digits);
