@@ -33,6 +33,9 @@ mod lsq;
 mod memo;
 mod modular;
 mod montgomery;
+// SIMD intrinsics need `unsafe` (the processor's features are checked at run time).
+#[allow(unsafe_code)]
+mod montgomery_lanes;
 mod qvec;
 mod reduce;
 mod reduce_words;

@@ -10,6 +10,7 @@
 //! (see [`Montgomery::residue`]).
 
 use crate::gcd::from_limbs;
+use crate::montgomery_lanes::LaneMontgomery;
 use num_bigint::BigUint;
 use num_traits::One;
 
@@ -22,6 +23,8 @@ pub(crate) struct Montgomery {
     negated_inverse: u64,
     /// For moduli longer than [`SUBQUADRATIC_LIMBS`]: REDC through whole products.
     long: Option<LongModulus>,
+    /// Eight chains at once, where the processor has AVX-512 IFMA.
+    lanes: Option<LaneMontgomery>,
 }
 
 /// From this many limbs on, Montgomery products go through `num-bigint`'s sub-quadratic
@@ -102,6 +105,7 @@ impl Montgomery {
         let long = (limbs.len() >= SUBQUADRATIC_LIMBS)
             .then(|| LongModulus::new(modulus, limbs.len(), inverse));
         Some(Montgomery {
+            lanes: LaneMontgomery::new(&limbs, inverse.wrapping_neg()),
             modulus: limbs,
             bits: modulus.bits(),
             negated_inverse: inverse.wrapping_neg(),
@@ -177,6 +181,40 @@ impl Montgomery {
         t.truncate(rows + k);
         t.drain(..rows);
         t
+    }
+
+    /// The same modulus with the scalar chain only (tests both paths on any processor).
+    #[cfg(test)]
+    pub(crate) fn without_lanes(mut self) -> Self {
+        self.lanes = None;
+        self
+    }
+
+    /// Whether [`Montgomery::lane_product`] runs here (the processor has AVX-512 IFMA).
+    pub(crate) fn has_lanes(&self) -> bool {
+        self.lanes.is_some()
+    }
+
+    /// `Π values` times a unit modulo `m`, below `m` in `k` limbs, by eight chains side by side
+    /// ([`crate::montgomery_lanes`]) joined by seven products; `None` without IFMA. The values
+    /// are below `m` (residues).
+    pub(crate) fn lane_product<'a>(
+        &self,
+        values: impl IntoIterator<Item = &'a [u64]>,
+    ) -> Option<Vec<u64>> {
+        let lanes = self.lanes.as_ref()?;
+        let k = self.limbs();
+        let (products, _) = lanes.lane_products(values);
+        let mut scratch = Vec::new();
+        let mut product = vec![1u64];
+        for mut lane in products {
+            // Below 2m: one subtraction brings it below m.
+            lane.resize(k + 1, 0);
+            self.subtract_if_not_below(&mut lane);
+            lane.truncate(k);
+            self.mul_assign(&mut product, &lane, &mut scratch);
+        }
+        Some(product)
     }
 
     /// `a · b · R⁻¹ mod m` for `a, b < m` (at most `k` limbs each).

@@ -38,6 +38,9 @@ const COMMON_FACTOR_WORK: u64 = 1 << 16;
 /// Values per product chain (chains run in parallel, their products are multiplied at the end).
 const CHAIN: usize = 64;
 
+/// Values per chunk of eight lane chains ([`Montgomery::lane_product`]): 32 per lane.
+const LANE_CHAIN: usize = 256;
+
 /// Primes below this bound are split off the denominator by trial division (larger shared
 /// primes are still found, through `g`).
 const SMALL_PRIME_BOUND: u32 = 1 << 12;
@@ -386,6 +389,9 @@ impl SmoothPart {
 fn product_modulo(residues: &[Option<Limbs>], m: &Montgomery) -> BigUint {
     let one = || vec![1u64];
     let chain = |chunk: &[Option<Limbs>]| -> Limbs {
+        if let Some(product) = m.lane_product(chunk.iter().flatten().map(Vec::as_slice)) {
+            return product;
+        }
         let mut scratch = Vec::new();
         chunk.iter().flatten().fold(one(), |mut acc, r| {
             m.mul_assign(&mut acc, r, &mut scratch);
@@ -393,7 +399,7 @@ fn product_modulo(residues: &[Option<Limbs>], m: &Montgomery) -> BigUint {
         })
     };
     let product = residues
-        .par_chunks(CHAIN)
+        .par_chunks(if m.has_lanes() { LANE_CHAIN } else { CHAIN })
         .map(chain)
         .reduce(one, |mut a, b| {
             m.mul_assign(&mut a, &b, &mut Vec::new());
@@ -502,6 +508,53 @@ mod tests {
                 expected = e;
             }
             prop_assert_eq!(pp.exponent_in(r), expected);
+        }
+    }
+
+    proptest! {
+        /// The chains' product shares its primes with the modulus exactly as the values'
+        /// product does, by eight lanes (where the processor has IFMA) and by the scalar chain:
+        /// a modulus `p · q · r` with Mersenne primes `p = 2^61 − 1`, `q = 2^89 − 1`, values
+        /// some of which are multiples of `p` or `q`, enough of them for several chunks.
+        #[test]
+        fn product_chains_find_the_shared_primes(
+            values in prop::collection::vec(prop::collection::vec(any::<u64>(), 0..12), 0..700),
+            cofactor in prop::collection::vec(any::<u64>(), 0..8),
+            multiples in prop::collection::vec(0usize..700, 0..3),
+        ) {
+            let p: BigInt = (BigInt::one() << 61u32) - 1;
+            let q: BigInt = (BigInt::one() << 89u32) - 1;
+            let r = BigInt::from(from_limbs(&cofactor)) * 2 + 1;
+            let modulus: BigInt = &p * &q * &r;
+            let values: Vec<BigInt> = values
+                .iter()
+                .enumerate()
+                .map(|(i, v)| {
+                    let v = BigInt::from(from_limbs(v));
+                    match multiples.iter().position(|&m| m == i) {
+                        Some(0) => v * &p,
+                        Some(_) => v * &q,
+                        None => v,
+                    }
+                })
+                .collect();
+            let with_lanes = Montgomery::new(modulus.magnitude()).expect("odd");
+            for m in [with_lanes.clone(), with_lanes.without_lanes()] {
+                // Multiples of the modulus (zero residues) are left out of the chain, as
+                // `reduce_over` divides them separately.
+                let residues: Vec<Option<Limbs>> = values
+                    .iter()
+                    .map(|n| Some(m.residue(n.magnitude())).filter(|r| r.iter().any(|l| *l != 0)))
+                    .collect();
+                let product: BigInt = values
+                    .iter()
+                    .zip(&residues)
+                    .filter(|(_, r)| r.is_some())
+                    .map(|(v, _)| v)
+                    .product();
+                let g = gcd_bigint(&BigInt::from(product_modulo(&residues, &m)), &modulus);
+                prop_assert_eq!(g, gcd_bigint(&product, &modulus));
+            }
         }
     }
 
