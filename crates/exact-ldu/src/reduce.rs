@@ -90,16 +90,10 @@ pub fn reduce_over(numerators: Vec<BigInt>, den: &BigInt) -> Vec<Rational> {
     // denominator leaves no rest to test.)
     let montgomery = Montgomery::new(&rest);
     let rest = BigInt::from(rest);
-    let residues: Vec<Option<Limbs>> = match &montgomery {
-        None => vec![None; numerators.len()],
-        Some(m) => numerators
-            .par_iter()
-            .map(|n| Some(m.residue(n.magnitude())).filter(|r| r.iter().any(|l| *l != 0)))
-            .collect(),
-    };
-    let g = match &montgomery {
-        None => BigInt::one(),
-        Some(m) => gcd_bigint(&BigInt::from(product_modulo(&residues, m)), &rest),
+    let residues = montgomery.as_ref().map(|m| Residues::new(&numerators, m));
+    let g = match (&montgomery, &residues) {
+        (Some(m), Some(residues)) => gcd_bigint(&BigInt::from(product_modulo(residues, m)), &rest),
+        _ => BigInt::one(),
     };
     let rough = (!g.is_one()).then(|| part_made_of(&rest, &g));
     let limbs = numerators
@@ -110,13 +104,13 @@ pub fn reduce_over(numerators: Vec<BigInt>, den: &BigInt) -> Vec<Rational> {
     let smooth = SmoothPart::new(&smooth, limbs);
     numerators
         .into_par_iter()
-        .zip(residues)
-        .map_init(Vec::new, |quotients, (n, residue)| {
+        .enumerate()
+        .map_init(Vec::new, |quotients, (i, n)| {
             if n.is_zero() {
                 return Rational::from_integer(BigInt::zero());
             }
             let (mut n, mut common) = smooth.divide_out(n);
-            if montgomery.is_some() && residue.is_none() {
+            if residues.as_ref().is_some_and(|r| r.get(i).is_none()) {
                 n /= &rest;
                 common = common.times(&rest);
             } else if let Some(part) = &rough {
@@ -386,26 +380,62 @@ impl SmoothPart {
 
 /// `Π rᵢ` over the nonzero residues, times a power of `2^−64`, modulo `m` (in parallel chains):
 /// shares its primes with `m` exactly as the product of the values does.
-fn product_modulo(residues: &[Option<Limbs>], m: &Montgomery) -> BigUint {
+fn product_modulo(residues: &Residues, m: &Montgomery) -> BigUint {
     let one = || vec![1u64];
-    let chain = |chunk: &[Option<Limbs>]| -> Limbs {
-        if let Some(product) = m.lane_product(chunk.iter().flatten().map(Vec::as_slice)) {
+    let chunk = if m.has_lanes() { LANE_CHAIN } else { CHAIN };
+    let chain = |first: usize| -> Limbs {
+        let nonzero =
+            || (first..(first + chunk).min(residues.len())).filter_map(|i| residues.get(i));
+        if let Some(product) = m.lane_product(nonzero()) {
             return product;
         }
         let mut scratch = Vec::new();
-        chunk.iter().flatten().fold(one(), |mut acc, r| {
+        nonzero().fold(one(), |mut acc, r| {
             m.mul_assign(&mut acc, r, &mut scratch);
             acc
         })
     };
-    let product = residues
-        .par_chunks(if m.has_lanes() { LANE_CHAIN } else { CHAIN })
+    let product = (0..residues.len())
+        .into_par_iter()
+        .step_by(chunk)
         .map(chain)
         .reduce(one, |mut a, b| {
             m.mul_assign(&mut a, &b, &mut Vec::new());
             a
         });
     from_limbs(&product)
+}
+
+/// The values' residues modulo the rest ([`Montgomery::residue`]), `k` limbs each in one
+/// buffer (no allocation per value), with which of them are zero.
+struct Residues {
+    limbs: Vec<u64>,
+    k: usize,
+    nonzero: Vec<bool>,
+}
+
+impl Residues {
+    fn new(numerators: &[BigInt], m: &Montgomery) -> Self {
+        let k = m.limbs();
+        let mut limbs = vec![0u64; numerators.len() * k];
+        limbs
+            .par_chunks_mut(k)
+            .zip(numerators)
+            .for_each_init(Vec::new, |scratch, (out, n)| {
+                m.residue_into(n.magnitude(), out, scratch);
+            });
+        let nonzero = limbs.chunks(k).map(|r| r.iter().any(|l| *l != 0)).collect();
+        Residues { limbs, k, nonzero }
+    }
+
+    fn len(&self) -> usize {
+        self.nonzero.len()
+    }
+
+    /// Value `i`'s residue, `None` when it is zero (the value a multiple of the rest).
+    fn get(&self, i: usize) -> Option<&[u64]> {
+        self.nonzero[i].then(|| &self.limbs[i * self.k..(i + 1) * self.k])
+    }
 }
 
 /// The largest divisor of `d` whose primes all divide `g` (`g` a divisor of `d`).
@@ -542,15 +572,12 @@ mod tests {
             for m in [with_lanes.clone(), with_lanes.without_lanes()] {
                 // Multiples of the modulus (zero residues) are left out of the chain, as
                 // `reduce_over` divides them separately.
-                let residues: Vec<Option<Limbs>> = values
-                    .iter()
-                    .map(|n| Some(m.residue(n.magnitude())).filter(|r| r.iter().any(|l| *l != 0)))
-                    .collect();
+                let residues = Residues::new(&values, &m);
                 let product: BigInt = values
                     .iter()
-                    .zip(&residues)
-                    .filter(|(_, r)| r.is_some())
-                    .map(|(v, _)| v)
+                    .enumerate()
+                    .filter(|(i, _)| residues.get(*i).is_some())
+                    .map(|(_, v)| v)
                     .product();
                 let g = gcd_bigint(&BigInt::from(product_modulo(&residues, &m)), &modulus);
                 prop_assert_eq!(g, gcd_bigint(&product, &modulus));
