@@ -200,24 +200,17 @@ impl Montgomery {
     }
 
     /// `Π values` times a unit modulo `m`, below `m` in `k` limbs, by eight chains side by side
-    /// ([`crate::montgomery_lanes`]) joined by seven products; `None` without IFMA. The values
-    /// are below `m` (residues).
+    /// ([`crate::montgomery_lanes`]); `None` without IFMA. The values are below `m` (residues).
     pub(crate) fn lane_product<'a>(
         &self,
         values: impl IntoIterator<Item = &'a [u64]>,
     ) -> Option<Vec<u64>> {
         let lanes = self.lanes.as_ref()?;
-        let k = self.limbs();
-        let (products, _) = lanes.lane_products(values);
-        let mut scratch = Vec::new();
-        let mut product = vec![1u64];
-        for mut lane in products {
-            // Below 2m: one subtraction brings it below m.
-            lane.resize(k + 1, 0);
-            self.subtract_if_not_below(&mut lane);
-            lane.truncate(k);
-            self.mul_assign(&mut product, &lane, &mut scratch);
-        }
+        let (mut product, _) = lanes.product(values);
+        // Below 2m: one subtraction brings it below m.
+        product.resize(self.limbs() + 1, 0);
+        self.subtract_if_not_below(&mut product);
+        product.truncate(self.limbs());
         Some(product)
     }
 

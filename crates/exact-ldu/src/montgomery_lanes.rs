@@ -58,13 +58,15 @@ impl LaneMontgomery {
         self.digits.len()
     }
 
-    /// The eight lanes' products of `values` (each below `2m`, in 64-bit limbs; value `i` goes
-    /// to lane `i mod 8`), each times `2^(−52d·s)` for the `s` returned (the same for every
-    /// lane: short lanes are padded with ones), in 64-bit limbs below `2m`.
-    pub(crate) fn lane_products<'a>(
+    /// The product of `values` (each below `2m`, in 64-bit limbs) times `2^(−52d·e)` for the
+    /// `e` returned, below `2m` in 64-bit limbs. Value `i` goes to lane `i mod 8` (short lanes
+    /// are padded with ones); after the chains the lanes are folded into lane 0 by three more
+    /// products of each lane with a permutation of the others (lanes `ℓ` and `ℓ ⊕ 4`, `ℓ ⊕ 2`,
+    /// `ℓ ⊕ 1`), so the eight chains join without leaving the registers.
+    pub(crate) fn product<'a>(
         &self,
         values: impl IntoIterator<Item = &'a [u64]>,
-    ) -> (Vec<Vec<u64>>, usize) {
+    ) -> (Vec<u64>, usize) {
         let d = self.digits();
         // Blocks of eight values, transposed: digit `j` of the block's value `ℓ` at `j·8 + ℓ`.
         let mut blocks: Vec<u64> = Vec::new();
@@ -102,7 +104,12 @@ impl LaneMontgomery {
                 &mut accumulators,
             );
         }
-        (lanes_to_limbs(&accumulators, d), steps)
+        // Each lane carries 2^(−52d) per step; the folds multiply them together: 8 steps each,
+        // and one more per product of the folds (4 + 2 + 1).
+        (
+            lane_to_limbs(&accumulators, d, 0),
+            LANES * steps + LANES - 1,
+        )
     }
 }
 
@@ -147,26 +154,22 @@ fn digit(limbs: &[u64], j: usize) -> u64 {
     (low | high) & DIGIT_MASK
 }
 
-/// Each lane of transposed, normalised digits as 64-bit limbs.
-fn lanes_to_limbs(transposed: &[u64], d: usize) -> Vec<Vec<u64>> {
-    (0..LANES)
-        .map(|lane| {
-            let mut limbs = vec![0u64; (d * DIGIT_BITS as usize).div_ceil(64) + 1];
-            for j in 0..d {
-                let digit = transposed[j * LANES + lane];
-                let bit = j * DIGIT_BITS as usize;
-                let (limb, offset) = (bit / 64, bit % 64);
-                limbs[limb] |= digit << offset;
-                if offset > 64 - DIGIT_BITS as usize {
-                    limbs[limb + 1] |= digit >> (64 - offset);
-                }
-            }
-            while limbs.last() == Some(&0) {
-                limbs.pop();
-            }
-            limbs
-        })
-        .collect()
+/// Lane `lane` of transposed, normalised digits as 64-bit limbs.
+fn lane_to_limbs(transposed: &[u64], d: usize, lane: usize) -> Vec<u64> {
+    let mut limbs = vec![0u64; (d * DIGIT_BITS as usize).div_ceil(64) + 1];
+    for j in 0..d {
+        let digit = transposed[j * LANES + lane];
+        let bit = j * DIGIT_BITS as usize;
+        let (limb, offset) = (bit / 64, bit % 64);
+        limbs[limb] |= digit << offset;
+        if offset > 64 - DIGIT_BITS as usize {
+            limbs[limb + 1] |= digit >> (64 - offset);
+        }
+    }
+    while limbs.last() == Some(&0) {
+        limbs.pop();
+    }
+    limbs
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -174,8 +177,8 @@ mod x86 {
     use super::{DIGIT_BITS, DIGIT_MASK, LANES};
     use std::arch::x86_64::{
         __m512i, _mm512_add_epi64, _mm512_and_si512, _mm512_loadu_si512, _mm512_madd52hi_epu64,
-        _mm512_madd52lo_epu64, _mm512_set1_epi64, _mm512_setzero_si512, _mm512_srli_epi64,
-        _mm512_storeu_si512,
+        _mm512_madd52lo_epu64, _mm512_permutexvar_epi64, _mm512_set1_epi64, _mm512_set_epi64,
+        _mm512_setzero_si512, _mm512_srli_epi64, _mm512_storeu_si512,
     };
 
     /// `acc ← acc · block · 2^(−52d) mod m` lane by lane, for each block in turn (`blocks` and
@@ -202,10 +205,25 @@ mod x86 {
         // The window of row `i` is `window[i..=i + d]`: sliding it up one digit per row instead
         // of moving `d` registers down.
         let mut window: Vec<__m512i> = vec![zero; 2 * d + 1];
-        for block in blocks.chunks_exact(d * LANES) {
+        let mut b: Vec<__m512i> = vec![zero; d];
+        let block_count = blocks.len() / (d * LANES);
+        // After the blocks, the folds: `acc` times itself with lanes `ℓ ⊕ 4`, `ℓ ⊕ 2`, `ℓ ⊕ 1`.
+        let folds = [4i64, 2, 1]
+            .map(|x| _mm512_set_epi64(7 ^ x, 6 ^ x, 5 ^ x, 4 ^ x, 3 ^ x, 2 ^ x, 1 ^ x, x));
+        for step in 0..block_count + folds.len() {
+            if step < block_count {
+                let block = &blocks[step * d * LANES..(step + 1) * d * LANES];
+                for (j, bj) in b.iter_mut().enumerate() {
+                    *bj = load(block, j);
+                }
+            } else {
+                let fold = folds[step - block_count];
+                for (bj, aj) in b.iter_mut().zip(&acc) {
+                    *bj = _mm512_permutexvar_epi64(fold, *aj);
+                }
+            }
             window.fill(zero);
-            for i in 0..d {
-                let b = load(block, i);
+            for (i, &b) in b.iter().enumerate() {
                 let t = &mut window[i..=i + d];
                 for (j, a) in acc.iter().enumerate() {
                     t[j] = _mm512_madd52lo_epu64(t[j], *a, b);
@@ -271,11 +289,12 @@ mod tests {
             for (j, digit) in digits.iter().enumerate() {
                 transposed[j * LANES + 3] = *digit;
             }
-            prop_assert_eq!(big(&lanes_to_limbs(&transposed, count)[3]), big(&limbs));
+            prop_assert_eq!(big(&lane_to_limbs(&transposed, count, 3)), big(&limbs));
         }
 
-        /// Each lane's product times `2^(52d·s)` is the product of its values modulo `m`, and
-        /// below `2m`; for odd moduli of one to forty limbs and up to forty values below `2m`.
+        /// The product times `2^(52d·e)` is the product of the values modulo `m`, and below
+        /// `2m`; for odd moduli of one to forty limbs and up to forty values below `2m` (so some
+        /// lanes are padded, and with none at all the product is a unit).
         #[test]
         fn lanes_multiply_their_values(
             modulus in prop::collection::vec(any::<u64>(), 1..40),
@@ -295,18 +314,12 @@ mod tests {
                 .iter()
                 .map(|v| (big(v) % &two_m).to_u64_digits())
                 .collect();
-            let (products, steps) = lanes.lane_products(values.iter().map(Vec::as_slice));
-            let shift = BigUint::one() << (52 * lanes.digits() * steps);
-            for (lane, product) in products.iter().enumerate() {
-                let expected = values
-                    .iter()
-                    .skip(lane)
-                    .step_by(LANES)
-                    .fold(BigUint::one(), |acc, v| acc * big(v) % &m);
-                let product = big(product);
-                prop_assert!(product < two_m);
-                prop_assert_eq!(product * &shift % &m, expected);
-            }
+            let (product, exponent) = lanes.product(values.iter().map(Vec::as_slice));
+            let expected = values.iter().fold(BigUint::one(), |acc, v| acc * big(v) % &m);
+            let product = big(&product);
+            prop_assert!(product < two_m);
+            let shift = BigUint::one() << (52 * lanes.digits() * exponent);
+            prop_assert_eq!(product * &shift % &m, expected);
         }
     }
 
