@@ -95,7 +95,8 @@
 //! `plugin_abi::export_source!(MySource::default);`. The macro generates the symbols, so plugin
 //! crates need no `unsafe` code of their own.
 
-// The workspace denies `unsafe_code`. This crate is the one place it is allowed: an FFI
+// The workspace denies `unsafe_code`. This crate is one of two places it is allowed (the
+// other: exact-ldu's SIMD product chains): an FFI
 // boundary (loading libraries, calling foreign function pointers, raw buffers handed across,
 // `#[no_mangle]` exports) cannot be written without it. Every `unsafe` block says why it is
 // sound, and plugin crates get their exports from the `export_source!` macro instead of
