@@ -42,7 +42,6 @@ mod reduce_words;
 mod ring;
 mod snap;
 pub mod sparse;
-mod word_combination;
 mod word_division;
 
 pub use blocks::{

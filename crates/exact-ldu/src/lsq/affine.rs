@@ -15,7 +15,6 @@ use super::ExactLeastSquares;
 use crate::dixon::LiftingSolver;
 use crate::qvec::QVec;
 use crate::ring::{lcm, Ring};
-use crate::word_combination::{word_combination, WordMultiplier};
 use api::Rational;
 use num_bigint::BigInt;
 use num_traits::{One, ToPrimitive, Zero};
@@ -438,15 +437,6 @@ pub(super) fn combine<R: Ring>(
                 .collect::<Option<Vec<i128>>>()?,
         ))
     });
-    // Otherwise, multipliers of one word (the usual drag: small anchor moves over one common
-    // denominator) combine in limbs, one big integer built per value.
-    let words: Option<Vec<WordMultiplier>> = std::iter::once(WordMultiplier::of(&base_scale))
-        .chain(
-            factors
-                .iter()
-                .map(|f| WordMultiplier::of(f).map(WordMultiplier::negated)),
-        )
-        .collect();
     let num = base
         .num
         .iter()
@@ -460,13 +450,6 @@ pub(super) fn combine<R: Ring>(
                 Some(sum)
             }) {
                 return BigInt::from(value);
-            }
-            if let Some(words) = &words {
-                let terms = std::iter::once(b)
-                    .chain(moved.iter().map(|r| &r.num[s]))
-                    .zip(words)
-                    .map(|(x, c)| (*c, x));
-                return word_combination(terms);
             }
             let mut value = b * &base_scale;
             for (r, f) in moved.iter().zip(&factors) {
