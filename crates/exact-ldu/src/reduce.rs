@@ -29,7 +29,7 @@ use num_bigint::{BigInt, BigUint};
 use num_integer::Integer;
 use num_traits::{One, Signed, ToPrimitive, Zero};
 use rayon::prelude::*;
-use std::sync::OnceLock;
+use std::sync::{Arc, Mutex, OnceLock};
 
 /// Below this many `bits of the denominator × values`, the plain entry-by-entry reduction is as
 /// fast and parallel loops do not pay for their fork and join.
@@ -83,25 +83,24 @@ pub fn reduce_over(numerators: Vec<BigInt>, den: &BigInt) -> Vec<Rational> {
     } else {
         (numerators, den.clone())
     };
-    let (smooth, rest) = split_smooth(den.magnitude());
-    // The rest is odd (2 is a small prime): Montgomery residues, zero exactly for the values
-    // that are multiples of `rest` (those with small reduced denominators, such as parameters
-    // the constraints leave at their hints), which would make the product vanish. (A smooth
-    // denominator leaves no rest to test.)
-    let montgomery = Montgomery::new(&rest);
-    let rest = BigInt::from(rest);
-    let residues = montgomery.as_ref().map(|m| Residues::new(&numerators, m));
-    let g = match (&montgomery, &residues) {
-        (Some(m), Some(residues)) => gcd_bigint(&BigInt::from(product_modulo(residues, m)), &rest),
-        _ => BigInt::one(),
-    };
-    let rough = (!g.is_one()).then(|| part_made_of(&rest, &g));
     let limbs = numerators
         .iter()
         .map(|n| n.magnitude().iter_u64_digits().len())
         .max()
         .unwrap_or(0);
-    let smooth = SmoothPart::new(&smooth, limbs);
+    let parts = DenominatorParts::of(&den, limbs);
+    let DenominatorParts {
+        rest,
+        montgomery,
+        smooth,
+        ..
+    } = &*parts;
+    let residues = montgomery.as_ref().map(|m| Residues::new(&numerators, m));
+    let g = match (montgomery, &residues) {
+        (Some(m), Some(residues)) => gcd_bigint(&BigInt::from(product_modulo(residues, m)), rest),
+        _ => BigInt::one(),
+    };
+    let rough = (!g.is_one()).then(|| part_made_of(rest, &g));
     numerators
         .into_par_iter()
         .enumerate()
@@ -111,8 +110,8 @@ pub fn reduce_over(numerators: Vec<BigInt>, den: &BigInt) -> Vec<Rational> {
             }
             let (mut n, mut common) = smooth.divide_out(n);
             if residues.as_ref().is_some_and(|r| r.get(i).is_none()) {
-                n /= &rest;
-                common = common.times(&rest);
+                n /= rest;
+                common = common.times(rest);
             } else if let Some(part) = &rough {
                 let c = gcd_bigint(&n.mod_floor(part), part);
                 if !c.is_one() {
@@ -127,6 +126,57 @@ pub fn reduce_over(numerators: Vec<BigInt>, den: &BigInt) -> Vec<Rational> {
             }
         })
         .collect()
+}
+
+/// What [`reduce_over`] derives from the denominator alone: its smooth part (ready to divide
+/// values by), the rest and its Montgomery form. Remembered for the last few denominators: the
+/// frames of a drag keep theirs while the anchors move by steps of the same denominator, and
+/// this is a division of the 5 700-bit primorial and a GCD per solution otherwise.
+struct DenominatorParts {
+    den: BigInt,
+    /// The values' length the smooth part's remainders are prepared for.
+    limbs: usize,
+    smooth: SmoothPart,
+    rest: BigInt,
+    /// `None` when the rest is 1 (a smooth denominator: nothing to test).
+    montgomery: Option<Montgomery>,
+}
+
+/// How many denominators [`DenominatorParts::of`] remembers.
+const DENOMINATOR_MEMO: usize = 4;
+
+impl DenominatorParts {
+    /// The parts of `den > 0` for values of at most `limbs` limbs, remembered.
+    fn of(den: &BigInt, limbs: usize) -> Arc<Self> {
+        static MEMO: Mutex<Vec<Arc<DenominatorParts>>> = Mutex::new(Vec::new());
+        let remembered = MEMO.lock().ok().and_then(|memo| {
+            memo.iter()
+                .find(|p| p.den == *den && p.limbs >= limbs)
+                .cloned()
+        });
+        if let Some(parts) = remembered {
+            return parts;
+        }
+        let (smooth, rest) = split_smooth(den.magnitude());
+        // The rest is odd (2 is a small prime): Montgomery residues, zero exactly for the
+        // values that are multiples of `rest` (those with small reduced denominators, such as
+        // parameters the constraints leave at their hints), which would make the product
+        // vanish.
+        let parts = Arc::new(DenominatorParts {
+            den: den.clone(),
+            limbs,
+            smooth: SmoothPart::new(&smooth, limbs),
+            montgomery: Montgomery::new(&rest),
+            rest: BigInt::from(rest),
+        });
+        if let Ok(mut memo) = MEMO.lock() {
+            if memo.len() == DENOMINATOR_MEMO {
+                memo.remove(0);
+            }
+            memo.push(Arc::clone(&parts));
+        }
+        parts
+    }
 }
 
 /// How many distinct common factors [`reduced_denominator`] remembers per worker.
@@ -582,6 +632,30 @@ mod tests {
                 let g = gcd_bigint(&BigInt::from(product_modulo(&residues, &m)), &modulus);
                 prop_assert_eq!(g, gcd_bigint(&product, &modulus));
             }
+        }
+    }
+
+    /// A remembered denominator serves later solutions over it, longer values included (its
+    /// parts are prepared again for them), with the same fractions as `Rational::new`.
+    #[test]
+    fn remembered_denominators_reduce_like_fresh_ones() {
+        let den = big_denominator(&BigInt::from(13), true);
+        for (round, length) in [(1i64, 1u32), (2, 1), (3, 40)] {
+            let numerators: Vec<BigInt> = (1..300)
+                .map(|i| {
+                    let v = BigInt::from(i * round) * BigInt::from(3).pow(length * 30) + i;
+                    if i % 7 == 0 {
+                        v * &den / BigInt::from(7 * 7 * 7)
+                    } else {
+                        v
+                    }
+                })
+                .collect();
+            let expected: Vec<Rational> = numerators
+                .iter()
+                .map(|n| Rational::new(n.clone(), den.clone()))
+                .collect();
+            assert_eq!(reduce_over(numerators, &den), expected, "round {round}");
         }
     }
 
