@@ -271,13 +271,10 @@ mod x86 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::gcd::from_limbs as big;
     use num_bigint::BigUint;
     use num_traits::One;
     use proptest::prelude::*;
-
-    fn big(limbs: &[u64]) -> BigUint {
-        crate::gcd::from_limbs(limbs)
-    }
 
     proptest! {
         /// Digits and back.
