@@ -7,7 +7,7 @@
 //! word multiplications of `m`, in place. Results carry factors `R⁻¹`, which are units modulo
 //! the odd `m`: zero tests and GCDs with `m` are unchanged, which is all the reduction asks of
 //! them. The values' own residues take only the few REDC rows that bring them below `2m`
-//! (see [`Montgomery::residue`]).
+//! (see [`Montgomery::residue_into`]).
 
 use crate::gcd::from_limbs;
 use crate::montgomery_lanes::LaneMontgomery;
@@ -145,13 +145,7 @@ impl Montgomery {
         }
     }
 
-    /// `n · 2^(−64j) mod m` in `k` limbs for some `j ≥ 0`: zero exactly when `m` divides `n`
-    /// (`2^(−64j)` is a unit modulo the odd `m`), which with GCDs against `m` is all the
-    /// product chain asks of a residue. `j` REDC rows, just enough to bring `n` below `2m`:
-    /// the values reduced are about as long as `m` (numerators over a multiple of it), so `j`
-    /// is a row or two and this costs `O(k)` word operations per row, without the
-    /// normalisation and allocations of a long division (full REDC, `k` rows, made the 7 000-bit
-    /// denominators of a δ = 16 edit on a real mesh 30–70 % slower).
+    /// [`Montgomery::residue_into`] as a new vector.
     #[cfg(test)]
     pub(crate) fn residue(&self, n: &BigUint) -> Vec<u64> {
         let mut residue = vec![0; self.limbs()];
@@ -159,8 +153,16 @@ impl Montgomery {
         residue
     }
 
-    /// [`Montgomery::residue`] written into `out` (`k` limbs), the rows worked in `scratch`
-    /// (reused: no allocation once it has grown).
+    /// `n · 2^(−64j) mod m` in `k` limbs for some `j ≥ 0`: zero exactly when `m` divides `n`
+    /// (`2^(−64j)` is a unit modulo the odd `m`), which with GCDs against `m` is all the
+    /// product chain asks of a residue. `j` REDC rows, just enough to bring `n` below `2m`:
+    /// the values reduced are about as long as `m` (numerators over a multiple of it), so `j`
+    /// is a row or two and this costs `O(k)` word operations per row, without the
+    /// normalisation and allocations of a long division (full REDC, `k` rows, made the 7 000-bit
+    /// denominators of a δ = 16 edit on a real mesh 30–70 % slower).
+    ///
+    /// Written into `out` (`k` limbs), the rows worked in `scratch` (reused: no allocation once
+    /// it has grown).
     pub(crate) fn residue_into(&self, n: &BigUint, out: &mut [u64], scratch: &mut Vec<u64>) {
         let k = self.limbs();
         let (bits, modulus_bits) = (n.bits(), self.bits);

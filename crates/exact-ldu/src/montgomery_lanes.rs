@@ -26,7 +26,7 @@ const DIGIT_BITS: u32 = 52;
 const DIGIT_MASK: u64 = (1 << DIGIT_BITS) - 1;
 
 /// Values per register: the chains run side by side.
-pub(crate) const LANES: usize = 8;
+const LANES: usize = 8;
 
 /// Moduli of more digits take the scalar chain (the accumulator bound above, with margin).
 const MAX_DIGITS: usize = 512;
@@ -182,7 +182,7 @@ mod x86 {
     };
 
     /// `acc ← acc · block · 2^(−52d) mod m` lane by lane, for each block in turn (`blocks` and
-    /// `accumulators` transposed as in [`super::LaneMontgomery::lane_products`]).
+    /// `accumulators` transposed as in [`super::LaneMontgomery::product`]).
     ///
     /// # Safety
     /// The processor must support AVX-512F and AVX-512 IFMA.

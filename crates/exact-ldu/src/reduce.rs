@@ -456,7 +456,7 @@ fn product_modulo(residues: &Residues, m: &Montgomery) -> BigUint {
     from_limbs(&product)
 }
 
-/// The values' residues modulo the rest ([`Montgomery::residue`]), `k` limbs each in one
+/// The values' residues modulo the rest ([`Montgomery::residue_into`]), `k` limbs each in one
 /// buffer (no allocation per value), with which of them are zero.
 struct Residues {
     limbs: Vec<u64>,
