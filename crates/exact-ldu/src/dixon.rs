@@ -34,6 +34,7 @@ use crate::modular::{lifting_primes, ModularLu, Modulus, SparseLdlt};
 use num_bigint::{BigInt, BigUint, Sign};
 use num_integer::Integer;
 use num_traits::{One, Signed, ToPrimitive, Zero};
+use rayon::prelude::*;
 use std::sync::OnceLock;
 
 /// Residuals below this size stay in `i128` (with `|A| < 2^62` and digits below `2^31`, one
@@ -424,13 +425,18 @@ impl LiftingSolver {
         }
         let steps = lifting.steps;
         let powers = PadicPowers::new(p, steps);
-        let mut column = Vec::with_capacity(steps);
+        // Entries are independent: combined in parallel (a few balanced multiplications each).
         let scaled: Vec<BigInt> = (0..n)
-            .map(|i| {
-                column.clear();
-                column.extend((0..steps).map(|t| balanced(lifting.digits[t * n + i], p)));
-                powers.combine_signed(&column)
-            })
+            .into_par_iter()
+            .with_min_len(entries_per_task(n, steps / 2))
+            .map_init(
+                || Vec::with_capacity(steps),
+                |column, i| {
+                    column.clear();
+                    column.extend((0..steps).map(|t| balanced(lifting.digits[t * n + i], p)));
+                    powers.combine_signed(column)
+                },
+            )
             .collect();
         let den = BigInt::from(den);
         if exact {
@@ -491,13 +497,17 @@ impl LiftingSolver {
         den: BigInt,
         b: &[BigInt],
     ) -> Option<(Vec<BigInt>, BigInt)> {
-        for (row, bi) in self.rows.iter().zip(b) {
-            let lhs: BigInt = row.iter().map(|(j, v)| v * &numerators[*j]).sum();
-            if lhs != &den * bi {
-                return None;
-            }
-        }
-        Some((numerators, den))
+        let words = (den.bits() / 64) as usize + 1;
+        let holds = self
+            .rows
+            .par_iter()
+            .with_min_len(entries_per_task(self.rows.len(), words))
+            .zip(b)
+            .all(|(row, bi)| {
+                let lhs: BigInt = row.iter().map(|(j, v)| v * &numerators[*j]).sum();
+                lhs == &den * bi
+            });
+        holds.then_some((numerators, den))
     }
 
     /// The numerators of `entries` over one denominator, reconstructed from `k` digits per
@@ -519,11 +529,21 @@ impl LiftingSolver {
         } = ReconstructionBounds::new(&modulus, self.hadamard_bits);
         let mut den = BigUint::one();
         let mut numerators: Vec<BigInt> = Vec::with_capacity(entries.len());
-        let mut column = Vec::with_capacity(k);
-        for &i in entries {
-            column.clear();
-            column.extend((0..k).map(|t| digits[t * n + i]));
-            let x = powers.combine(&column);
+        // The entries' p-adic values in parallel (the bulk of the work); the denominator then
+        // grows entry by entry.
+        let values: Vec<BigUint> = entries
+            .par_iter()
+            .with_min_len(entries_per_task(entries.len(), k / 2))
+            .map_init(
+                || Vec::with_capacity(k),
+                |column, &i| {
+                    column.clear();
+                    column.extend((0..k).map(|t| digits[t * n + i]));
+                    powers.combine(column)
+                },
+            )
+            .collect();
+        for x in values {
             let y = (&den * &x) % &modulus;
             let symmetric = symmetric_residue(y.clone(), &modulus);
             if symmetric.magnitude() <= &num_bound {
@@ -566,6 +586,24 @@ impl ReconstructionBounds {
 
 /// How many entries, evenly spread from the first to the last, the denominator is sampled on.
 const SAMPLED_ENTRIES: usize = 5;
+
+/// Entries per parallel task where the entries of a solution are combined or checked
+/// independently (each a few big-integer products).
+const ENTRIES_PER_TASK: usize = 16;
+
+/// Below this many `entries × words per entry`, per-entry loops run on the calling thread:
+/// handing work to rayon costs tens of microseconds (more from a thread outside its pool).
+const PARALLEL_WORDS: usize = 1 << 14;
+
+/// The smallest number of entries per parallel task for `entries` entries of about `words`
+/// words each: all of them (no split, the calling thread) when the work is small.
+pub(crate) fn entries_per_task(entries: usize, words: usize) -> usize {
+    if entries.saturating_mul(words) < PARALLEL_WORDS {
+        entries.max(1)
+    } else {
+        ENTRIES_PER_TASK
+    }
+}
 
 /// The digits of `v` in base `p`, least significant first.
 fn base_p_digits(v: &BigUint, p: u64) -> Vec<u64> {

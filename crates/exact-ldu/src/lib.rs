@@ -40,6 +40,7 @@ mod qvec;
 mod reduce;
 mod reduce_words;
 mod ring;
+mod shared_once;
 mod snap;
 pub mod sparse;
 mod word_division;

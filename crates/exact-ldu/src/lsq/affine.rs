@@ -12,13 +12,15 @@
 //! functions of the prepared data: they never change an answer.
 
 use super::ExactLeastSquares;
-use crate::dixon::LiftingSolver;
+use crate::dixon::{entries_per_task, LiftingSolver};
 use crate::qvec::QVec;
 use crate::ring::{lcm, Ring};
+use crate::shared_once::SharedOnce;
 use api::Rational;
 use num_bigint::BigInt;
 use num_traits::{One, ToPrimitive, Zero};
-use std::sync::{Arc, Mutex, OnceLock};
+use rayon::prelude::*;
+use std::sync::{Arc, Mutex};
 
 /// A rational vector as integer numerators over one positive denominator.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -31,24 +33,59 @@ impl Numerators {
     /// Divides the numerators and the denominator by their common content, so every update
     /// built from this vector (and the GCDs that reduce its results) works on smaller numbers.
     fn without_content(mut self) -> Self {
-        let mut g = self.den.clone();
-        for x in &self.num {
-            if g == BigInt::from(1) {
-                return self;
+        // Over many long entries, the GCD over chunks in parallel, each chunk starting from the
+        // denominator and stopping once it reaches 1, then over the chunks' GCDs.
+        let per_task = entries_per_task(self.num.len(), (self.den.bits() / 64) as usize + 1);
+        let g = if per_task >= self.num.len() {
+            let mut g = self.den.clone();
+            for x in &self.num {
+                if One::is_one(&g) {
+                    return self;
+                }
+                if !Zero::is_zero(x) {
+                    g = crate::gcd::gcd_bigint(&g, x);
+                }
             }
-            if !Zero::is_zero(x) {
-                g = crate::gcd::gcd_bigint(&g, x);
-            }
-        }
-        if g != BigInt::from(1) {
-            for x in &mut self.num {
-                *x /= &g;
-            }
+            g
+        } else {
+            self.num
+                .par_iter()
+                .with_min_len(per_task)
+                .fold(
+                    || self.den.clone(),
+                    |g, x| {
+                        if One::is_one(&g) || Zero::is_zero(x) {
+                            g
+                        } else {
+                            crate::gcd::gcd_bigint(&g, x)
+                        }
+                    },
+                )
+                .reduce(
+                    || self.den.clone(),
+                    |a, b| {
+                        if One::is_one(&a) {
+                            a
+                        } else {
+                            crate::gcd::gcd_bigint(&a, &b)
+                        }
+                    },
+                )
+        };
+        if !One::is_one(&g) {
+            self.num
+                .par_iter_mut()
+                .with_min_len(per_task)
+                .for_each(|x| *x /= &g);
             self.den /= &g;
         }
         self
     }
 }
+
+/// Unknowns from which the responses to several anchor coordinates are lifted in parallel
+/// (below, handing them to rayon costs more than it saves).
+const PARALLEL_RESPONSES_FROM: usize = 256;
 
 /// The last hint vector of one column, as given, and its base (shared: a drag frame reads it
 /// without copying its numerators).
@@ -135,7 +172,7 @@ impl Scales {
 /// values derived from the rest of the prepared data, not part of it).
 #[derive(Debug, Default)]
 pub(super) struct AffineMemo {
-    responses: OnceLock<Vec<Numerators>>,
+    responses: SharedOnce<Vec<Numerators>>,
     bases: Vec<BaseMemo>,
 }
 
@@ -143,7 +180,7 @@ impl AffineMemo {
     /// Empty memos for `columns` right-hand-side columns.
     pub(super) fn new(columns: usize) -> Self {
         AffineMemo {
-            responses: OnceLock::new(),
+            responses: SharedOnce::default(),
             bases: (0..columns).map(|_| Mutex::new(None)).collect(),
         }
     }
@@ -199,8 +236,18 @@ impl<R: Ring> ExactLeastSquares<R> {
 
     /// `resp_k = V Âᵀ G⁻¹ K̂_{:,k}` for every anchor coordinate `k`, lifted at the first call.
     pub(super) fn responses(&self, normal: &LiftingSolver) -> &[Numerators] {
+        // Several anchor coordinates lift in parallel when each lifting is real work and this
+        // is one of rayon's workers (from another thread, handing work over costs more).
+        let per_task =
+            if self.n >= PARALLEL_RESPONSES_FROM && rayon::current_thread_index().is_some() {
+                1
+            } else {
+                self.parameters.max(1)
+            };
         self.memo.responses.get_or_init(|| {
             (0..self.parameters)
+                .into_par_iter()
+                .with_min_len(per_task)
                 .map(|k| {
                     let rho: Vec<BigInt> = self
                         .k_hat
