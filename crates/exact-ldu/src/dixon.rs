@@ -346,7 +346,11 @@ impl LiftingSolver {
         let mut lifting = Lifting::new(self, b, false);
         let mut sampling = true;
         let hint = self.last_steps.get();
-        let mut next_attempt = if hint > 0 { hint.min(last_step) } else { 8 };
+        let mut next_attempt = if hint > 0 {
+            hint.min(last_step)
+        } else {
+            FIRST_ATTEMPT
+        };
         loop {
             lifting.step(self);
             let step = lifting.steps;
@@ -357,7 +361,9 @@ impl LiftingSolver {
                             self.last_steps.set(step);
                             return solution;
                         }
-                        sampling = false;
+                        // A wrong candidate at the early attempt (few digits allow one) is
+                        // cheap to have tried; past it, reconstruct every entry instead.
+                        sampling = step < SECOND_ATTEMPT;
                     }
                 }
                 if !sampling || step >= last_step {
@@ -374,8 +380,14 @@ impl LiftingSolver {
                 // that does not reconstruct): step by a quarter, overshooting the needed
                 // length by at most 25 % (doubling would waste up to half).
                 // After a hinted attempt the answer is only a little longer than the last.
+                // After the early attempt for small answers, the schedule of longer ones.
                 let stride = if step == hint { step / 16 } else { step / 4 };
-                next_attempt = (step + stride.max(8)).min(last_step);
+                next_attempt = if step < SECOND_ATTEMPT {
+                    SECOND_ATTEMPT
+                } else {
+                    step + stride.max(8)
+                }
+                .min(last_step);
             }
         }
     }
@@ -583,6 +595,16 @@ impl ReconstructionBounds {
         }
     }
 }
+
+/// The step of the first reconstruction attempt of a solve with no hint from the last one.
+/// Small answers (point systems, the null vectors of the propagation analysis: numerators and
+/// denominators of a few digits) reconstruct after one or two steps; a failed attempt costs
+/// five sampled entries, far less than the steps it may save (and it sets the hint of the
+/// solves that follow).
+const FIRST_ATTEMPT: usize = 2;
+
+/// The second attempt, from which attempts follow every quarter of the steps so far.
+const SECOND_ATTEMPT: usize = 8;
 
 /// How many entries, evenly spread from the first to the last, the denominator is sampled on.
 const SAMPLED_ENTRIES: usize = 5;

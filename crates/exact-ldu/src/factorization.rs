@@ -14,6 +14,7 @@ use api::{
 };
 use num_bigint::BigInt;
 use num_traits::Zero;
+use rayon::prelude::*;
 use std::sync::Arc;
 
 /// A sparse integer row: `(column, value)` by increasing column.
@@ -241,7 +242,11 @@ impl<R: Ring> ExactFactorization<R> {
                         })
                         .collect();
                 };
-                free.into_iter()
+                // One lifted solve per free column, independent: in parallel when they are
+                // real work (the propagation analysis asks for the null space of every edit).
+                let per_task = crate::dixon::entries_per_task(free.len(), self.cols);
+                free.into_par_iter()
+                    .with_min_len(per_task)
                     .map(|f| {
                         let column: Vec<BigInt> = basis
                             .independent()
@@ -330,6 +335,8 @@ fn null_space_fraction_free<R: Ring>(ldu: &Ldu<R>) -> Vec<Vec<BigInt>> {
     let r = ldu.rank();
     let n = ldu.cols();
     (r..n)
+        .into_par_iter()
+        .with_min_len(crate::dixon::entries_per_task(n - r, n))
         .map(|f| {
             let mut y = QVec::from_integers((0..r).map(|k| ldu.u_row(k)[f].neg()).collect());
             ldu.backward(&mut y);
