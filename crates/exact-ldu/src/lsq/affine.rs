@@ -236,15 +236,15 @@ impl<R: Ring> ExactLeastSquares<R> {
 
     /// `resp_k = V Âᵀ G⁻¹ K̂_{:,k}` for every anchor coordinate `k`, lifted at the first call.
     pub(super) fn responses(&self, normal: &LiftingSolver) -> &[Numerators] {
-        // Several anchor coordinates lift in parallel when each lifting is real work and this
-        // is one of rayon's workers (from another thread, handing work over costs more).
-        let per_task =
-            if self.n >= PARALLEL_RESPONSES_FROM && rayon::current_thread_index().is_some() {
-                1
-            } else {
-                self.parameters.max(1)
-            };
         self.memo.responses.get_or_init(|| {
+            // Several anchor coordinates lift in parallel when each lifting is real work and
+            // this is one of rayon's workers (from another thread, handing work over costs more).
+            let per_task =
+                if self.n >= PARALLEL_RESPONSES_FROM && rayon::current_thread_index().is_some() {
+                    1
+                } else {
+                    self.parameters.max(1)
+                };
             (0..self.parameters)
                 .into_par_iter()
                 .with_min_len(per_task)
