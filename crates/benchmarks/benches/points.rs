@@ -81,7 +81,9 @@ where
 }
 
 /// The exact drag frame as an editor draws it (`Edit::frame`): the values of
-/// [`Edit::update`] exactly, as fractions over the solution's common denominator, not reduced.
+/// [`Edit::update`] exactly, as fractions over the solution's common denominator, not reduced;
+/// given the hints every frame (`unreduced-frame`) and with the hints fixed for the drag
+/// (`drag-frame`, [`ecles::HintedEdit::frame`]).
 fn exact_frames(c: &mut Criterion, sizes: &[usize]) {
     let mut group = c.benchmark_group("point-drag");
     group.sample_size(10);
@@ -99,6 +101,14 @@ fn exact_frames(c: &mut Criterion, sizes: &[usize]) {
         group.bench_function(
             BenchmarkId::new("unreduced-frame", format!("exact-{label}{n}")),
             |b| b.iter(|| black_box(edit.frame(&drag.targets, &hints).is_ok())),
+        );
+        // A drag: the hints (the values at mouse-down) fixed once, only the anchors move, as
+        // kiwisolver's edit variable is added once and then only suggested.
+        let hinted = edit.with_hints(&hints).expect("hints");
+        assert_eq!(hinted.frame(&drag.targets).expect("solvable"), frame);
+        group.bench_function(
+            BenchmarkId::new("drag-frame", format!("exact-{label}{n}")),
+            |b| b.iter(|| black_box(hinted.frame(&drag.targets).is_ok())),
         );
     }
     group.finish();

@@ -487,24 +487,8 @@ impl<F: Factorization> Edit<F> {
         anchor_values: &[Vec<Rational>],
         hints: &[Vec<Rational>],
     ) -> Result<UpdateResult<F::Scalar>, EditError<F::Scalar>> {
-        let (prepared, reduced, substitution, weights) = (
-            &self.prepared,
-            &self.reduced,
-            self.substitution.as_ref(),
-            &self.weights,
-        );
-        let derived_values = self.solve_with(anchor_values, hints, |column, alpha, h| {
-            Self::solve_column(prepared, reduced, substitution, weights, column, alpha, h)
-        })?;
-        Ok(UpdateResult {
-            anchors: self
-                .anchors
-                .iter()
-                .copied()
-                .zip(anchor_values.iter().cloned())
-                .collect(),
-            derived: self.derived.iter().copied().zip(derived_values).collect(),
-        })
+        self.check_anchor_values(anchor_values)?;
+        self.with_hints(hints)?.update(anchor_values)
     }
 
     /// ECLES.Update for drawing: the same exact verdict as [`Edit::update`], the derived values
@@ -516,21 +500,57 @@ impl<F: Factorization> Edit<F> {
         anchor_values: &[Vec<Rational>],
         hints: &[Vec<Rational>],
     ) -> Result<Vec<Vec<f64>>, EditError<F::Scalar>> {
-        let (prepared, reduced, substitution, weights) = (
-            &self.prepared,
-            &self.reduced,
-            self.substitution.as_ref(),
-            &self.weights,
-        );
-        self.solve_with(anchor_values, hints, |column, alpha, h| {
-            if substitution.is_none() {
-                return prepared.solve_approx(column, alpha, h);
+        self.check_anchor_values(anchor_values)?;
+        self.with_hints(hints)?.preview(anchor_values)
+    }
+
+    /// The edit with `hints` fixed (checked and gathered once): what the frames of a drag
+    /// share, whose hints are the values at mouse-down while the anchors move. Each
+    /// [`HintedEdit::update`], [`HintedEdit::preview`] or [`HintedEdit::frame`] then costs the
+    /// solve alone — [`Edit::update`] recognises unchanged hints too, but by comparing every
+    /// number with the last ones, which on a small exact frame costs a fifth of it.
+    pub fn with_hints(
+        &self,
+        hints: &[Vec<Rational>],
+    ) -> Result<HintedEdit<'_, F>, EditError<F::Scalar>> {
+        self.check_values("hints", hints, &self.derived_names, &self.derived_dims)?;
+        let hints = match self.layout {
+            Layout::Vector { dim } => {
+                GatheredHints::ByColumn(self.hint_columns.by_column(hints, dim))
             }
-            // The offsets are added in the backend's values and the sum rounded once, so the
-            // preview stays the update rounded (the inner system is small by construction).
-            Self::solve_column(prepared, reduced, substitution, weights, column, alpha, h)
-                .map(|x| x.iter().map(Value::to_f64).collect())
-        })
+            Layout::Scalar => GatheredHints::Flat(self.hint_columns.flattened(hints)),
+        };
+        Ok(HintedEdit { edit: self, hints })
+    }
+
+    /// The update's result: the anchors at `anchor_values`, the derived parameters at
+    /// `derived_values`.
+    fn result(
+        &self,
+        anchor_values: &[Vec<Rational>],
+        derived_values: Vec<Vec<F::Scalar>>,
+    ) -> UpdateResult<F::Scalar> {
+        UpdateResult {
+            anchors: self
+                .anchors
+                .iter()
+                .copied()
+                .zip(anchor_values.iter().cloned())
+                .collect(),
+            derived: self.derived.iter().copied().zip(derived_values).collect(),
+        }
+    }
+
+    fn check_anchor_values(
+        &self,
+        anchor_values: &[Vec<Rational>],
+    ) -> Result<(), EditError<F::Scalar>> {
+        self.check_values(
+            "anchor values",
+            anchor_values,
+            &self.anchor_names,
+            &self.anchor_dims,
+        )
     }
 
     /// One coordinate column of the update in the backend's values: the prepared least squares
@@ -560,66 +580,6 @@ impl<F: Factorization> Edit<F> {
         )
     }
 
-    /// Validates the inputs, then solves per column (vector layout, the columns in parallel:
-    /// on large exact edits each is a lifted solve of its own) or once (scalar layout). The
-    /// first failing column in order gives the error, as a sequential loop would.
-    fn solve_with<T>(
-        &self,
-        anchor_values: &[Vec<Rational>],
-        hints: &[Vec<Rational>],
-        solve: impl Fn(usize, &[Rational], &HintColumn) -> Result<Vec<T>, SolveError<F::Scalar>> + Sync,
-    ) -> Result<Vec<Vec<T>>, EditError<F::Scalar>>
-    where
-        T: Clone + Send,
-    {
-        self.check_values(
-            "anchor values",
-            anchor_values,
-            &self.anchor_names,
-            &self.anchor_dims,
-        )?;
-        self.check_values("hints", hints, &self.derived_names, &self.derived_dims)?;
-        match self.layout {
-            Layout::Vector { dim } => {
-                let hint_columns = self.hint_columns.by_column(hints, dim);
-                let column = |j: usize| {
-                    let alpha: Vec<Rational> = anchor_values.iter().map(|v| v[j].clone()).collect();
-                    solve(j, &alpha, &hint_columns[j])
-                };
-                // Threads pay off only when a column is real work.
-                let columns: Vec<Result<Vec<T>, SolveError<F::Scalar>>> =
-                    if self.reduced.r_ed.cols() >= PARALLEL_COLUMNS_ABOVE {
-                        (0..dim).into_par_iter().map(column).collect()
-                    } else {
-                        (0..dim).map(column).collect()
-                    };
-                // (Not `vec![Vec::with_capacity(dim); n]`: clones of a vector drop its capacity.)
-                let mut out: Vec<Vec<T>> = (0..self.derived.len())
-                    .map(|_| Vec::with_capacity(dim))
-                    .collect();
-                for (j, column) in columns.into_iter().enumerate() {
-                    let x = column.map_err(|e| self.solve_error(e, j))?;
-                    for (slot, value) in out.iter_mut().zip(x) {
-                        slot.push(value);
-                    }
-                }
-                Ok(out)
-            }
-            Layout::Scalar => {
-                let alpha: Vec<Rational> = anchor_values.iter().flatten().cloned().collect();
-                let h = self.hint_columns.flattened(hints);
-                let mut x = solve(0, &alpha, &h)
-                    .map_err(|e| self.solve_error(e, 0))?
-                    .into_iter();
-                Ok(self
-                    .derived_dims
-                    .iter()
-                    .map(|&dim| x.by_ref().take(dim).collect())
-                    .collect())
-            }
-        }
-    }
-
     fn solve_error(&self, e: SolveError<F::Scalar>, column: usize) -> EditError<F::Scalar> {
         match e {
             SolveError::Input(e) => EditError::Backend(e),
@@ -635,6 +595,166 @@ impl<F: Factorization> Edit<F> {
 }
 
 impl<F: Factorization<Scalar = Rational>> Edit<F> {
+    /// ECLES.Update as an exact drag frame (see [`HintedEdit::frame`]).
+    pub fn frame(
+        &self,
+        anchor_values: &[Vec<Rational>],
+        hints: &[Vec<Rational>],
+    ) -> Result<Vec<Vec<Fraction>>, EditError<Rational>> {
+        self.check_anchor_values(anchor_values)?;
+        self.with_hints(hints)?.frame(anchor_values)
+    }
+
+    /// ECLES.Update committed as a snapped point (see [`HintedEdit::update_snapped`]).
+    pub fn update_snapped(
+        &self,
+        anchor_values: &[Vec<Rational>],
+        hints: &[Vec<Rational>],
+        grid_bits: u32,
+    ) -> Result<(UpdateResult<Rational>, SnapSummary), EditError<Rational>> {
+        self.check_anchor_values(anchor_values)?;
+        self.with_hints(hints)?
+            .update_snapped(anchor_values, grid_bits)
+    }
+
+    /// Runs [`Edit::update`] and, only if it succeeds, writes the anchor and derived values into
+    /// `values`. On any error `values` is left exactly as it was.
+    pub fn apply(
+        &self,
+        system: &ConstraintSystem,
+        values: &mut Values,
+        anchor_values: &[Vec<Rational>],
+        hints: &[Vec<Rational>],
+    ) -> Result<UpdateResult<Rational>, EditError<Rational>> {
+        if values.len() != system.params().len() {
+            return Err(EditError::Count {
+                what: "parameter values",
+                expected: system.params().len(),
+                found: values.len(),
+            });
+        }
+        let result = self.update(anchor_values, hints)?;
+        result.write_into(values);
+        Ok(result)
+    }
+}
+
+/// Hints checked against an edit's derived parameters and gathered the way its solve reads
+/// them.
+#[derive(Debug, Clone)]
+enum GatheredHints {
+    /// Vector layout: coordinate `j` of every derived parameter, per column `j`.
+    ByColumn(Vec<HintColumn>),
+    /// Scalar layout: every coordinate of every derived parameter in one column.
+    Flat(HintColumn),
+}
+
+/// An edit with its hints fixed ([`Edit::with_hints`]): ECLES.Update for any anchor values, the
+/// hints already checked and gathered, so that the memos of the steps that follow recognise
+/// them by identity. What a drag's frames share.
+pub struct HintedEdit<'e, F: Factorization> {
+    edit: &'e Edit<F>,
+    hints: GatheredHints,
+}
+
+impl<F: Factorization> HintedEdit<'_, F> {
+    /// ECLES.Update with these hints (see [`Edit::update`]).
+    pub fn update(
+        &self,
+        anchor_values: &[Vec<Rational>],
+    ) -> Result<UpdateResult<F::Scalar>, EditError<F::Scalar>> {
+        let edit = self.edit;
+        let (prepared, reduced, substitution, weights) = (
+            &edit.prepared,
+            &edit.reduced,
+            edit.substitution.as_ref(),
+            &edit.weights,
+        );
+        let derived_values = self.solve_with(anchor_values, |column, alpha, h| {
+            Edit::<F>::solve_column(prepared, reduced, substitution, weights, column, alpha, h)
+        })?;
+        Ok(edit.result(anchor_values, derived_values))
+    }
+
+    /// ECLES.Update for drawing with these hints (see [`Edit::preview`]): the exact verdict,
+    /// the derived values rounded to `f64`.
+    pub fn preview(
+        &self,
+        anchor_values: &[Vec<Rational>],
+    ) -> Result<Vec<Vec<f64>>, EditError<F::Scalar>> {
+        let edit = self.edit;
+        let (prepared, reduced, substitution, weights) = (
+            &edit.prepared,
+            &edit.reduced,
+            edit.substitution.as_ref(),
+            &edit.weights,
+        );
+        self.solve_with(anchor_values, |column, alpha, h| {
+            if substitution.is_none() {
+                return prepared.solve_approx(column, alpha, h);
+            }
+            // The offsets are added in the backend's values and the sum rounded once, so the
+            // preview stays the update rounded (the inner system is small by construction).
+            Edit::<F>::solve_column(prepared, reduced, substitution, weights, column, alpha, h)
+                .map(|x| x.iter().map(Value::to_f64).collect())
+        })
+    }
+
+    /// Validates the anchor values, then solves per column (vector layout, the columns in
+    /// parallel: on large exact edits each is a lifted solve of its own) or once (scalar
+    /// layout). The first failing column in order gives the error, as a sequential loop would.
+    fn solve_with<T>(
+        &self,
+        anchor_values: &[Vec<Rational>],
+        solve: impl Fn(usize, &[Rational], &HintColumn) -> Result<Vec<T>, SolveError<F::Scalar>> + Sync,
+    ) -> Result<Vec<Vec<T>>, EditError<F::Scalar>>
+    where
+        T: Clone + Send,
+    {
+        let edit = self.edit;
+        edit.check_anchor_values(anchor_values)?;
+        match &self.hints {
+            GatheredHints::ByColumn(hint_columns) => {
+                let dim = hint_columns.len();
+                let column = |j: usize| {
+                    let alpha: Vec<Rational> = anchor_values.iter().map(|v| v[j].clone()).collect();
+                    solve(j, &alpha, &hint_columns[j])
+                };
+                // Threads pay off only when a column is real work.
+                let columns: Vec<Result<Vec<T>, SolveError<F::Scalar>>> =
+                    if edit.reduced.r_ed.cols() >= PARALLEL_COLUMNS_ABOVE {
+                        (0..dim).into_par_iter().map(column).collect()
+                    } else {
+                        (0..dim).map(column).collect()
+                    };
+                // (Not `vec![Vec::with_capacity(dim); n]`: clones of a vector drop its capacity.)
+                let mut out: Vec<Vec<T>> = (0..edit.derived.len())
+                    .map(|_| Vec::with_capacity(dim))
+                    .collect();
+                for (j, column) in columns.into_iter().enumerate() {
+                    let x = column.map_err(|e| edit.solve_error(e, j))?;
+                    for (slot, value) in out.iter_mut().zip(x) {
+                        slot.push(value);
+                    }
+                }
+                Ok(out)
+            }
+            GatheredHints::Flat(h) => {
+                let alpha: Vec<Rational> = anchor_values.iter().flatten().cloned().collect();
+                let mut x = solve(0, &alpha, h)
+                    .map_err(|e| edit.solve_error(e, 0))?
+                    .into_iter();
+                Ok(edit
+                    .derived_dims
+                    .iter()
+                    .map(|&dim| x.by_ref().take(dim).collect())
+                    .collect())
+            }
+        }
+    }
+}
+
+impl<F: Factorization<Scalar = Rational>> HintedEdit<'_, F> {
     /// ECLES.Update as an exact drag frame: the same verdict and the same values as
     /// [`Edit::update`] (`derived[k][j]` for derived parameter `k`, coordinate `j`), as fractions
     /// over the solution's common denominator, not reduced — what a frame needs that is drawn
@@ -644,12 +764,12 @@ impl<F: Factorization<Scalar = Rational>> Edit<F> {
     pub fn frame(
         &self,
         anchor_values: &[Vec<Rational>],
-        hints: &[Vec<Rational>],
     ) -> Result<Vec<Vec<Fraction>>, EditError<Rational>> {
-        let prepared = &self.prepared;
+        let edit = self.edit;
+        let prepared = &edit.prepared;
         let (reduced, substitution, weights) =
-            (&self.reduced, self.substitution.as_ref(), &self.weights);
-        self.solve_with(anchor_values, hints, |column, alpha, h| {
+            (&edit.reduced, edit.substitution.as_ref(), &edit.weights);
+        self.solve_with(anchor_values, |column, alpha, h| {
             // The groups' values unreduced, the offsets added as fractions.
             let unreduced = |h: &[Rational]| match prepared.solve_unreduced(column, alpha, h)? {
                 Some(x) => Ok(x),
@@ -682,18 +802,18 @@ impl<F: Factorization<Scalar = Rational>> Edit<F> {
     pub fn update_snapped(
         &self,
         anchor_values: &[Vec<Rational>],
-        hints: &[Vec<Rational>],
         grid_bits: u32,
     ) -> Result<(UpdateResult<Rational>, SnapSummary), EditError<Rational>> {
-        let prepared = &self.prepared;
+        let edit = self.edit;
+        let prepared = &edit.prepared;
         let (reduced, substitution, weights) =
-            (&self.reduced, self.substitution.as_ref(), &self.weights);
+            (&edit.reduced, edit.substitution.as_ref(), &edit.weights);
         let summary = std::sync::Mutex::new(SnapSummary {
             grid_bits,
             distance_bound: 0.0,
             optimum_columns: 0,
         });
-        let derived = self.solve_with(anchor_values, hints, |column, alpha, h| {
+        let derived = self.solve_with(anchor_values, |column, alpha, h| {
             // Each unknown differs from its group's value by ±1 times it plus an exact offset:
             // the groups' distance bound is the unknowns'.
             through_substitution(
@@ -719,39 +839,7 @@ impl<F: Factorization<Scalar = Rational>> Edit<F> {
         let summary = summary
             .into_inner()
             .unwrap_or_else(std::sync::PoisonError::into_inner);
-        Ok((
-            UpdateResult {
-                anchors: self
-                    .anchors
-                    .iter()
-                    .copied()
-                    .zip(anchor_values.iter().cloned())
-                    .collect(),
-                derived: self.derived.iter().copied().zip(derived).collect(),
-            },
-            summary,
-        ))
-    }
-
-    /// Runs [`Edit::update`] and, only if it succeeds, writes the anchor and derived values into
-    /// `values`. On any error `values` is left exactly as it was.
-    pub fn apply(
-        &self,
-        system: &ConstraintSystem,
-        values: &mut Values,
-        anchor_values: &[Vec<Rational>],
-        hints: &[Vec<Rational>],
-    ) -> Result<UpdateResult<Rational>, EditError<Rational>> {
-        if values.len() != system.params().len() {
-            return Err(EditError::Count {
-                what: "parameter values",
-                expected: system.params().len(),
-                found: values.len(),
-            });
-        }
-        let result = self.update(anchor_values, hints)?;
-        result.write_into(values);
-        Ok(result)
+        Ok((edit.result(anchor_values, derived), summary))
     }
 }
 

@@ -37,7 +37,7 @@ mod substitute;
 
 pub use criterion::{Criterion, CriterionSummary, Measure, SupportSummary};
 pub use drag::Drag;
-pub use edit::{Edit, EditSpec, InitReport, Layout, RowRef, SnapSummary, UpdateResult};
+pub use edit::{Edit, EditSpec, HintedEdit, InitReport, Layout, RowRef, SnapSummary, UpdateResult};
 pub use error::{Conflict, ConflictingRow, EditError};
 pub use moves::check_moves;
 pub use propagation::{

@@ -210,6 +210,55 @@ fn exact_frames_are_the_update_unreduced() {
     ));
 }
 
+/// An edit with its hints fixed (a drag) answers every anchor position as the edit does given
+/// those hints each time — updates, previews, frames and snapped updates, in both layouts — and
+/// checks hints once, anchor values every time.
+#[test]
+fn hinted_edits_answer_as_the_edit_with_the_same_hints() {
+    for split in [false, true] {
+        let (s, p, values) = parallelogram(split);
+        let spec = EditSpec::new(vec![p[0]], vec![p[1], p[2], p[3]]);
+        let edit: ExactEdit = Edit::initialize(&backend(), &s, &values, &spec).expect("init");
+        let hints: Vec<Vec<Rational>> = (1..4)
+            .map(|i| values.get(p[i]).iter().map(|v| v + q(1, 7)).collect())
+            .collect();
+        let hinted = edit.with_hints(&hints).expect("hints");
+        for anchors in [
+            vec![vec![q(7, 2), q(-6, 5)]],
+            vec![vec![z(0), z(0)]],
+            vec![vec![q(-11, 3), z(40)]],
+        ] {
+            assert_eq!(
+                hinted.update(&anchors).expect("update"),
+                edit.update(&anchors, &hints).expect("update")
+            );
+            assert_eq!(
+                hinted.frame(&anchors).expect("frame"),
+                edit.frame(&anchors, &hints).expect("frame")
+            );
+            assert_eq!(
+                hinted.preview(&anchors).expect("preview"),
+                edit.preview(&anchors, &hints).expect("preview")
+            );
+            let (snapped, summary) = hinted.update_snapped(&anchors, 8).expect("snapped");
+            assert_eq!(
+                (snapped, summary.distance_bound),
+                edit.update_snapped(&anchors, &hints, 8)
+                    .map(|(r, s)| (r, s.distance_bound))
+                    .expect("snapped")
+            );
+        }
+        assert!(matches!(
+            hinted.update(&[vec![z(1)]]),
+            Err(EditError::ValueDimension { .. })
+        ));
+        assert!(matches!(
+            edit.with_hints(&hints[..2]),
+            Err(EditError::Count { what: "hints", .. })
+        ));
+    }
+}
+
 /// p1 = p2 = p3 with A = {p1, p3}, D = {p2}: anchors can only move together.
 fn chain() -> (ConstraintSystem, Vec<ParamId>, Values) {
     let mut s = ConstraintSystem::new();
