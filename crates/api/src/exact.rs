@@ -303,9 +303,16 @@ impl<'de> Deserialize<'de> for Exact {
 /// a memo a recomputation, never a wrong answer.
 pub fn identical_rationals(a: &[Rational], b: &[Rational]) -> bool {
     a.len() == b.len()
-        && a.iter()
-            .zip(b)
-            .all(|(x, y)| x.numer() == y.numer() && x.denom() == y.denom())
+        && a.iter().zip(b).all(|(x, y)| {
+            identical_integers(x.numer(), y.numer()) && identical_integers(x.denom(), y.denom())
+        })
+}
+
+/// `a == b`, digit by digit in line: the values compared by the memos are mostly one or two
+/// digits long, where a call to `memcmp` per integer costs more than the comparison.
+fn identical_integers(a: &Integer, b: &Integer) -> bool {
+    let (x, y) = (a.iter_u64_digits(), b.iter_u64_digits());
+    a.sign() == b.sign() && x.len() == y.len() && x.eq(y)
 }
 
 /// `a + b` in lowest terms, by Henrici's addition (Knuth, TAOCP vol. 2, 4.5.1): with
@@ -459,6 +466,16 @@ mod tests {
         ));
         assert!(!identical_rationals(&[q(1, 2)], &[q(1, 3)]));
         assert!(!identical_rationals(&[q(1, 2)], &[q(1, 2), q(0, 1)]));
+        // Signs, lengths and high digits all count.
+        assert!(!identical_rationals(&[q(1, 2)], &[q(-1, 2)]));
+        let big = |e: u32, plus: i64| Rational::from_integer((BigInt::from(1) << e) + plus);
+        assert!(identical_rationals(
+            &[big(64, 1), big(200, -7)],
+            &[big(64, 1), big(200, -7)]
+        ));
+        assert!(!identical_rationals(&[big(64, 1)], &[big(65, 1)]));
+        assert!(!identical_rationals(&[big(64, 1)], &[q(1, 1)]));
+        assert!(!identical_rationals(&[big(200, -7)], &[big(200, -9)]));
         // Unreduced, equal in value: different keys (a memo recomputes), never the reverse.
         let unreduced = Rational::new_raw(2.into(), 4.into());
         assert!(!identical_rationals(&[unreduced], &[q(1, 2)]));

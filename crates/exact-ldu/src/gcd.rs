@@ -300,7 +300,10 @@ pub fn reduced_small_ratio(n: i128, d: i128) -> Option<api::Rational> {
     let g = gcd_u128(n.unsigned_abs(), d.unsigned_abs()) as i128;
     let (n, d) = if g == 1 { (n, d) } else { (n / g, d / g) };
     let (n, d) = if d < 0 { (-n, -d) } else { (n, d) };
-    Some(api::Rational::new_raw(BigInt::from(n), BigInt::from(d)))
+    Some(api::Rational::new_raw(
+        crate::ring::bigint_from_i128(n),
+        crate::ring::bigint_from_i128(d),
+    ))
 }
 
 #[cfg(test)]

@@ -236,7 +236,12 @@ fn reduce_in_words(numerators: &[BigInt], den: &BigInt) -> Option<Vec<Rational>>
     Some(
         reduced
             .into_iter()
-            .map(|(n, d)| Rational::new_raw(BigInt::from(n), BigInt::from(d)))
+            .map(|(n, d)| {
+                Rational::new_raw(
+                    crate::ring::bigint_from_i128(n),
+                    crate::ring::bigint_from_i128(d),
+                )
+            })
             .collect(),
     )
 }

@@ -496,7 +496,7 @@ pub(super) fn combine<R: Ring>(
                 }
                 Some(sum)
             }) {
-                return BigInt::from(value);
+                return crate::ring::bigint_from_i128(value);
             }
             let mut value = b * &base_scale;
             for (r, f) in moved.iter().zip(&factors) {
