@@ -487,8 +487,7 @@ impl<F: Factorization> Edit<F> {
         anchor_values: &[Vec<Rational>],
         hints: &[Vec<Rational>],
     ) -> Result<UpdateResult<F::Scalar>, EditError<F::Scalar>> {
-        self.check_anchor_values(anchor_values)?;
-        self.with_hints(hints)?.update(anchor_values)
+        self.hinted(anchor_values, hints)?.update(anchor_values)
     }
 
     /// ECLES.Update for drawing: the same exact verdict as [`Edit::update`], the derived values
@@ -500,8 +499,7 @@ impl<F: Factorization> Edit<F> {
         anchor_values: &[Vec<Rational>],
         hints: &[Vec<Rational>],
     ) -> Result<Vec<Vec<f64>>, EditError<F::Scalar>> {
-        self.check_anchor_values(anchor_values)?;
-        self.with_hints(hints)?.preview(anchor_values)
+        self.hinted(anchor_values, hints)?.preview(anchor_values)
     }
 
     /// The edit with `hints` fixed (checked and gathered once): what the frames of a drag
@@ -539,6 +537,17 @@ impl<F: Factorization> Edit<F> {
                 .collect(),
             derived: self.derived.iter().copied().zip(derived_values).collect(),
         }
+    }
+
+    /// [`Edit::with_hints`] for one update at `anchor_values`, checked first (the errors of a
+    /// call with both wrong name the anchor values, as they always have).
+    fn hinted(
+        &self,
+        anchor_values: &[Vec<Rational>],
+        hints: &[Vec<Rational>],
+    ) -> Result<HintedEdit<'_, F>, EditError<F::Scalar>> {
+        self.check_anchor_values(anchor_values)?;
+        self.with_hints(hints)
     }
 
     fn check_anchor_values(
@@ -601,8 +610,7 @@ impl<F: Factorization<Scalar = Rational>> Edit<F> {
         anchor_values: &[Vec<Rational>],
         hints: &[Vec<Rational>],
     ) -> Result<Vec<Vec<Fraction>>, EditError<Rational>> {
-        self.check_anchor_values(anchor_values)?;
-        self.with_hints(hints)?.frame(anchor_values)
+        self.hinted(anchor_values, hints)?.frame(anchor_values)
     }
 
     /// ECLES.Update committed as a snapped point (see [`HintedEdit::update_snapped`]).
@@ -612,8 +620,7 @@ impl<F: Factorization<Scalar = Rational>> Edit<F> {
         hints: &[Vec<Rational>],
         grid_bits: u32,
     ) -> Result<(UpdateResult<Rational>, SnapSummary), EditError<Rational>> {
-        self.check_anchor_values(anchor_values)?;
-        self.with_hints(hints)?
+        self.hinted(anchor_values, hints)?
             .update_snapped(anchor_values, grid_bits)
     }
 
