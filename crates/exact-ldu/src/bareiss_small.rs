@@ -67,7 +67,7 @@ impl SmallBareiss {
                 m[i * n + j] = word(i128::from(v))?;
             }
         }
-        let mut previous = 1i64;
+        let mut previous = ExactDivisor::new(1);
         for k in 0..n {
             let pivot = m[k * n + k];
             if pivot == 0 {
@@ -82,10 +82,10 @@ impl SmallBareiss {
                         continue;
                     }
                     let value = cross(pivot, own, below, across);
-                    m[i * n + j] = word(exact_quotient(value, previous))?;
+                    m[i * n + j] = previous.quotient(value)?;
                 }
             }
-            previous = pivot;
+            previous = ExactDivisor::new(pivot);
         }
         Some(SmallBareiss { n, m })
     }
@@ -101,7 +101,7 @@ impl SmallBareiss {
             .map(|v| word(ToPrimitive::to_i128(v)?))
             .collect::<Option<_>>()?;
         // The right-hand side through the same steps.
-        let mut previous = 1i64;
+        let mut previous = ExactDivisor::new(1);
         for k in 0..n {
             let pivot = at(k, k);
             for i in k + 1..n {
@@ -109,9 +109,9 @@ impl SmallBareiss {
                 if c[i] == 0 && (below == 0 || c[k] == 0) {
                     continue;
                 }
-                c[i] = word(exact_quotient(cross(pivot, c[i], below, c[k]), previous))?;
+                c[i] = previous.quotient(cross(pivot, c[i], below, c[k]))?;
             }
-            previous = pivot;
+            previous = ExactDivisor::new(pivot);
         }
         // U x = c with U_{n−1,n−1} = det: y = det · x by exact divisions, last entry first.
         // Each product is below 2^124 and at most 48 are summed (checked: a sum may overflow).
@@ -122,7 +122,7 @@ impl SmallBareiss {
             for (u, yj) in self.m[i * n + i + 1..(i + 1) * n].iter().zip(&y[i + 1..]) {
                 sum = sum.checked_sub(i128::from(*u) * i128::from(*yj))?;
             }
-            y[i] = word(exact_quotient(sum, i128::from(at(i, i))))?;
+            y[i] = ExactDivisor::new(at(i, i)).quotient(sum)?;
         }
         // Lowest common denominator: divide by the content of (det, y).
         let mut g = det.unsigned_abs();
@@ -140,15 +140,43 @@ impl SmallBareiss {
     }
 }
 
-/// `a / b` for a multiple `a` of `b ≠ 0`: by the processor's 64-bit division when `a` fits
-/// (the usual case; a 128-bit division is a library call several times slower).
-#[inline]
-fn exact_quotient(a: i128, b: impl Into<i128>) -> i128 {
-    let b: i128 = b.into();
-    match (i64::try_from(a), i64::try_from(b)) {
-        // i64::MIN / −1 overflows i64 only; its quotient 2^63 is computed below.
-        (Ok(a64), Ok(b64)) if !(a64 == i64::MIN && b64 == -1) => i128::from(a64 / b64),
-        _ => a / b,
+/// Exact division by one stored value `b` (`0 < |b| < 2^62`) without a hardware division:
+/// `b = ±2^s · odd`, and a multiple `a` of `b` divided by `2^s` is `q · odd` (times the sign),
+/// so modulo `2^64` the quotient is that times `odd⁻¹` — exactly `q` when `|q| < 2^63`. The
+/// quotient is wanted only below `2^62` ([`word`]), which `|a| < 2^62 |b|` decides before it is
+/// computed. Each elimination step divides by one previous pivot `(n − k)²` times: the inverse
+/// is found once (a 64-bit division is tens of cycles, most of a small factoring's time).
+#[derive(Debug, Clone, Copy)]
+struct ExactDivisor {
+    negative: bool,
+    shift: u32,
+    odd_inverse: u64,
+    /// `2^62 |b|`: quotients of smaller dividends are words.
+    limit: u128,
+}
+
+impl ExactDivisor {
+    fn new(b: i64) -> Self {
+        debug_assert!(b != 0 && b.unsigned_abs() < WORD_LIMIT);
+        let magnitude = b.unsigned_abs();
+        let shift = magnitude.trailing_zeros();
+        ExactDivisor {
+            negative: b < 0,
+            shift,
+            odd_inverse: crate::word_division::word_inverse(magnitude >> shift),
+            limit: u128::from(magnitude) << 62,
+        }
+    }
+
+    /// `a / b` for a multiple `a` of `b` (`|a| < 2^127`) when it is below `2^62` in magnitude.
+    #[inline]
+    fn quotient(&self, a: i128) -> Option<i64> {
+        if a.unsigned_abs() >= self.limit {
+            return None;
+        }
+        // `a >> s` is exact; its low 64 bits times `odd⁻¹` are `±q` modulo 2^64.
+        let q = ((a >> self.shift) as u64).wrapping_mul(self.odd_inverse) as i64;
+        Some(if self.negative { -q } else { q })
     }
 }
 
@@ -218,7 +246,55 @@ mod tests {
         );
     }
 
+    /// The quotient by multiplication is the quotient, for divisors with and without powers
+    /// of two, both signs, and quotients on both sides of the `2^62` limit.
+    #[test]
+    fn exact_divisors_divide_exactly() {
+        let limit = 1i128 << 62;
+        for b in [
+            1i64,
+            -1,
+            2,
+            -2,
+            3,
+            12,
+            -40,
+            7 << 20,
+            (1 << 61) + 1,
+            -((1 << 62) - 1),
+        ] {
+            let divisor = ExactDivisor::new(b);
+            for q in [
+                0i128,
+                1,
+                -1,
+                5,
+                -977,
+                limit - 1,
+                -(limit - 1),
+                limit,
+                -limit,
+            ] {
+                let a = q * i128::from(b);
+                let expected = (q.unsigned_abs() < limit.unsigned_abs()).then_some(q as i64);
+                assert_eq!(divisor.quotient(a), expected, "{a} / {b}");
+            }
+        }
+    }
+
     proptest! {
+        /// Random exact quotients: the multiplication by the inverse gives the division's.
+        #[test]
+        fn exact_divisors_agree_with_division(
+            b in (1i64 << 61) * -2 + 1..(1i64 << 61) * 2,
+            q in -(1i128 << 64)..(1i128 << 64),
+        ) {
+            prop_assume!(b != 0);
+            let divisor = ExactDivisor::new(b);
+            let expected = (q.unsigned_abs() < 1u128 << 62).then_some(q as i64);
+            prop_assert_eq!(divisor.quotient(q * i128::from(b)), expected);
+        }
+
         /// On random positive definite `A = Bᵀ B + I`: `A x = b` exactly, `x` in lowest terms
         /// over the smallest common denominator.
         #[test]

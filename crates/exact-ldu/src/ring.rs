@@ -323,7 +323,13 @@ impl Ring for Int {
         match (self, other) {
             (Int::Small(a), Int::Small(b)) => {
                 debug_assert!(*b != 0 && a % b == 0, "inexact division");
-                Int::from_i128(*a as i128 / *b as i128)
+                // The processor's 64-bit division (a 128-bit one is a library call several
+                // times slower); only a / −1 can leave the i64 range (for i64::MIN).
+                if *b == -1 {
+                    Int::from_i128(-(*a as i128))
+                } else {
+                    Int::Small(a / b)
+                }
             }
             (Int::Big(a), Int::Small(b)) => {
                 debug_assert!(Zero::is_zero(&(&**a % *b)), "inexact division");
@@ -457,6 +463,10 @@ mod tests {
         assert_eq!(min.div_exact(&two_63), Int::Small(-1));
         assert_eq!(min.div_exact(&two_63.neg()), Int::Small(1));
         assert_eq!(Int::Small(0).div_exact(&two_63), Int::Small(0));
+        // The one small quotient of small values that is not small.
+        assert_eq!(min.div_exact(&Int::Small(-1)), two_63);
+        assert_eq!(min.div_exact(&Int::Small(1)), min);
+        assert_eq!(Int::Small(-12).div_exact(&Int::Small(-4)), Int::Small(3));
         assert_eq!(min.abs_cmp(&two_63), Ordering::Equal);
         assert_eq!(two_63.abs_cmp(&min), Ordering::Equal);
         assert_eq!(Int::Small(i64::MAX).abs_cmp(&two_63), Ordering::Less);

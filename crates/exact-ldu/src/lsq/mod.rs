@@ -326,7 +326,7 @@ fn normal_matrix_in_words(
                 row.iter()
                     .enumerate()
                     .filter(|(_, v)| **v != 0)
-                    .map(|(l, v)| (l, BigInt::from(*v)))
+                    .map(|(l, v)| (l, crate::ring::bigint_from_i128(*v)))
                     .collect()
             })
             .collect(),
