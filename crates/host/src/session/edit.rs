@@ -14,7 +14,6 @@ use ecles::{Edit, EditError, EditSpec, UpdateResult};
 use exact_ldu::ExactFactorization;
 use float_qr::FloatQr;
 use num_traits::One;
-use rayon::prelude::*;
 use std::collections::BTreeMap;
 
 impl Session {
@@ -358,11 +357,11 @@ impl Session {
                 if let Some(last) = results.last() {
                     let entries: Vec<&(ParamId, Vec<Rational>)> =
                         last.anchors.iter().chain(&last.derived).collect();
-                    // Decimal text of values with thousands of digits: on all cores.
-                    let texts: Vec<Vec<String>> = entries
-                        .par_iter()
-                        .map(|(_, v)| v.iter().map(format_rational).collect())
-                        .collect();
+                    // Decimal text of values with thousands of digits: on all cores, each
+                    // distinct denominator once.
+                    let values: Vec<&[Rational]> =
+                        entries.iter().map(|(_, v)| v.as_slice()).collect();
+                    let texts = super::value_text::value_texts(&values);
                     report.values = entries
                         .iter()
                         .zip(texts)

@@ -24,6 +24,7 @@ mod propagation;
 mod record;
 mod render;
 mod target_image;
+mod value_text;
 
 pub use check::OutputsPlan;
 pub use configure::Configured;
