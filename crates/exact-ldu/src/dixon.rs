@@ -168,6 +168,28 @@ impl LiftingSolver {
         Self::lifted_symmetric(n, rows)
     }
 
+    /// A symmetric positive definite `A` (`n × n`, both triangles given as sparse rows of
+    /// machine integers) prepared by fraction-free elimination in words alone
+    /// ([`SmallBareiss`]): `None` when a pivot is zero or a value reaches `2^62`. Never a
+    /// modular factoring: a `Some` is an exact proof that `A` is nonsingular (its determinant
+    /// is the last pivot), which [`crate::ExactFactorization`] takes as the proof that the rows
+    /// of a matrix whose Gram matrix this is are independent.
+    pub(crate) fn small_symmetric(n: usize, words: &[Vec<(usize, i64)>]) -> Option<Self> {
+        let small = SmallBareiss::factor(n, words)?;
+        let rows: Vec<Vec<(usize, BigInt)>> = words
+            .iter()
+            .map(|row| row.iter().map(|(j, v)| (*j, BigInt::from(*v))).collect())
+            .collect();
+        let bounds = Self::bounds(n, &rows)?;
+        Some(Self::from_parts(
+            n,
+            rows,
+            bounds,
+            Some(small),
+            OnceLock::new(),
+        ))
+    }
+
     /// [`LiftingSolver::new_symmetric`] without the fraction-free path: every solve lifts.
     fn lifted_symmetric(n: usize, rows: Vec<Vec<(usize, BigInt)>>) -> Option<Self> {
         let order = fill_reducing_order(&rows);

@@ -15,7 +15,7 @@ use api::{
 use num_bigint::BigInt;
 use num_traits::Zero;
 use rayon::prelude::*;
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 
 /// A sparse integer row: `(column, value)` by increasing column.
 pub(crate) type SparseRow<R> = Vec<(usize, R)>;
@@ -30,23 +30,107 @@ pub struct ExactFactorization<R: Ring = Int> {
 }
 
 /// How the rank and the redundancies were decided.
-#[derive(Debug, PartialEq, Eq)]
+#[derive(Debug)]
 enum Factoring<R: Ring> {
     /// The thesis' fraction-free LDU (algorithms 6–13).
     FractionFree(Ldu<R>),
+    /// A small matrix whose rows are independent, proved by the fraction-free elimination of
+    /// its Gram matrix `G = A Aᵀ` in machine words (nonzero pivots: `det G ≠ 0`), which is also
+    /// what least squares needs ([`ExactFactorization::gram_solver`]). Rank, independent rows
+    /// and consistency need nothing more (every right-hand side is consistent); the
+    /// fraction-free LDU is made only when a solve or the null space asks for it, so those
+    /// answers are the LDU's own.
+    FullRowRank {
+        gram: LiftingSolver,
+        method: Simplification,
+        ldu: OnceLock<Ldu<R>>,
+    },
     /// A row basis found modulo a prime and proved over the integers ([`crate::certified`]).
     Certified(CertifiedBasis),
 }
 
+/// Equal factorings give equal answers: the LDU of a full-row-rank factoring is derived from
+/// the matrix (made or not yet, it is the same).
+impl<R: Ring> PartialEq for Factoring<R> {
+    fn eq(&self, other: &Self) -> bool {
+        match (self, other) {
+            (Factoring::FractionFree(a), Factoring::FractionFree(b)) => a == b,
+            (
+                Factoring::FullRowRank {
+                    gram: a,
+                    method: ma,
+                    ..
+                },
+                Factoring::FullRowRank {
+                    gram: b,
+                    method: mb,
+                    ..
+                },
+            ) => a == b && ma == mb,
+            (Factoring::Certified(a), Factoring::Certified(b)) => a == b,
+            _ => false,
+        }
+    }
+}
+
+impl<R: Ring> Eq for Factoring<R> {}
+
+/// The Gram matrix `A Aᵀ` of a small matrix with independent rows, prepared in words: `None`
+/// unless `A` has at most [`crate::bareiss_small::MAX_ORDER`] rows, no more rows than columns,
+/// entries and products that fit machine words, and independent rows (the elimination's
+/// pivots, leading principal minors of `G`, all nonzero). Sums accumulate in a dense `m × m`
+/// array of `i128`, checked.
+fn full_row_rank_gram<R: Ring>(a: &[SparseRow<R>], cols: usize) -> Option<LiftingSolver> {
+    let m = a.len();
+    if m == 0 || m > crate::bareiss_small::MAX_ORDER || m > cols {
+        return None;
+    }
+    let mut by_column: Vec<Vec<(usize, i128)>> = vec![Vec::new(); cols];
+    for (k, row) in a.iter().enumerate() {
+        for (c, v) in row {
+            by_column[*c].push((k, i128::from(v.to_i64()?)));
+        }
+    }
+    let mut g = vec![0i128; m * m];
+    for entries in &by_column {
+        for &(k, akc) in entries {
+            for &(l, alc) in entries {
+                let entry = &mut g[k * m + l];
+                *entry = entry.checked_add(akc.checked_mul(alc)?)?;
+            }
+        }
+    }
+    let words: Vec<Vec<(usize, i64)>> = g
+        .chunks(m)
+        .map(|row| {
+            row.iter()
+                .enumerate()
+                .filter(|(_, v)| **v != 0)
+                .map(|(l, v)| Some((l, i64::try_from(*v).ok()?)))
+                .collect::<Option<Vec<_>>>()
+        })
+        .collect::<Option<_>>()?;
+    LiftingSolver::small_symmetric(m, &words)
+}
+
 impl<R: Ring> ExactFactorization<R> {
-    /// Factors `matrix` fraction-free with the given simplification method.
+    /// Factors `matrix` fraction-free with the given simplification method. A small matrix
+    /// whose rows are independent (the edits of a few points) is only proved so, by its Gram
+    /// matrix in machine words, and factored when a solve or the null space needs the LDU.
     pub fn new(matrix: &IntMatrix, method: Simplification) -> Self {
         let a = Self::sparse(matrix);
-        let ldu = Self::fraction_free(&a, matrix.cols(), method);
+        let factoring = match full_row_rank_gram(&a, matrix.cols()) {
+            Some(gram) => Factoring::FullRowRank {
+                gram,
+                method,
+                ldu: OnceLock::new(),
+            },
+            None => Factoring::FractionFree(Self::fraction_free(&a, matrix.cols(), method)),
+        };
         ExactFactorization {
             a: Arc::new(a),
             cols: matrix.cols(),
-            factoring: Arc::new(Factoring::FractionFree(ldu)),
+            factoring: Arc::new(factoring),
         }
     }
 
@@ -86,10 +170,14 @@ impl<R: Ring> ExactFactorization<R> {
         Ldu::factor(dense, cols, method).expect("the rows of an IntMatrix have its width")
     }
 
-    /// The fraction-free factoring, when the matrix was factored that way.
+    /// The fraction-free factoring, when the matrix is factored that way (made now if it
+    /// waited, see [`ExactFactorization::new`]).
     pub fn ldu(&self) -> Option<&Ldu<R>> {
         match self.factoring.as_ref() {
             Factoring::FractionFree(ldu) => Some(ldu),
+            Factoring::FullRowRank { method, ldu, .. } => {
+                Some(ldu.get_or_init(|| Self::fraction_free(&self.a, self.cols, *method)))
+            }
             Factoring::Certified(_) => None,
         }
     }
@@ -104,6 +192,7 @@ impl<R: Ring> ExactFactorization<R> {
     pub(crate) fn gram_solver(&self) -> Option<&LiftingSolver> {
         match self.factoring.as_ref() {
             Factoring::FractionFree(_) => None,
+            Factoring::FullRowRank { gram, .. } => Some(gram),
             Factoring::Certified(basis) => basis.normal(),
         }
     }
@@ -119,6 +208,7 @@ impl<R: Ring> ExactFactorization<R> {
             Factoring::FractionFree(ldu) => (ldu.rank()..ldu.rows())
                 .map(|t| dependency(ldu, t))
                 .collect(),
+            Factoring::FullRowRank { .. } => Vec::new(),
             Factoring::Certified(basis) => basis
                 .dependencies()
                 .iter()
@@ -153,6 +243,8 @@ impl<R: Ring> ExactFactorization<R> {
     fn forward_checked(&self, rhs: &[Rational]) -> Result<Option<QVec<R>>, SolveError<Rational>> {
         check_len("right-hand side", rhs.len(), self.a.len())?;
         match self.factoring.as_ref() {
+            // Independent rows: every right-hand side is consistent.
+            Factoring::FullRowRank { .. } => Ok(None),
             Factoring::FractionFree(ldu) => {
                 let mut b = permuted(ldu, rhs);
                 ldu.forward(&mut b);
@@ -196,7 +288,8 @@ impl<R: Ring> ExactFactorization<R> {
     /// `Â Âᵀ λ = b̂`.
     fn solution(&self, forwarded: Option<QVec<R>>, rhs: &[Rational]) -> Vec<Rational> {
         match self.factoring.as_ref() {
-            Factoring::FractionFree(ldu) => {
+            Factoring::FractionFree(_) | Factoring::FullRowRank { .. } => {
+                let ldu = self.ldu().expect("factored fraction-free");
                 let forwarded = forwarded.unwrap_or_else(|| {
                     let mut b = permuted(ldu, rhs);
                     ldu.forward(&mut b);
@@ -229,7 +322,9 @@ impl<R: Ring> ExactFactorization<R> {
     /// `Π_C` order; certified: the projections of the unit vectors of the non-pivot columns).
     pub fn null_space_integers(&self) -> Vec<Vec<BigInt>> {
         match self.factoring.as_ref() {
-            Factoring::FractionFree(ldu) => null_space_fraction_free(ldu),
+            Factoring::FractionFree(_) | Factoring::FullRowRank { .. } => {
+                null_space_fraction_free(self.ldu().expect("factored fraction-free"))
+            }
             Factoring::Certified(basis) => {
                 let free = basis.free_columns(self.cols);
                 let Some(normal) = basis.normal() else {
@@ -369,6 +464,7 @@ impl<R: Ring> Factorization for ExactFactorization<R> {
     fn rank(&self) -> usize {
         match self.factoring.as_ref() {
             Factoring::FractionFree(ldu) => ldu.rank(),
+            Factoring::FullRowRank { .. } => self.a.len(),
             Factoring::Certified(basis) => basis.rank(),
         }
     }
@@ -376,6 +472,7 @@ impl<R: Ring> Factorization for ExactFactorization<R> {
     fn independent_rows(&self) -> Vec<usize> {
         match self.factoring.as_ref() {
             Factoring::FractionFree(ldu) => ldu.row_perm()[..ldu.rank()].to_vec(),
+            Factoring::FullRowRank { .. } => (0..self.a.len()).collect(),
             Factoring::Certified(basis) => basis.independent().to_vec(),
         }
     }
@@ -400,6 +497,7 @@ impl<R: Ring> Factorization for ExactFactorization<R> {
                     })
                     .collect()
             }
+            Factoring::FullRowRank { .. } => Vec::new(),
             // y_t a_t + Σ y_i a_i = 0, so a_t = Σ (−y_i / y_t) a_i.
             Factoring::Certified(basis) => basis
                 .dependencies()
@@ -483,5 +581,72 @@ impl<R: Ring> Factorization for ExactFactorization<R> {
         weights: &[Rational],
     ) -> Result<Self::LeastSquares, BackendError> {
         ExactLeastSquares::prepare(self, family, weights)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        /// On random small matrices of every rank: the Gram matrix proves the rows independent
+        /// exactly when the fraction-free LDU finds full row rank, and every answer is then
+        /// the LDU's (the same factors, made when asked): rank, independent rows, no
+        /// redundancies, consistency of any right-hand side, a solution that satisfies the
+        /// equations exactly, the null space of the same factors.
+        #[test]
+        fn independent_rows_are_proved_by_the_gram_matrix(
+            cols in 1usize..7,
+            m in 1usize..6,
+            entries in proptest::collection::vec(-3i64..4, 36),
+            zero_rows in proptest::collection::vec(any::<bool>(), 6),
+            rhs in proptest::collection::vec(-9i64..10, 6),
+        ) {
+            let rows: Vec<Vec<i64>> = (0..m)
+                .map(|i| {
+                    (0..cols)
+                        .map(|j| if zero_rows[i] && i % 2 == 1 { 0 } else { entries[i * 6 + j] })
+                        .collect()
+                })
+                .collect();
+            let matrix = IntMatrix::from_dense(cols, &rows).expect("rectangular");
+            for method in [Simplification::Gcd, Simplification::Turner, Simplification::None] {
+                let f = ExactFactorization::<Int>::new(&matrix, method);
+                let dense: Vec<Vec<Int>> = rows
+                    .iter()
+                    .map(|row| row.iter().map(|v| Int::from_i64(*v)).collect())
+                    .collect();
+                let ldu = Ldu::factor(dense, cols, method).expect("rectangular");
+                let proved = matches!(f.factoring.as_ref(), Factoring::FullRowRank { .. });
+                prop_assert_eq!(proved, ldu.rank() == m);
+                prop_assert_eq!(f.rank(), ldu.rank());
+                let mut independent = f.independent_rows();
+                independent.sort_unstable();
+                let mut expected = ldu.row_perm()[..ldu.rank()].to_vec();
+                expected.sort_unstable();
+                prop_assert_eq!(independent, expected);
+                if !proved {
+                    continue;
+                }
+                prop_assert!(f.redundancies().is_empty());
+                prop_assert!(f.gram_solver().is_some());
+                let b: Vec<Rational> =
+                    rhs[..m].iter().map(|v| Rational::from_integer(BigInt::from(*v))).collect();
+                let x = f.solve(&b).expect("independent rows: consistent");
+                for (row, bi) in rows.iter().zip(&b) {
+                    let lhs: Rational = row
+                        .iter()
+                        .zip(&x)
+                        .map(|(a, xj)| xj * Rational::from_integer(BigInt::from(*a)))
+                        .sum();
+                    prop_assert_eq!(&lhs, bi);
+                }
+                // The LDU made on demand is the fraction-free one.
+                prop_assert_eq!(f.ldu(), Some(&ldu));
+                prop_assert_eq!(f.null_space_integers(), null_space_fraction_free(&ldu));
+                prop_assert_eq!(f.null_space_integers().len(), cols - m);
+            }
+        }
     }
 }

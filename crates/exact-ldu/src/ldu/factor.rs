@@ -131,7 +131,11 @@ impl<R: Ring> WorkingFactors<R> {
         WorkingFactors {
             column_counts,
             u: rows,
-            l: vec![Vec::new(); m],
+            // Row k of L gets an entry per stage up to its own (at most `k + 1 ≤ cols`): sized
+            // once rather than grown entry by entry (no more than the dense `U` beside it).
+            l: (0..m)
+                .map(|k| Vec::with_capacity((k + 1).min(cols)))
+                .collect(),
             l_diag: vec![R::one(); m],
             primitive: vec![false; m],
             negated: vec![false; m],
