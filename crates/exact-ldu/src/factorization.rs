@@ -92,13 +92,8 @@ fn full_row_rank_gram<R: Ring>(a: &[SparseRow<R>], cols: usize) -> Option<Liftin
         }
     }
     let mut g = vec![0i128; m * m];
-    for entries in &by_column {
-        for &(k, akc) in entries {
-            for &(l, alc) in entries {
-                let entry = &mut g[k * m + l];
-                *entry = entry.checked_add(akc.checked_mul(alc)?)?;
-            }
-        }
+    for column in &by_column {
+        crate::lsq::add_scaled_outer_product(&mut g, m, column, 1)?;
     }
     let words: Vec<Vec<(usize, i64)>> = g
         .chunks(m)

@@ -312,13 +312,7 @@ fn normal_matrix_in_words(
             .iter()
             .map(|(k, a)| Some((*k, i128::from(a.to_i64()?))))
             .collect::<Option<_>>()?;
-        for &(k, aks) in &words {
-            let scaled = aks.checked_mul(vs)?;
-            for &(l, als) in &words {
-                let entry = &mut g[k * r + l];
-                *entry = entry.checked_add(scaled.checked_mul(als)?)?;
-            }
-        }
+        add_scaled_outer_product(&mut g, r, &words, vs)?;
     }
     Some(
         g.chunks(r)
@@ -331,6 +325,25 @@ fn normal_matrix_in_words(
             })
             .collect(),
     )
+}
+
+/// `g ← g + v · a aᵀ` for one column `a` of `Â` (its nonzero entries as `(row, value)`), into
+/// the dense `r × r` array `g` of a Gram matrix built column by column; checked: `None` when a
+/// product or a sum leaves `i128`.
+pub(crate) fn add_scaled_outer_product(
+    g: &mut [i128],
+    r: usize,
+    column: &[(usize, i128)],
+    v: i128,
+) -> Option<()> {
+    for &(k, ak) in column {
+        let scaled = ak.checked_mul(v)?;
+        for &(l, al) in column {
+            let entry = &mut g[k * r + l];
+            *entry = entry.checked_add(scaled.checked_mul(al)?)?;
+        }
+    }
+    Some(())
 }
 
 impl<R: Ring> PreparedLeastSquares for ExactLeastSquares<R> {
