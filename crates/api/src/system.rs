@@ -16,6 +16,7 @@ use crate::exact::{Integer, Rational};
 use crate::matrix::IntMatrix;
 use crate::name_index::NameIndex;
 use num_traits::Zero;
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::fmt;
 
@@ -496,34 +497,52 @@ impl ConstraintSystem {
     }
 
     /// Residual `Σ c_j p_j − q` of every scalar equation that the values violate, as
-    /// `(row, coordinate, residual)`. Empty when every constraint holds exactly.
+    /// `(row, coordinate, residual)`, in row order. Empty when every constraint holds exactly.
+    /// Large systems are checked in parallel (after an edit on a real mesh each row sums values
+    /// of thousands of digits: half a second for the 15 000 rows of the figure mesh at δ = 40).
     pub fn violations(&self, values: &Values) -> Vec<(RowId, usize, Rational)> {
-        let mut out = Vec::new();
-        for (i, row) in self.rows.iter().enumerate() {
-            match &row.body {
-                RowBody::Vector { terms, rhs } => {
-                    for (k, q) in rhs.iter().enumerate() {
-                        let residual =
-                            exact_residual(terms.iter().map(|(p, c)| (&values.get(*p)[k], c)), q);
-                        if let Some(r) = residual {
-                            out.push((RowId(i as u32), k, r));
-                        }
-                    }
-                }
-                RowBody::Scalar { terms, rhs } => {
-                    let residual = exact_residual(
-                        terms
-                            .iter()
-                            .map(|(c, v)| (&values.get(c.param)[c.component], v)),
-                        rhs,
-                    );
-                    if let Some(r) = residual {
-                        out.push((RowId(i as u32), 0, r));
-                    }
-                }
-            }
+        let of_row =
+            |(i, row): (usize, &ConstraintRow)| row_violations(RowId(i as u32), row, values);
+        if self.rows.len() < PARALLEL_ROWS_FROM {
+            self.rows.iter().enumerate().flat_map(of_row).collect()
+        } else {
+            self.rows
+                .par_iter()
+                .enumerate()
+                .flat_map_iter(of_row)
+                .collect()
         }
-        out
+    }
+}
+
+/// Rows from which [`ConstraintSystem::violations`] runs in parallel (below, handing the rows
+/// to other threads costs about what checking them does).
+const PARALLEL_ROWS_FROM: usize = 1024;
+
+/// The violated scalar equations of one row, as in [`ConstraintSystem::violations`].
+fn row_violations(
+    id: RowId,
+    row: &ConstraintRow,
+    values: &Values,
+) -> Vec<(RowId, usize, Rational)> {
+    match &row.body {
+        RowBody::Vector { terms, rhs } => rhs
+            .iter()
+            .enumerate()
+            .filter_map(|(k, q)| {
+                exact_residual(terms.iter().map(|(p, c)| (&values.get(*p)[k], c)), q)
+                    .map(|r| (id, k, r))
+            })
+            .collect(),
+        RowBody::Scalar { terms, rhs } => exact_residual(
+            terms
+                .iter()
+                .map(|(c, v)| (&values.get(c.param)[c.component], v)),
+            rhs,
+        )
+        .map(|r| (id, 0, r))
+        .into_iter()
+        .collect(),
     }
 }
 
@@ -934,6 +953,55 @@ mod tests {
         let values =
             Values::from_vecs(&s, vec![vec![r(1), r(2)], vec![r(1), r(2)], vec![r(1)]]).unwrap();
         assert_eq!(s.violations(&values), vec![(RowId(0), 1, r(-1))]);
+    }
+
+    /// A chain `p_{i+1} − p_i = (1, 0)` long enough to be checked in parallel, at `p_i = (i, 1/3)`
+    /// with three points moved by `(0, 1/7)`: exactly the rows at those points are reported, in
+    /// row order, with their residuals.
+    #[test]
+    fn large_systems_report_every_violation_in_row_order() {
+        let n = 3 * PARALLEL_ROWS_FROM;
+        let mut s = ConstraintSystem::new();
+        let points: Vec<ParamId> = (0..=n)
+            .map(|i| s.add_parameter(format!("p{i}"), 2).unwrap())
+            .collect();
+        for i in 0..n {
+            s.add_row(ConstraintRow {
+                label: format!("step {i}"),
+                origin: Origin::default(),
+                body: RowBody::Vector {
+                    terms: vec![(points[i + 1], 1.into()), (points[i], (-1).into())],
+                    rhs: vec![1.into(), 0.into()],
+                },
+            })
+            .unwrap();
+        }
+        let third = Rational::new(1.into(), 3.into());
+        let seventh = Rational::new(1.into(), 7.into());
+        let moved = [5usize, PARALLEL_ROWS_FROM + 3, n];
+        let at = |moved: &[usize]| {
+            let columns = (0..=n)
+                .map(|i| {
+                    let y = if moved.contains(&i) {
+                        &third + &seventh
+                    } else {
+                        third.clone()
+                    };
+                    vec![r(i as i64), y]
+                })
+                .collect();
+            Values::from_vecs(&s, columns).unwrap()
+        };
+        assert!(s.violations(&at(&[])).is_empty());
+        // Row i reads y_{i+1} − y_i: −1/7 after a moved point, 1/7 before one.
+        let expected = vec![
+            (RowId(4), 1, seventh.clone()),
+            (RowId(5), 1, -&seventh),
+            (RowId(PARALLEL_ROWS_FROM as u32 + 2), 1, seventh.clone()),
+            (RowId(PARALLEL_ROWS_FROM as u32 + 3), 1, -&seventh),
+            (RowId(n as u32 - 1), 1, seventh.clone()),
+        ];
+        assert_eq!(s.violations(&at(&moved)), expected);
     }
 
     /// The residual summed as unreduced fractions equals the one summed with `Ratio`'s reducing
