@@ -123,17 +123,15 @@ pub struct Executed {
 }
 
 impl Executed {
-    /// The report as written to `report.json`.
-    pub fn report_json(&self) -> Result<String, RunError> {
-        Ok(serde_json::to_string_pretty(&self.report)
-            .map_err(|e| RunError::environment(format!("cannot encode the report: {e}")))?
-            + "\n")
+    /// Writes the report as `report.json` holds it: pretty JSON and a final newline.
+    fn write_report(&self, out: &mut dyn std::io::Write) -> std::io::Result<()> {
+        serde_json::to_writer_pretty(&mut *out, &self.report).map_err(std::io::Error::other)?;
+        out.write_all(b"\n")
     }
 
     /// Writes the outputs, then `extra` files, then `report.json` into `out_dir` (created if
     /// needed), all or nothing.
     pub fn write(&self, out_dir: &Path, extra: Vec<(String, Vec<u8>)>) -> Result<(), RunError> {
-        let json = self.report_json()?;
         outputs::create_dir(out_dir)?;
         let contents: Vec<(&str, &[u8])> = self
             .files
@@ -145,7 +143,7 @@ impl Executed {
                     .map(|(name, bytes)| (name.as_str(), bytes.as_slice())),
             )
             .collect();
-        outputs::write_all(out_dir, &contents, json.as_bytes())
+        outputs::write_all(out_dir, &contents, |out| self.write_report(out))
     }
 }
 

@@ -76,13 +76,20 @@ struct Staged {
     target: PathBuf,
 }
 
-/// Writes `files` (name and contents) and then `report` as `report.json` into `dir`, all or
-/// nothing (see the module documentation).
-pub fn write_all(dir: &Path, files: &[(&str, &[u8])], report: &[u8]) -> Result<(), RunError> {
+/// Writes `files` (name and contents) and then the report as `report.json` into `dir`, all or
+/// nothing (see the module documentation). `report` streams the report's bytes into its
+/// temporary file: a large optimum's report holds hundreds of megabytes of digits, which are
+/// not gathered in memory first.
+pub fn write_all(
+    dir: &Path,
+    files: &[(&str, &[u8])],
+    report: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
+) -> Result<(), RunError> {
     let mut staged = Vec::with_capacity(files.len() + 1);
-    for &(name, bytes) in files.iter().chain(&[(REPORT, report)]) {
-        staged.push(stage(dir, name, bytes)?);
+    for &(name, bytes) in files {
+        staged.push(stage(dir, name, |out| out.write_all(bytes))?);
     }
+    staged.push(stage(dir, REPORT, report)?);
     let mut placed: Vec<PathBuf> = Vec::with_capacity(staged.len());
     for Staged { temp, target } in staged {
         match temp.persist(&target) {
@@ -114,15 +121,19 @@ pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), RunError> {
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default();
-    let Staged { temp, target } = stage(dir, &name, bytes)?;
+    let Staged { temp, target } = stage(dir, &name, |out| out.write_all(bytes))?;
     temp.persist(&target).map_err(|e| {
         RunError::environment(format!("cannot write {}: {}", target.display(), e.error))
     })?;
     Ok(())
 }
 
-/// Writes `bytes` to a fresh temporary file next to `dir/name` and syncs it.
-fn stage(dir: &Path, name: &str, bytes: &[u8]) -> Result<Staged, RunError> {
+/// Writes a fresh temporary file next to `dir/name` through `write` (buffered) and syncs it.
+fn stage(
+    dir: &Path,
+    name: &str,
+    write: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
+) -> Result<Staged, RunError> {
     let target = dir.join(name);
     let fail = |e: std::io::Error| {
         RunError::environment(format!("cannot write {}: {e}", target.display()))
@@ -132,10 +143,16 @@ fn stage(dir: &Path, name: &str, bytes: &[u8]) -> Result<Staged, RunError> {
         .suffix(".partial")
         .tempfile_in(dir)
         .map_err(fail)?;
-    temp.write_all(bytes).map_err(fail)?;
+    let mut out = std::io::BufWriter::with_capacity(STAGING_BUFFER, &mut temp);
+    write(&mut out).map_err(fail)?;
+    out.flush().map_err(fail)?;
+    drop(out);
     temp.as_file().sync_all().map_err(fail)?;
     Ok(Staged { temp, target })
 }
+
+/// Bytes gathered before each write to a staged file.
+const STAGING_BUFFER: usize = 1 << 20;
 
 #[cfg(test)]
 mod tests {
@@ -153,7 +170,10 @@ mod tests {
     #[test]
     fn writes_everything_and_the_report_last() {
         let dir = tempfile::tempdir().expect("dir");
-        write_all(dir.path(), &[("a.svg", b"<svg/>")], b"{}\n").expect("write");
+        write_all(dir.path(), &[("a.svg", b"<svg/>")], |out| {
+            out.write_all(b"{}\n")
+        })
+        .expect("write");
         assert_eq!(listing(dir.path()), ["a.svg", "report.json"]);
         assert_eq!(
             std::fs::read(dir.path().join("a.svg")).expect("read"),
@@ -170,12 +190,29 @@ mod tests {
         let error = write_all(
             dir.path(),
             &[("a.svg", b"a".as_slice()), ("b.obj", b"b".as_slice())],
-            b"{}",
+            |out| out.write_all(b"{}"),
         )
         .expect_err("cannot replace a directory");
         assert_eq!(error.exit_code(), crate::error::EXIT_ENVIRONMENT);
         assert!(error.to_string().contains("b.obj"), "{error}");
         assert_eq!(listing(dir.path()), ["b.obj"]);
+    }
+
+    /// A report that fails while it is streamed (after more than the staging buffer's worth of
+    /// bytes) fails the run with its name, and no file of the run is left, staged or placed.
+    #[test]
+    fn a_report_failing_midway_leaves_nothing() {
+        let dir = tempfile::tempdir().expect("dir");
+        let error = write_all(dir.path(), &[("a.svg", b"<svg/>".as_slice())], |out| {
+            out.write_all(&vec![b' '; 3 * STAGING_BUFFER])?;
+            Err(std::io::Error::other("the report cannot be encoded"))
+        })
+        .expect_err("the report fails");
+        assert_eq!(error.exit_code(), crate::error::EXIT_ENVIRONMENT);
+        let message = error.to_string();
+        assert!(message.contains(REPORT), "{message}");
+        assert!(message.contains("cannot be encoded"), "{message}");
+        assert!(listing(dir.path()).is_empty());
     }
 
     #[test]
