@@ -174,14 +174,30 @@ impl Scales {
 pub(super) struct AffineMemo {
     responses: SharedOnce<Vec<Numerators>>,
     bases: Vec<BaseMemo>,
+    /// The first hint residual that had to be lifted, by whichever column needed it first.
+    first_direction: SharedOnce<Arc<SolvedDirection>>,
+    /// How many bases were lifted on their own (the first direction's included).
+    #[cfg(test)]
+    lifted_bases: std::sync::atomic::AtomicUsize,
+}
+
+/// A hint residual `ρ / ρ_den` with its projection `V Âᵀ G⁻¹ ρ / ρ_den`, lifted. The other
+/// columns' residuals are often combinations of it and of the anchors' columns: hints that
+/// translate the derived parameters by `d` (what a translation plans) leave in column `j` the
+/// residual `d_j Â 1 − K̂ β_j`, the same direction in every column.
+#[derive(Debug)]
+struct SolvedDirection {
+    rho: Vec<BigInt>,
+    rho_den: BigInt,
+    projected: Numerators,
 }
 
 impl AffineMemo {
     /// Empty memos for `columns` right-hand-side columns.
     pub(super) fn new(columns: usize) -> Self {
         AffineMemo {
-            responses: SharedOnce::default(),
             bases: (0..columns).map(|_| Mutex::new(None)).collect(),
+            ..AffineMemo::default()
         }
     }
 }
@@ -190,6 +206,9 @@ impl Clone for AffineMemo {
     fn clone(&self) -> Self {
         AffineMemo {
             responses: self.responses.clone(),
+            first_direction: self.first_direction.clone(),
+            #[cfg(test)]
+            lifted_bases: std::sync::atomic::AtomicUsize::new(0),
             bases: self
                 .bases
                 .iter()
@@ -296,27 +315,7 @@ impl<R: Ring> ExactLeastSquares<R> {
         };
         let base = match self.anchor_combination(&rho, &common) {
             Some(beta) => combine(&hints, None, self.responses(normal), &beta.negated()),
-            None => {
-                let p = if self.responses_ready() {
-                    self.projected(normal, &rho, &common)
-                } else {
-                    rayon::join(
-                        || self.responses(normal),
-                        || self.projected(normal, &rho, &common),
-                    )
-                    .1
-                };
-                // h − p over h.den · p.den.
-                Numerators {
-                    num: hints
-                        .num
-                        .iter()
-                        .zip(&p.num)
-                        .map(|(hs, ps)| hs * &p.den - &hints.den * ps)
-                        .collect(),
-                    den: hints.den * p.den,
-                }
-            }
+            None => self.base_through_direction(normal, &hints, rho, common),
         }
         .without_content();
         let base = Arc::new(Base::new(base));
@@ -324,6 +323,105 @@ impl<R: Ring> ExactLeastSquares<R> {
             *guard = Some((given.to_vec(), Arc::clone(&base)));
         }
         base
+    }
+
+    /// `h − V Âᵀ G⁻¹ ρ / ρ_den` for a residual off the anchors' columns. The first such residual
+    /// of this system is lifted and shared ([`AffineMemo::first_direction`]; a column that
+    /// finds another lifting it helps and waits); a later one that is a combination
+    /// `ρ / ρ_den = −K̂ β + γ · first` takes `h + Σ_k β_k resp_k − γ · projected(first)` without
+    /// a lifting of its own; any other is lifted here.
+    fn base_through_direction(
+        &self,
+        normal: &LiftingSolver,
+        hints: &Numerators,
+        rho: Vec<BigInt>,
+        rho_den: BigInt,
+    ) -> Numerators {
+        let mut own: Option<(Vec<BigInt>, BigInt)> = Some((rho, rho_den));
+        let first = self.memo.first_direction.get_or_init(|| {
+            let (rho, rho_den) = own.take().unwrap_or_default();
+            let projected = self.lifted_projection(normal, &rho, &rho_den);
+            Arc::new(SolvedDirection {
+                rho,
+                rho_den,
+                projected,
+            })
+        });
+        let Some((rho, rho_den)) = own else {
+            // This column's residual is the first direction.
+            return difference(hints, &first.projected);
+        };
+        if let Some((beta, gamma)) = self.direction_combination(&rho, &rho_den, first) {
+            let with_anchors = combine(hints, None, self.responses(normal), &beta.negated());
+            let gamma = QVec::<R>::from_rationals(&[gamma]);
+            return combine(
+                &with_anchors,
+                None,
+                std::slice::from_ref(&first.projected),
+                &gamma,
+            );
+        }
+        difference(hints, &self.lifted_projection(normal, &rho, &rho_den))
+    }
+
+    /// [`Self::projected`], alongside the responses' lifting when they are not ready (one per
+    /// core).
+    fn lifted_projection(
+        &self,
+        normal: &LiftingSolver,
+        rho: &[BigInt],
+        rho_den: &BigInt,
+    ) -> Numerators {
+        #[cfg(test)]
+        self.memo
+            .lifted_bases
+            .fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        if self.responses_ready() {
+            self.projected(normal, rho, rho_den)
+        } else {
+            rayon::join(
+                || self.responses(normal),
+                || self.projected(normal, rho, rho_den),
+            )
+            .1
+        }
+    }
+
+    /// Some `(β, γ)` with `ρ / ρ_den = −K̂ β + γ · first.ρ / first.ρ_den`, when there is one
+    /// (exact elimination with one unknown more than [`Self::anchor_combination`]).
+    fn direction_combination(
+        &self,
+        rho: &[BigInt],
+        rho_den: &BigInt,
+        first: &SolvedDirection,
+    ) -> Option<(QVec<R>, Rational)> {
+        let unknowns = self.parameters + 1;
+        // `K̂ u + w · first.ρ = −ρ` as integer rows `[K̂_i | first.ρ_i | −ρ_i]`; then
+        // `β = u / ρ_den` and `γ = −w · first.ρ_den / ρ_den`.
+        let mut equations: Vec<Vec<BigInt>> = Vec::new();
+        for ((row, r), f) in self.k_hat.iter().zip(rho).zip(&first.rho) {
+            if row.is_empty() && Zero::is_zero(f) {
+                if !Zero::is_zero(r) {
+                    return None;
+                }
+                continue;
+            }
+            let mut equation = vec![<BigInt as Zero>::zero(); unknowns + 1];
+            for (k, v) in row {
+                equation[*k] = v.to_bigint();
+            }
+            equation[self.parameters] = f.clone();
+            equation[unknowns] = -r;
+            equations.push(equation);
+        }
+        let mut solution = solve_consistent(equations, unknowns)?;
+        let (w, w_den) = solution.pop()?;
+        let beta: Vec<Rational> = solution
+            .into_iter()
+            .map(|(num, den)| Rational::new(num, den * rho_den))
+            .collect();
+        let gamma = Rational::new(-(w * &first.rho_den), w_den * rho_den);
+        Some((QVec::from_rationals(&beta), gamma))
     }
 
     /// `Â h − ĉ_j` as numerators over one positive denominator.
@@ -373,6 +471,19 @@ impl<R: Ring> ExactLeastSquares<R> {
             .map(|(num, den)| Rational::new(num, den * rho_den))
             .collect();
         Some(QVec::from_rationals(&beta))
+    }
+}
+
+/// `h − p` over `h.den · p.den`.
+fn difference(h: &Numerators, p: &Numerators) -> Numerators {
+    Numerators {
+        num: h
+            .num
+            .iter()
+            .zip(&p.num)
+            .map(|(hs, ps)| hs * &p.den - &h.den * ps)
+            .collect(),
+        den: &h.den * &p.den,
     }
 }
 
@@ -556,6 +667,79 @@ mod tests {
             .solve(0, &[q(3, 2), q(1, 1)], &on_set)
             .expect("consistent");
         assert_eq!(got, vec![q(3, 2), q(5, 2)]);
+    }
+
+    /// Hints that translate every unknown (by `d_j` in column `j`) leave residuals off the
+    /// anchors' columns in both columns, along the same direction: the first column lifts its
+    /// base, the second combines it, and both answers are the fresh ones. Hints along another
+    /// direction are lifted on their own.
+    #[test]
+    fn translated_hints_lift_one_direction_for_all_columns() {
+        // x0 − 2 x1 + x2 = 0, x3 = α (anchor), x4 − x0 = c_j, x1 = f_j (a fixed parameter).
+        let rows = [
+            [1, -2, 1, 0, 0],
+            [0, 0, 0, 1, 0],
+            [-1, 0, 0, 0, 1],
+            [0, 1, 0, 0, 0],
+        ];
+        let a = IntMatrix::from_dense(5, &rows.map(|r| r.to_vec())).expect("matrix");
+        let family = RhsFamily {
+            constant: vec![
+                vec![q(0, 1), q(0, 1), q(2, 1), q(1, 1)],
+                vec![q(0, 1), q(0, 1), q(-1, 3), q(4, 1)],
+            ],
+            coefficients: IntMatrix::from_dense(1, &[vec![0], vec![-1], vec![0], vec![0]])
+                .expect("K"),
+        };
+        let weights = vec![q(1, 1), q(2, 1), q(1, 1), q(1, 3), q(1, 1)];
+        let f = ExactFactorization::<Int>::new(&a, Simplification::Gcd);
+        let memoised = f.prepare_least_squares(&family, &weights).expect("prepare");
+        // Current values on the constraints (α = 5 in column 0, 7/2 in column 1), translated.
+        let current = [
+            [q(0, 1), q(1, 1), q(2, 1), q(5, 1), q(2, 1)],
+            [q(3, 1), q(4, 1), q(5, 1), q(7, 2), q(8, 3)],
+        ];
+        let shift = [q(3, 1), q(-5, 2)];
+        let hints: Vec<Vec<Rational>> = (0..2)
+            .map(|j| current[j].iter().map(|v| v + &shift[j]).collect())
+            .collect();
+        let alpha = [q(6, 1), q(1, 4)];
+        let lifted = || {
+            memoised
+                .memo
+                .lifted_bases
+                .load(std::sync::atomic::Ordering::Relaxed)
+        };
+        for (j, expected_lifts) in [(0, 1), (1, 1)] {
+            let fresh = f.prepare_least_squares(&family, &weights).expect("prepare");
+            let alpha_j = std::slice::from_ref(&alpha[j]);
+            let got = memoised.solve(j, alpha_j, &hints[j]).expect("consistent");
+            assert_eq!(got, fresh.solve(j, alpha_j, &hints[j]).expect("consistent"));
+            assert_eq!(lifted(), expected_lifts, "column {j}");
+            for (i, row) in rows.iter().enumerate() {
+                let lhs: Rational = row
+                    .iter()
+                    .zip(&got)
+                    .map(|(c, x)| Rational::from_integer((*c).into()) * x)
+                    .sum();
+                let k = [0, -1, 0, 0][i];
+                let rhs = &family.constant[j][i] - Rational::from_integer(k.into()) * &alpha[j];
+                assert_eq!(lhs, rhs, "column {j}, row {i}");
+            }
+        }
+        // Hints moved along another direction need a lifting of their own.
+        let other: Vec<Rational> = current[1]
+            .iter()
+            .enumerate()
+            .map(|(s, v)| v + q(s as i64, 1))
+            .collect();
+        let fresh = f.prepare_least_squares(&family, &weights).expect("prepare");
+        let alpha_1 = std::slice::from_ref(&alpha[1]);
+        assert_eq!(
+            memoised.solve(1, alpha_1, &other).expect("consistent"),
+            fresh.solve(1, alpha_1, &other).expect("consistent")
+        );
+        assert_eq!(lifted(), 2);
     }
 
     /// Updates answered from the memos (same hints, new anchor values) equal fresh solves, and
