@@ -395,33 +395,11 @@ impl<R: Ring> ExactLeastSquares<R> {
         rho_den: &BigInt,
         first: &SolvedDirection,
     ) -> Option<(QVec<R>, Rational)> {
-        let unknowns = self.parameters + 1;
-        // `K̂ u + w · first.ρ = −ρ` as integer rows `[K̂_i | first.ρ_i | −ρ_i]`; then
-        // `β = u / ρ_den` and `γ = −w · first.ρ_den / ρ_den`.
-        let mut equations: Vec<Vec<BigInt>> = Vec::new();
-        for ((row, r), f) in self.k_hat.iter().zip(rho).zip(&first.rho) {
-            if row.is_empty() && Zero::is_zero(f) {
-                if !Zero::is_zero(r) {
-                    return None;
-                }
-                continue;
-            }
-            let mut equation = vec![<BigInt as Zero>::zero(); unknowns + 1];
-            for (k, v) in row {
-                equation[*k] = v.to_bigint();
-            }
-            equation[self.parameters] = f.clone();
-            equation[unknowns] = -r;
-            equations.push(equation);
-        }
-        let mut solution = solve_consistent(equations, unknowns)?;
+        // `K̂ u + w · first.ρ = −ρ`; then `β = u / ρ_den` and `γ = −w · first.ρ_den / ρ_den`.
+        let mut solution = self.integer_combination(rho, Some(&first.rho))?;
         let (w, w_den) = solution.pop()?;
-        let beta: Vec<Rational> = solution
-            .into_iter()
-            .map(|(num, den)| Rational::new(num, den * rho_den))
-            .collect();
         let gamma = Rational::new(-(w * &first.rho_den), w_den * rho_den);
-        Some((QVec::from_rationals(&beta), gamma))
+        Some((scaled_down(solution, rho_den), gamma))
     }
 
     /// `Â h − ĉ_j` as numerators over one positive denominator.
@@ -449,11 +427,25 @@ impl<R: Ring> ExactLeastSquares<R> {
     /// `K̂` (as many unknowns as anchor coordinates), every row checked; `None` as soon as a row
     /// without anchors has a nonzero residual.
     fn anchor_combination(&self, rho: &[BigInt], rho_den: &BigInt) -> Option<QVec<R>> {
-        let unknowns = self.parameters;
-        // `K̂ β = −ρ / ρ_den` as integer rows `[K̂_i | −ρ_i]` (the denominator applied last).
+        // `K̂ u = −ρ`, then `β = u / ρ_den`.
+        let solution = self.integer_combination(rho, None)?;
+        Some(scaled_down(solution, rho_den))
+    }
+
+    /// A solution `(u, w)` of `K̂ u + w · extra = −ρ` (without `extra`, of `K̂ u = −ρ`) as
+    /// `(numerator, denominator)` per unknown (`w` last), from the integer rows
+    /// `[K̂_i | extra_i | −ρ_i]`; `None` when there is none (a row with no coefficient and a
+    /// nonzero `ρ_i` ends the search at once).
+    fn integer_combination(
+        &self,
+        rho: &[BigInt],
+        extra: Option<&[BigInt]>,
+    ) -> Option<Vec<(BigInt, BigInt)>> {
+        let unknowns = self.parameters + usize::from(extra.is_some());
         let mut equations: Vec<Vec<BigInt>> = Vec::new();
-        for (row, r) in self.k_hat.iter().zip(rho) {
-            if row.is_empty() {
+        for (i, (row, r)) in self.k_hat.iter().zip(rho).enumerate() {
+            let e = extra.and_then(|e| e.get(i));
+            if row.is_empty() && e.is_none_or(Zero::is_zero) {
                 if !Zero::is_zero(r) {
                     return None;
                 }
@@ -463,15 +455,23 @@ impl<R: Ring> ExactLeastSquares<R> {
             for (k, v) in row {
                 equation[*k] = v.to_bigint();
             }
+            if let Some(e) = e {
+                equation[self.parameters] = e.clone();
+            }
             equation[unknowns] = -r;
             equations.push(equation);
         }
-        let beta: Vec<Rational> = solve_consistent(equations, unknowns)?
-            .into_iter()
-            .map(|(num, den)| Rational::new(num, den * rho_den))
-            .collect();
-        Some(QVec::from_rationals(&beta))
+        solve_consistent(equations, unknowns)
     }
+}
+
+/// `u / den` as a rational vector, from `(numerator, denominator)` pairs.
+fn scaled_down<R: Ring>(u: Vec<(BigInt, BigInt)>, den: &BigInt) -> QVec<R> {
+    let values: Vec<Rational> = u
+        .into_iter()
+        .map(|(num, d)| Rational::new(num, d * den))
+        .collect();
+    QVec::from_rationals(&values)
 }
 
 /// `h − p` over `h.den · p.den`.
