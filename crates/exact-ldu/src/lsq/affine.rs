@@ -33,44 +33,22 @@ impl Numerators {
     /// Divides the numerators and the denominator by their common content, so every update
     /// built from this vector (and the GCDs that reduce its results) works on smaller numbers.
     fn without_content(mut self) -> Self {
-        // Over many long entries, the GCD over chunks in parallel, each chunk starting from the
-        // denominator and stopping once it reaches 1, then over the chunks' GCDs.
-        let per_task = entries_per_task(self.num.len(), (self.den.bits() / 64) as usize + 1);
-        let g = if per_task >= self.num.len() {
-            let mut g = self.den.clone();
-            for x in &self.num {
-                if One::is_one(&g) {
-                    return self;
-                }
-                if !Zero::is_zero(x) {
-                    g = crate::gcd::gcd_bigint(&g, x);
-                }
-            }
-            g
+        // The content is usually 1 after the first few entries: those go one by one (a GCD
+        // with the whole denominator each, until it reaches 1). Over many long entries the rest
+        // goes in parallel chunks, each starting from the GCD so far (no longer the whole
+        // denominator, so no chunk repeats the first long GCD), then over the chunks' GCDs.
+        let seed = self.num.len().min(CONTENT_SEED_ENTRIES);
+        let g = gcd_with(self.den.clone(), &self.num[..seed]);
+        let rest = &self.num[seed..];
+        let per_task = entries_per_task(rest.len(), (g.bits() / 64) as usize + 1);
+        let g = if One::is_one(&g) {
+            return self;
+        } else if per_task >= rest.len() {
+            gcd_with(g, rest)
         } else {
-            self.num
-                .par_iter()
-                .with_min_len(per_task)
-                .fold(
-                    || self.den.clone(),
-                    |g, x| {
-                        if One::is_one(&g) || Zero::is_zero(x) {
-                            g
-                        } else {
-                            crate::gcd::gcd_bigint(&g, x)
-                        }
-                    },
-                )
-                .reduce(
-                    || self.den.clone(),
-                    |a, b| {
-                        if One::is_one(&a) {
-                            a
-                        } else {
-                            crate::gcd::gcd_bigint(&a, &b)
-                        }
-                    },
-                )
+            rest.par_chunks(per_task)
+                .map(|chunk| gcd_with(g.clone(), chunk))
+                .reduce(|| g.clone(), |a, b| gcd_with(a, std::slice::from_ref(&b)))
         };
         if !One::is_one(&g) {
             self.num
@@ -82,6 +60,23 @@ impl Numerators {
         self
     }
 }
+
+/// `gcd(g, entries…)`, stopping once it reaches 1.
+fn gcd_with(mut g: BigInt, entries: &[BigInt]) -> BigInt {
+    for x in entries {
+        if One::is_one(&g) {
+            break;
+        }
+        if !Zero::is_zero(x) {
+            g = crate::gcd::gcd_bigint(&g, x);
+        }
+    }
+    g
+}
+
+/// Entries whose GCD with the denominator [`Numerators::without_content`] takes one by one before
+/// it splits the rest into parallel chunks.
+const CONTENT_SEED_ENTRIES: usize = 4;
 
 /// Unknowns from which the responses to several anchor coordinates are lifted in parallel
 /// (below, handing them to rayon costs more than it saves).
@@ -631,6 +626,47 @@ mod tests {
 
     fn q(n: i64, d: i64) -> Rational {
         Rational::new(n.into(), d.into())
+    }
+
+    /// Without the content, numerators and denominator are those divided by the GCD of all of
+    /// them: entry by entry and (1 500 long entries) in parallel chunks, for a content every
+    /// entry shares, for one that drops to 1 at the first or only at the last entry, and with
+    /// zero entries.
+    #[test]
+    fn the_content_is_the_gcd_of_every_entry_and_the_denominator() {
+        use super::Numerators;
+        use num_bigint::BigInt;
+        use num_traits::{One, Zero};
+        let factor: BigInt = BigInt::from(3u32).pow(700) * BigInt::from(1_000_003u32);
+        let den: BigInt = &factor * BigInt::from(7u32).pow(900) * 11;
+        for count in [3usize, 40, 1500] {
+            let entry = |i: usize| &factor * (BigInt::from(2u32).pow(64 * 60) + BigInt::from(i));
+            // Every entry a multiple of `factor`: the content is `factor` times what `7^900·11`
+            // shares with the cofactors.
+            let shared: Vec<BigInt> = (0..count)
+                .map(|i| if i % 5 == 2 { BigInt::zero() } else { entry(i) })
+                .collect();
+            // One entry without the factor, last: the content is 1, found at the end.
+            let mut last_lacks = shared.clone();
+            *last_lacks.last_mut().expect("entries") = BigInt::from(2u32).pow(64 * 60) + 1;
+            // The first entry without it: found at once.
+            let mut first_lacks = shared.clone();
+            first_lacks[0] = BigInt::from(5u32).pow(2000) + 1;
+            for (num, whole) in [(shared, true), (last_lacks, false), (first_lacks, false)] {
+                let g: BigInt = num
+                    .iter()
+                    .fold(den.clone(), |g: BigInt, x| num_integer::Integer::gcd(&g, x));
+                assert_eq!(!g.is_one(), whole);
+                let reduced = Numerators {
+                    num: num.clone(),
+                    den: den.clone(),
+                }
+                .without_content();
+                assert_eq!(reduced.den, &den / &g, "{count} entries");
+                let expected: Vec<BigInt> = num.iter().map(|x| x / &g).collect();
+                assert_eq!(reduced.num, expected, "{count} entries");
+            }
+        }
     }
 
     /// Hints on the constraint set (`x0 + x1 = α` with `α = 3` for the hints `(1, 2)`) take the
