@@ -16,9 +16,9 @@
 //! (`A · numerators = denominator · b`), so the answer is certain whatever the prime: the prime
 //! only decides the speed. Attempts at `k = 8, 16, 24, …, ⌈1.25 k⌉, …` (or first at the length
 //! the last solve with this matrix needed) make the work follow the actual size of the answer;
-//! the Hadamard bound caps `k`, so the lifting always ends. Attempts reconstruct a few sampled
-//! entries only; once they agree on a denominator `d`, a second lifting of `d b` with balanced
-//! digits gives the numerators directly ([`LiftingSolver::solve`]).
+//! the Hadamard bound caps `k`, so the lifting always ends. Attempts reconstruct one fixed
+//! combination of the entries only; once it gives a denominator `d`, a second lifting of `d b`
+//! with balanced digits gives the numerators directly ([`LiftingSolver::solve`]).
 //!
 //! Why not fraction-free elimination here: the least-squares systems of edits on real meshes
 //! have solutions with thousands of digits; elimination pays for every digit at every one of its
@@ -344,13 +344,13 @@ impl LiftingSolver {
 
     /// The exact solution of `A x = b` as `(numerators, denominator)`, denominator positive.
     ///
-    /// Two phases. Lifting `b`, attempts reconstruct only a few sample entries until they agree
-    /// on a denominator `d`; then `d b` is lifted with balanced digits, whose solution `d x` is
+    /// Two phases. Lifting `b`, attempts reconstruct only a combination of the entries until it
+    /// gives a denominator `d`; then `d b` is lifted with balanced digits, whose solution `d x` is
     /// an integer vector: its p-adic expansion ends, the residual becomes exactly zero, and the
     /// digits are the numerators — no reconstruction of the other entries, no division by
     /// `p^k`, and no verification (a zero residual is `A · numerators = d b` exactly). Should
-    /// the samples have missed a factor of the denominator (the second phase then runs to its
-    /// bound without ending), every entry is reconstructed and verified as before.
+    /// the combination have cancelled a factor of the denominator (the second phase then runs
+    /// to its bound without ending), the entries are completed and verified.
     pub(crate) fn solve(&self, b: &[BigInt]) -> (Vec<BigInt>, BigInt) {
         debug_assert_eq!(b.len(), self.n);
         let n = self.n;
@@ -378,7 +378,7 @@ impl LiftingSolver {
             let step = lifting.steps;
             if step == next_attempt || step >= last_step || lifting.residual.is_zero() {
                 if sampling {
-                    if let Some(den) = self.sampled_denominator(&lifting.digits, step, p) {
+                    if let Some(den) = self.mixed_denominator(&lifting.mix, step, p) {
                         if let Some(solution) = self.solve_scaled(b, den, step) {
                             self.last_steps.set(step);
                             return solution;
@@ -414,23 +414,35 @@ impl LiftingSolver {
         }
     }
 
-    /// The common denominator of a few entries spread over the solution, reconstructed from
-    /// `k` digits, when they all reconstruct within the bounds (a candidate: a wrong one only
-    /// costs the second phase its bound).
-    fn sampled_denominator(&self, digits: &[u32], k: usize, p: u64) -> Option<BigUint> {
-        let n = self.n;
-        let mut samples: Vec<usize> = (0..SAMPLED_ENTRIES)
-            .map(|i| i * (n - 1) / (SAMPLED_ENTRIES - 1))
+    /// The least common denominator of the combinations `z_m = Σᵢ c_{m,i} xᵢ` (the
+    /// [`mixing_weights`]), reconstructed from their first `k` digits (`mix`: per step
+    /// `Σᵢ c_{m,i} xᵢ,ₜ`, carries not yet propagated), when all reconstruct within the bounds:
+    /// the common denominator of the whole solution unless the weights happen to cancel a factor
+    /// (a candidate either way: a wrong one only costs the second phase its length). A factor
+    /// of the denominator cannot hide in entries nobody looked at, as it did with sampled
+    /// entries on the figure mesh's δ_max = 40 solves: a 1 260-bit factor that 31–47 % of the
+    /// 2 814 entries have was missed by every one of five, then sixteen, samples, and the second
+    /// phase ran its whole length of 3 362 steps (1 450 would have ended it), then reconstructed
+    /// and verified every entry.
+    fn mixed_denominator(&self, mix: &[[i128; MIXTURES]], k: usize, p: u64) -> Option<BigUint> {
+        let powers = PadicPowers::new(p, k);
+        let modulus = BigUint::from(p).pow(k as u32);
+        let signed_modulus = BigInt::from(modulus.clone());
+        let values = (0..MIXTURES)
+            .map(|m| {
+                let column: Vec<i128> = mix[..k].iter().map(|step| step[m]).collect();
+                let z = powers.combine_by(&column, &|d| BigInt::from(d));
+                z.mod_floor(&signed_modulus).into_parts().1
+            })
             .collect();
-        samples.dedup();
-        self.reconstruct_entries(digits, k, p, &samples)
-            .map(|(_, den)| den)
+        let bounds = ReconstructionBounds::new(&modulus, self.hadamard_bits);
+        over_one_denominator(values, &modulus, &bounds).map(|(_, den)| den)
     }
 
     /// The second phase: `A y = d b` lifted for `k` steps with balanced digits, so that
     /// `Yᵢ = Σ_t d_{t,i} p^t` is `d xᵢ` in the symmetric range modulo `p^k` — no product
     /// `d · Xᵢ`, no division by `p^k`. An entry whose `Yᵢ` is within the numerator bound is a
-    /// numerator over `d` as it stands; one that is not (the samples missed a factor of its
+    /// numerator over `d` as it stands; one that is not (`d` lacks a factor of its
     /// denominator) is reconstructed, and the factor found joins the common denominator.
     /// When the residual vanishes, `d x` is an integer vector and the digits are exact.
     ///
@@ -482,6 +494,17 @@ impl LiftingSolver {
         let mut extra = BigUint::one();
         let mut numerators: Vec<BigInt> = Vec::with_capacity(n);
         for y in scaled {
+            // Within the bound, `y` is `d xᵢ` itself (the only fraction within the bounds with
+            // its residue has denominator 1), so its numerator over `d · extra` is `y · extra`:
+            // no product modulo `p^k`, which only an entry that still needs a factor takes.
+            if y.magnitude() <= &bounds.numerator {
+                numerators.push(if extra.is_one() {
+                    y
+                } else {
+                    y * BigInt::from(extra.clone())
+                });
+                continue;
+            }
             let y = if extra.is_one() {
                 y
             } else {
@@ -519,8 +542,7 @@ impl LiftingSolver {
         p: u64,
         b: &[BigInt],
     ) -> Option<(Vec<BigInt>, BigInt)> {
-        let all: Vec<usize> = (0..self.n).collect();
-        let (numerators, den) = self.reconstruct_entries(digits, k, p, &all)?;
+        let (numerators, den) = self.reconstruct_entries(digits, k, p)?;
         self.verified(numerators, BigInt::from(den), b)
     }
 
@@ -544,7 +566,7 @@ impl LiftingSolver {
         holds.then_some((numerators, den))
     }
 
-    /// The numerators of `entries` over one denominator, reconstructed from `k` digits per
+    /// The numerators of every entry over one denominator, reconstructed from `k` digits per
     /// entry, the denominator growing by the factor each entry needs; `None` at the first entry
     /// that does not reconstruct within the bounds.
     fn reconstruct_entries(
@@ -552,49 +574,60 @@ impl LiftingSolver {
         digits: &[u32],
         k: usize,
         p: u64,
-        entries: &[usize],
     ) -> Option<(Vec<BigInt>, BigUint)> {
         let n = self.n;
         let powers = PadicPowers::new(p, k);
         let modulus = BigUint::from(p).pow(k as u32);
-        let ReconstructionBounds {
-            numerator: num_bound,
-            denominator: den_bound,
-        } = ReconstructionBounds::new(&modulus, self.hadamard_bits);
-        let mut den = BigUint::one();
-        let mut numerators: Vec<BigInt> = Vec::with_capacity(entries.len());
         // The entries' p-adic values in parallel (the bulk of the work); the denominator then
         // grows entry by entry.
-        let values: Vec<BigUint> = entries
-            .par_iter()
-            .with_min_len(entries_per_task(entries.len(), k / 2))
+        let values: Vec<BigUint> = (0..n)
+            .into_par_iter()
+            .with_min_len(entries_per_task(n, k / 2))
             .map_init(
                 || Vec::with_capacity(k),
-                |column, &i| {
+                |column, i| {
                     column.clear();
                     column.extend((0..k).map(|t| digits[t * n + i]));
                     powers.combine(column)
                 },
             )
             .collect();
-        for x in values {
-            let y = (&den * &x) % &modulus;
-            let symmetric = symmetric_residue(y.clone(), &modulus);
-            if symmetric.magnitude() <= &num_bound {
-                numerators.push(symmetric);
-                continue;
-            }
-            // x ≡ (numerator / den) would need a larger numerator: den · x ≡ a / d.
-            let (a, d) = rational_reconstruction(&y, &modulus, &num_bound, &(&den_bound / &den))?;
-            let scale = BigInt::from(d.clone());
-            for num in &mut numerators {
-                *num *= &scale;
-            }
-            den *= &d;
-            numerators.push(a);
-        }
-        Some((numerators, den))
+        let bounds = ReconstructionBounds::new(&modulus, self.hadamard_bits);
+        over_one_denominator(values, &modulus, &bounds)
     }
+}
+
+/// The fractions with residues `values` modulo `modulus` over one denominator, which grows by
+/// the factor each value needs (so it is their least common denominator); `None` at the first
+/// value that does not reconstruct within the bounds.
+fn over_one_denominator(
+    values: Vec<BigUint>,
+    modulus: &BigUint,
+    bounds: &ReconstructionBounds,
+) -> Option<(Vec<BigInt>, BigUint)> {
+    let ReconstructionBounds {
+        numerator: num_bound,
+        denominator: den_bound,
+    } = bounds;
+    let mut den = BigUint::one();
+    let mut numerators: Vec<BigInt> = Vec::with_capacity(values.len());
+    for x in values {
+        let y = (&den * &x) % modulus;
+        let symmetric = symmetric_residue(y.clone(), modulus);
+        if symmetric.magnitude() <= num_bound {
+            numerators.push(symmetric);
+            continue;
+        }
+        // x ≡ (numerator / den) would need a larger numerator: den · x ≡ a / d.
+        let (a, d) = rational_reconstruction(&y, modulus, num_bound, &(den_bound / &den))?;
+        let scale = BigInt::from(d.clone());
+        for num in &mut numerators {
+            *num *= &scale;
+        }
+        den *= &d;
+        numerators.push(a);
+    }
+    Some((numerators, den))
 }
 
 /// Bounds `N`, `D` on the numerators and the denominator with `2 N D < p^k`, so that a
@@ -620,16 +653,42 @@ impl ReconstructionBounds {
 
 /// The step of the first reconstruction attempt of a solve with no hint from the last one.
 /// Small answers (point systems, the null vectors of the propagation analysis: numerators and
-/// denominators of a few digits) reconstruct after one or two steps; a failed attempt costs
-/// five sampled entries, far less than the steps it may save (and it sets the hint of the
+/// denominators of a few digits) reconstruct after one or two steps; a failed attempt costs one
+/// rational reconstruction, far less than the steps it may save (and it sets the hint of the
 /// solves that follow).
 const FIRST_ATTEMPT: usize = 2;
 
 /// The second attempt, from which attempts follow every quarter of the steps so far.
 const SECOND_ATTEMPT: usize = 8;
 
-/// How many entries, evenly spread from the first to the last, the denominator is sampled on.
-const SAMPLED_ENTRIES: usize = 5;
+/// `2^64 / φ` (φ the golden ratio), rounded to odd: `i · GOLDEN mod 2^64` spreads `i = 1, 2, …`
+/// evenly over the words (Fibonacci hashing).
+const GOLDEN: u64 = 0x9E37_79B9_7F4A_7C15;
+
+/// How many combinations of the entries the first phase reconstructs. One alone is no test:
+/// almost every residue is some fraction with numerator and denominator near `√(p^k)`, and
+/// such a false denominator would send the second phase to its whole length. A false one
+/// leaves no room for the next combination's factor (as sampled entries did before), while the
+/// true one fits them all.
+const MIXTURES: usize = 3;
+
+/// The weights `c_{m,i} ∈ [1, 256]` of combination `m` ([`LiftingSolver::mixed_denominator`]):
+/// fixed (a solve is reproducible) and irregular (no pattern of the unknowns' order to line up
+/// with): the top byte of SplitMix64's finaliser of `i · GOLDEN` and `m`.
+fn mixing_weights(n: usize) -> Vec<[i64; MIXTURES]> {
+    (1..=n as u64)
+        .map(|i| {
+            std::array::from_fn(|m| {
+                let mut z =
+                    i.wrapping_mul(GOLDEN) ^ (m as u64 + 1).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+                z ^= z >> 31;
+                z = z.wrapping_mul(0x94D0_49BB_1331_11EB);
+                z ^= z >> 29;
+                1 + (z >> 56) as i64
+            })
+        })
+        .collect()
+}
 
 /// Entries per parallel task where the entries of a solution are combined or checked
 /// independently (each a few big-integer products).
@@ -702,6 +761,10 @@ fn balanced(d: u32, p: u64) -> i64 {
 struct Lifting {
     residual: Residual,
     digits: Vec<u32>,
+    /// The first phase's [`mixing_weights`], and per step the digits' combination `Σ cᵢ xᵢ,ₜ`
+    /// (below `256 n p`: an `i128`).
+    weights: Option<Vec<[i64; MIXTURES]>>,
+    mix: Vec<[i128; MIXTURES]>,
     steps: usize,
     p: u64,
     /// Digits taken in `(−p/2, p/2]` (so the expansion of an integer solution ends).
@@ -717,6 +780,8 @@ impl Lifting {
         Lifting {
             residual: Residual::new(b, solver.small_rows.is_some()),
             digits: Vec::new(),
+            weights: (!balanced).then(|| mixing_weights(n)),
+            mix: Vec::new(),
             steps: 0,
             p: solver.inverse().modulus().prime(),
             balanced,
@@ -734,6 +799,15 @@ impl Lifting {
             .inverse()
             .solve_in_place(&mut self.work, &mut self.scratch);
         self.digits.extend(self.work.iter().map(|&d| d as u32));
+        if let Some(weights) = &self.weights {
+            let mut mixed = [0i128; MIXTURES];
+            for (c, &d) in weights.iter().zip(&self.work) {
+                for (sum, &cm) in mixed.iter_mut().zip(c) {
+                    *sum += i128::from(cm) * i128::from(d);
+                }
+            }
+            self.mix.push(mixed);
+        }
         for (s, &d) in self.signed.iter_mut().zip(&self.work) {
             *s = if self.balanced {
                 balanced(d as u32, self.p)
@@ -1083,27 +1157,42 @@ mod tests {
         }
     }
 
-    /// The sampled entries (0, 2, 4, 6, 8) all have denominator 1, entry 5 has 3: the integral
-    /// phase cannot end, and the full reconstruction gives the answer.
+    /// One entry has denominator 3, all others 1, and its weight in every combination is a
+    /// multiple of 3: the combinations are integers, the second phase (over denominator 1)
+    /// cannot end, and the completion of the entries gives the answer. With weights prime to 3
+    /// the combinations find the 3 at once.
     #[test]
-    fn a_denominator_the_samples_miss_is_still_found() {
-        let n = 9;
-        let rows: Vec<Vec<i64>> = (0..n)
-            .map(|i| {
-                (0..n)
-                    .map(|j| match (i, j) {
-                        (5, 5) => 3,
-                        _ if i == j => 1,
-                        _ => 0,
-                    })
-                    .collect()
-            })
-            .collect();
-        let solver = LiftingSolver::lifted_symmetric(n, sparse(&rows)).expect("nonsingular");
-        let b: Vec<BigInt> = (0..n as i64).map(|i| BigInt::from(-7 * i - 2)).collect();
-        let solution = solver.solve(&b);
-        check_solution(&rows, &b, &solution);
-        assert_eq!(solution.1, BigInt::from(3));
+    fn a_denominator_the_combination_cancels_is_still_found() {
+        let n = 300;
+        let weights = mixing_weights(n);
+        let b: Vec<BigInt> = (0..n as i64).map(|i| BigInt::from(3 * i + 1)).collect();
+        for cancelled in [true, false] {
+            let entry = (0..n)
+                .find(|&i| weights[i].iter().all(|c| (c % 3 == 0) == cancelled))
+                .expect("weights of both kinds among 300");
+            let rows: Vec<Vec<i64>> = (0..n)
+                .map(|i| {
+                    (0..n)
+                        .map(|j| match (i, j) {
+                            _ if i == j && i == entry => 3,
+                            _ if i == j => 1,
+                            _ => 0,
+                        })
+                        .collect()
+                })
+                .collect();
+            let solver = LiftingSolver::lifted_symmetric(n, sparse(&rows)).expect("nonsingular");
+            let mut lifting = Lifting::new(&solver, &b, false);
+            lifting.step(&solver);
+            lifting.step(&solver);
+            let p = solver.inverse().modulus().prime();
+            let den = solver.mixed_denominator(&lifting.mix, 2, p);
+            let expected = if cancelled { 1u32 } else { 3 };
+            assert_eq!(den, Some(BigUint::from(expected)));
+            let solution = solver.solve(&b);
+            check_solution(&rows, &b, &solution);
+            assert_eq!(solution.1, BigInt::from(3));
+        }
     }
 
     proptest! {
