@@ -135,10 +135,16 @@ impl Modulus {
         r
     }
 
-    /// The residue of a signed machine integer.
+    /// The residue of a signed machine integer: Barrett on its magnitude (a 128-bit `%` is a
+    /// call into the runtime's software division, once per entry and step of a lifting).
     #[inline]
     pub(crate) fn residue_i128(&self, v: i128) -> u64 {
-        v.rem_euclid(i128::from(self.p)) as u64
+        let r = self.reduce_wide(v.unsigned_abs());
+        if v < 0 && r != 0 {
+            self.p - r
+        } else {
+            r
+        }
     }
 
     /// The residue of a big integer.
@@ -197,6 +203,23 @@ mod tests {
             assert_eq!(u128::from(m.reduce_wide(x)), x % u128::from(m.prime()));
         }
         assert_eq!(m.mul(m.inverse(12345), 12345), 1);
+        let p = i128::from(m.prime());
+        for v in [
+            0i128,
+            1,
+            -1,
+            p,
+            -p,
+            -3 * p,
+            p * p + 7,
+            -(p * p) - 7,
+            i128::MAX,
+            i128::MIN,
+            i128::MIN + 1,
+            -987_654_321_987_654_321_987_654_321,
+        ] {
+            assert_eq!(i128::from(m.residue_i128(v)), v.rem_euclid(p), "{v}");
+        }
         assert_eq!(m.residue_big(&BigInt::from(-5)), m.prime() - 5);
         let big = BigInt::from(3u8).pow(200u32) * -1;
         let expected = (BigInt::from(m.prime()) + (&big % m.prime())) % m.prime();
