@@ -16,8 +16,8 @@
 //! (`A · numerators = denominator · b`), so the answer is certain whatever the prime: the prime
 //! only decides the speed. Attempts at `k = 8, 16, 24, …, ⌈1.25 k⌉, …` (or first at the length
 //! the last solve with this matrix needed) make the work follow the actual size of the answer;
-//! the Hadamard bound caps `k`, so the lifting always ends. Attempts reconstruct one fixed
-//! combination of the entries only; once it gives a denominator `d`, a second lifting of `d b`
+//! the Hadamard bound caps `k`, so the lifting always ends. Attempts reconstruct three fixed
+//! combinations of the entries only; once they give a denominator `d`, a second lifting of `d b`
 //! with balanced digits gives the numerators directly ([`LiftingSolver::solve`]).
 //!
 //! Why not fraction-free elimination here: the least-squares systems of edits on real meshes
@@ -344,13 +344,13 @@ impl LiftingSolver {
 
     /// The exact solution of `A x = b` as `(numerators, denominator)`, denominator positive.
     ///
-    /// Two phases. Lifting `b`, attempts reconstruct only a combination of the entries until it
-    /// gives a denominator `d`; then `d b` is lifted with balanced digits, whose solution `d x` is
-    /// an integer vector: its p-adic expansion ends, the residual becomes exactly zero, and the
-    /// digits are the numerators — no reconstruction of the other entries, no division by
-    /// `p^k`, and no verification (a zero residual is `A · numerators = d b` exactly). Should
-    /// the combination have cancelled a factor of the denominator (the second phase then runs
-    /// to its bound without ending), the entries are completed and verified.
+    /// Two phases. Lifting `b`, attempts reconstruct only three combinations of the entries
+    /// until they give a denominator `d`; then `d b` is lifted with balanced digits, whose
+    /// solution `d x` is an integer vector: its p-adic expansion ends, the residual becomes
+    /// exactly zero, and the digits are the numerators — no reconstruction of the entries, no
+    /// division by `p^k`, and no verification (a zero residual is `A · numerators = d b`
+    /// exactly). Should the combinations have cancelled a factor of the denominator (the second
+    /// phase then runs to its bound without ending), the entries are completed and verified.
     pub(crate) fn solve(&self, b: &[BigInt]) -> (Vec<BigInt>, BigInt) {
         debug_assert_eq!(b.len(), self.n);
         let n = self.n;
@@ -366,7 +366,7 @@ impl LiftingSolver {
         let last_step =
             ((2 * self.hadamard_bits + b_bits + 2).div_ceil(BITS_PER_STEP) + 1) as usize;
         let mut lifting = Lifting::new(self, b, false);
-        let mut sampling = true;
+        let mut combining = true;
         let hint = self.last_steps.get();
         let mut next_attempt = if hint > 0 {
             hint.min(last_step)
@@ -377,7 +377,7 @@ impl LiftingSolver {
             lifting.step(self);
             let step = lifting.steps;
             if step == next_attempt || step >= last_step || lifting.residual.is_zero() {
-                if sampling {
+                if combining {
                     if let Some(den) = self.mixed_denominator(&lifting.mix, step, p) {
                         if let Some(solution) = self.solve_scaled(b, den, step) {
                             self.last_steps.set(step);
@@ -385,10 +385,10 @@ impl LiftingSolver {
                         }
                         // A wrong candidate at the early attempt (few digits allow one) is
                         // cheap to have tried; past it, reconstruct every entry instead.
-                        sampling = step < SECOND_ATTEMPT;
+                        combining = step < SECOND_ATTEMPT;
                     }
                 }
-                if !sampling || step >= last_step {
+                if !combining || step >= last_step {
                     if let Some(solution) = self.reconstruct(&lifting.digits, step, p, b) {
                         self.last_steps.set(step);
                         return solution;
