@@ -24,9 +24,15 @@
 mod bareiss_small;
 mod blocks;
 mod certified;
+// SIMD intrinsics need `unsafe` (the processor's features are checked at run time).
+#[allow(unsafe_code)]
+mod decimal_lanes;
 mod dixon;
 mod factorization;
 mod gcd;
+// SIMD loads and stores need `unsafe`.
+#[allow(unsafe_code)]
+mod ifma;
 mod ldlt_symbolic;
 mod ldu;
 mod lsq;
@@ -48,6 +54,7 @@ mod word_division;
 pub use blocks::{
     component_matrices, components, submatrix, BlockFactorization, BlockLeastSquares,
 };
+pub use decimal_lanes::decimal_texts;
 pub use factorization::ExactFactorization;
 pub use gcd::{gcd_bigint, reduced_ratio, reduced_small_ratio};
 pub use ldu::{Ldu, Pivoting, Simplification, StageSnapshot};

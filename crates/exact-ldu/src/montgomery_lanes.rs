@@ -20,14 +20,7 @@
 //! product of the values does, which is all the certificate needs. Without IFMA (checked at run
 //! time) the scalar chain runs instead.
 
-/// Bits per digit.
-const DIGIT_BITS: u32 = 52;
-
-/// `2^52 − 1`.
-const DIGIT_MASK: u64 = (1 << DIGIT_BITS) - 1;
-
-/// Values per register: the chains run side by side.
-const LANES: usize = 8;
+use crate::ifma::{digit, ifma_available, to_digits, DIGIT_BITS, DIGIT_MASK, LANES};
 
 /// Moduli of more digits take the scalar chain (the accumulator bound above: `4·2^52·1 000` plus
 /// the carries is below `2^64`). Up to this length the lanes beat the scalar chain's REDC by
@@ -127,37 +120,6 @@ fn modulus_digits(modulus: &[u64]) -> Option<Vec<u64>> {
     Some(to_digits(modulus, count))
 }
 
-/// Whether this processor runs AVX-512F with IFMA.
-fn ifma_available() -> bool {
-    #[cfg(target_arch = "x86_64")]
-    {
-        std::arch::is_x86_feature_detected!("avx512f")
-            && std::arch::is_x86_feature_detected!("avx512ifma")
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    {
-        false
-    }
-}
-
-/// The first `count` 52-bit digits of a value in 64-bit limbs.
-fn to_digits(limbs: &[u64], count: usize) -> Vec<u64> {
-    (0..count).map(|j| digit(limbs, j)).collect()
-}
-
-/// 52-bit digit `j` of a value in 64-bit limbs.
-fn digit(limbs: &[u64], j: usize) -> u64 {
-    let bit = j * DIGIT_BITS as usize;
-    let (limb, offset) = (bit / 64, bit % 64);
-    let low = limbs.get(limb).copied().unwrap_or(0) >> offset;
-    let high = if offset > 64 - DIGIT_BITS as usize {
-        limbs.get(limb + 1).copied().unwrap_or(0) << (64 - offset)
-    } else {
-        0
-    };
-    (low | high) & DIGIT_MASK
-}
-
 /// Lane `lane` of transposed, normalised digits as 64-bit limbs.
 fn lane_to_limbs(transposed: &[u64], d: usize, lane: usize) -> Vec<u64> {
     let mut limbs = vec![0u64; (d * DIGIT_BITS as usize).div_ceil(64) + 1];
@@ -178,11 +140,12 @@ fn lane_to_limbs(transposed: &[u64], d: usize, lane: usize) -> Vec<u64> {
 
 #[cfg(target_arch = "x86_64")]
 mod x86 {
-    use super::{DIGIT_BITS, DIGIT_MASK, LANES};
+    use crate::ifma::x86::{load, store};
+    use crate::ifma::{DIGIT_BITS, DIGIT_MASK, LANES};
     use std::arch::x86_64::{
-        __m512i, _mm512_add_epi64, _mm512_and_si512, _mm512_loadu_si512, _mm512_madd52hi_epu64,
-        _mm512_madd52lo_epu64, _mm512_permutexvar_epi64, _mm512_set1_epi64, _mm512_set_epi64,
-        _mm512_setzero_si512, _mm512_srli_epi64, _mm512_storeu_si512,
+        __m512i, _mm512_add_epi64, _mm512_and_si512, _mm512_madd52hi_epu64, _mm512_madd52lo_epu64,
+        _mm512_permutexvar_epi64, _mm512_set1_epi64, _mm512_set_epi64, _mm512_setzero_si512,
+        _mm512_srli_epi64,
     };
 
     /// `acc ← acc · block · 2^(−52d) mod m` lane by lane, for each block in turn (`blocks` and
@@ -251,24 +214,6 @@ mod x86 {
         for (j, a) in acc.iter().enumerate() {
             store(accumulators, j, *a);
         }
-    }
-
-    /// Register `j` of a transposed array: its eight lanes.
-    #[inline]
-    #[target_feature(enable = "avx512f")]
-    fn load(v: &[u64], j: usize) -> __m512i {
-        let lanes = &v[j * LANES..(j + 1) * LANES];
-        // SAFETY: an unaligned load of the eight `u64` of `lanes`.
-        unsafe { _mm512_loadu_si512(lanes.as_ptr().cast()) }
-    }
-
-    /// Writes register `j` of a transposed array.
-    #[inline]
-    #[target_feature(enable = "avx512f")]
-    fn store(v: &mut [u64], j: usize, a: __m512i) {
-        let lanes = &mut v[j * LANES..(j + 1) * LANES];
-        // SAFETY: an unaligned store of eight `u64` into `lanes`.
-        unsafe { _mm512_storeu_si512(lanes.as_mut_ptr().cast(), a) }
     }
 }
 

@@ -1,0 +1,517 @@
+//! The decimal text of many long integers at once, eight side by side with AVX-512 IFMA.
+//!
+//! An exact optimum on a real mesh commits thousands of values of thousands of digits (the
+//! figure mesh at δ_max = 40: 10 432 numerators of ~13 500 digits), and every one is written in
+//! decimal. `num-bigint` converts one integer by repeated division by `10^19`: a dependent chain
+//! through all limbs per output limb, `k²/2` divisions for `k` limbs (~215 µs at 700 limbs).
+//!
+//! Here an integer of 52-bit digits `c_k` is written as `n = Σ_k c_k · 2^(52k)`, and each power
+//! `2^(52k)` is known in base `T = 10^15` once for all integers (the table `P_k[j]`), so
+//!
+//! ```text
+//! n = Σ_j T^j · V_j,   V_j = Σ_k c_k · P_k[j].
+//! ```
+//!
+//! The `V_j` are sums of independent products, a matrix product: lane `ℓ` of a register holds
+//! integer `ℓ` of a group of eight, `vpmadd52luq` / `vpmadd52huq` add the low and high 52 bits of
+//! `c_k · P_k[j]` to two accumulators per position, and eight positions at a time stay in
+//! registers while `k` runs. No product waits for another: the work is the same count of
+//! multiplications as the division's, at the multiplier's throughput instead of a division's
+//! latency. One pass per integer then carries the `V_j` into base-`T` chunks (in 64-bit words
+//! only: bounds at [`normalise`]) and writes fifteen digits per chunk.
+//!
+//! Bounds: `c_k < 2^52` and `P_k[j] < T < 2^49.83`, so each high half is below `2^49.83`; over
+//! at most [`MAX_DIGITS`] `= 2^11` digits the low accumulator stays below `2^63` and the high one
+//! below `2^60.83`. Longer integers, short ones (the table is not worth it) and processors
+//! without IFMA take `num-bigint`'s conversion; the text is the same either way.
+
+use crate::ifma::{all_digits, ifma_available, LANES};
+use num_bigint::{BigInt, Sign};
+use rayon::prelude::*;
+
+/// The decimal chunk: `10^15 < 2^50`.
+const CHUNK: u64 = 1_000_000_000_000_000;
+
+/// Decimal digits per chunk.
+const CHUNK_DIGITS: usize = 15;
+
+/// Integers of fewer 52-bit digits take `num-bigint`'s conversion (short and quadratic there
+/// too, but the table would cost more than it saves).
+const MIN_DIGITS: usize = 24;
+
+/// Fewer long integers than this take `num-bigint`'s conversion: building the table costs
+/// about what converting one or two of them does.
+const MIN_BATCH: usize = 16;
+
+/// The most 52-bit digits an integer may have here (106 496 bits): the accumulators' bounds
+/// above.
+const MAX_DIGITS: usize = 2048;
+
+/// The decimal text of every integer (`-` before negative ones), as `to_string` writes it, in
+/// order; on all cores.
+pub fn decimal_texts(values: &[&BigInt]) -> Vec<String> {
+    let digits: Vec<Option<Vec<u64>>> = values
+        .par_iter()
+        .map(|v| {
+            let limbs = v.magnitude().to_u64_digits();
+            let count = crate::gcd::bit_len(&limbs).div_ceil(52);
+            (MIN_DIGITS..=MAX_DIGITS)
+                .contains(&count)
+                .then(|| all_digits(&limbs))
+        })
+        .collect();
+    let mut long: Vec<usize> = (0..values.len()).filter(|&i| digits[i].is_some()).collect();
+    if long.len() < MIN_BATCH || !ifma_available() {
+        return values.par_iter().map(|v| v.to_string()).collect();
+    }
+    // Groups of eight of about the same length (longest first): a lane shorter than its
+    // group's longest computes zeros.
+    long.sort_by_key(|&i| std::cmp::Reverse(digits[i].as_ref().map_or(0, Vec::len)));
+    let longest = digits[long[0]].as_ref().map_or(0, Vec::len);
+    let table = PowerTable::new(longest);
+    let converted: Vec<(usize, String)> = long
+        .par_chunks(LANES)
+        .flat_map_iter(|group| {
+            let members: Vec<&[u64]> = group
+                .iter()
+                .map(|&i| digits[i].as_deref().unwrap_or_default())
+                .collect();
+            let texts = table.convert_group(&members);
+            group
+                .iter()
+                .zip(texts)
+                .map(|(&i, text)| {
+                    let sign = if values[i].sign() == Sign::Minus {
+                        "-"
+                    } else {
+                        ""
+                    };
+                    (i, format!("{sign}{text}"))
+                })
+                .collect::<Vec<_>>()
+        })
+        .collect();
+    let mut texts: Vec<Option<String>> = vec![None; values.len()];
+    for (i, text) in converted {
+        texts[i] = Some(text);
+    }
+    texts
+        .into_par_iter()
+        .zip(values.par_iter())
+        .map(|(text, v)| text.unwrap_or_else(|| v.to_string()))
+        .collect()
+}
+
+/// `2^(52k)` in base `T = 10^15` for `k` below a bound, laid out for the kernel: block `b`
+/// holds chunks `8b … 8b + 7` of every power that has chunk `8b`, eight values per power (zeros
+/// past its length), from power `first[b]` on (the powers only grow, so each block's powers are
+/// consecutive).
+struct PowerTable {
+    /// The first power with chunk `8b`, per block `b` (nondecreasing).
+    first: Vec<usize>,
+    /// Per block, eight chunks per power from `first[b]`.
+    blocks: Vec<Vec<u64>>,
+}
+
+impl PowerTable {
+    /// The powers `2^(52k)` for `k < digits`.
+    fn new(digits: usize) -> Self {
+        let mut power: Vec<u64> = vec![1];
+        let mut first: Vec<usize> = Vec::new();
+        let mut blocks: Vec<Vec<u64>> = Vec::new();
+        for k in 0..digits {
+            for (b, chunks) in power.chunks(LANES).enumerate() {
+                if b == blocks.len() {
+                    first.push(k);
+                    blocks.push(Vec::with_capacity((digits - k) * LANES));
+                }
+                let block = &mut blocks[b];
+                block.extend_from_slice(chunks);
+                block.resize(block.len() + LANES - chunks.len(), 0);
+            }
+            // Times 2^52: each chunk's product plus the carry stays below 2^102, its quotient
+            // below 2^53.
+            let mut carry = 0u64;
+            for chunk in power.iter_mut() {
+                let (q, r) = divide_by_chunk((u128::from(*chunk) << 52) + u128::from(carry));
+                *chunk = r;
+                carry = q as u64;
+            }
+            while carry > 0 {
+                power.push(carry % CHUNK);
+                carry /= CHUNK;
+            }
+        }
+        PowerTable { first, blocks }
+    }
+
+    /// The decimal text of the magnitudes of up to eight integers given by their 52-bit
+    /// digits (each at most as many as the table has powers).
+    fn convert_group(&self, members: &[&[u64]]) -> Vec<String> {
+        let k_count = members.iter().map(|m| m.len()).max().unwrap_or(0);
+        // Digit `k` of member `ℓ` at `k·8 + ℓ`.
+        let mut digits = vec![0u64; k_count * LANES];
+        for (lane, member) in members.iter().enumerate() {
+            for (k, &c) in member.iter().enumerate() {
+                digits[k * LANES + lane] = c;
+            }
+        }
+        let block_count = self.first.iter().take_while(|&&f| f < k_count).count();
+        let positions = block_count * LANES;
+        let mut low = vec![0u64; positions * LANES];
+        let mut high = vec![0u64; positions * LANES];
+        self.accumulate(&digits, k_count, block_count, &mut low, &mut high);
+        (0..members.len())
+            .map(|lane| {
+                let chunks = normalise(
+                    (0..positions).map(|j| (low[j * LANES + lane], high[j * LANES + lane])),
+                );
+                chunks_text(&chunks)
+            })
+            .collect()
+    }
+
+    /// `low[j·8 + ℓ]`, `high[j·8 + ℓ]`: the sums of the low and high 52 bits of
+    /// `c_k · P_k[j]` over `k` for lane `ℓ`, for the first `block_count` blocks of positions.
+    fn accumulate(
+        &self,
+        digits: &[u64],
+        k_count: usize,
+        block_count: usize,
+        low: &mut [u64],
+        high: &mut [u64],
+    ) {
+        #[cfg(target_arch = "x86_64")]
+        // SAFETY: `decimal_texts` comes here only where it found AVX-512F and IFMA.
+        unsafe {
+            x86::accumulate(self, digits, k_count, block_count, low, high);
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        {
+            // `decimal_texts` checks for IFMA, which only x86-64 has.
+            let _ = (digits, k_count, block_count, low, high);
+            unreachable!("the IFMA kernel runs on x86-64 only");
+        }
+    }
+}
+
+/// The base-`T` chunks (lowest first, no leading zero chunk; empty for zero) of
+/// `Σ_j T^j (low_j + 2^52 high_j)`, for `low_j < 2^64` and `high_j < 2^61`: position `j` with
+/// the carry `c` in is `u = low_j + 2^52 high_j + c < 2^64 + 2^113 + 2^65 < 2^114`, its chunk
+/// `u mod T` and the carry out `⌊u / T⌋ < 2^65`.
+fn normalise(positions: impl Iterator<Item = (u64, u64)>) -> Vec<u64> {
+    let mut chunks = Vec::new();
+    let mut carry = 0u128;
+    for (low, high) in positions {
+        let (q, r) = divide_by_chunk(u128::from(low) + (u128::from(high) << 52) + carry);
+        chunks.push(r);
+        carry = q;
+    }
+    while carry > 0 {
+        chunks.push((carry % u128::from(CHUNK)) as u64);
+        carry /= u128::from(CHUNK);
+    }
+    while chunks.last() == Some(&0) {
+        chunks.pop();
+    }
+    chunks
+}
+
+/// `T` shifted to the top of a word: `T < 2^50` has 50 bits.
+const CHUNK_SHIFT: u32 = CHUNK.leading_zeros();
+
+/// `⌊(2^128 − 1) / (T·2^14)⌋ − 2^64`: the reciprocal of the normalised divisor (Möller and
+/// Granlund, "Improved division by invariant integers", 2011).
+const CHUNK_RECIPROCAL: u64 = (u128::MAX / ((CHUNK as u128) << CHUNK_SHIFT) - (1u128 << 64)) as u64;
+
+/// `(⌊u / T⌋, u mod T)` for `u < 2^114`, by two multiplications instead of the runtime's
+/// 128-bit division: the high word's share first (`u >> 64 < 2^50`, a quotient of at most
+/// one), then Möller and Granlund's division of two words by the normalised `T` with its
+/// precomputed reciprocal (their algorithm 4).
+fn divide_by_chunk(u: u128) -> (u128, u64) {
+    let (high, low) = ((u >> 64) as u64, u as u64);
+    let (q_high, r_high) = (high / CHUNK, high % CHUNK);
+    let d = CHUNK << CHUNK_SHIFT;
+    // (u1, u0) = (r_high·2^64 + low)·2^14, u1 < d.
+    let u1 = (r_high << CHUNK_SHIFT) | (low >> (64 - CHUNK_SHIFT));
+    let u0 = low << CHUNK_SHIFT;
+    let q =
+        u128::from(CHUNK_RECIPROCAL) * u128::from(u1) + ((u128::from(u1) << 64) | u128::from(u0));
+    let mut q1 = ((q >> 64) as u64).wrapping_add(1);
+    let q0 = q as u64;
+    let mut r = u0.wrapping_sub(q1.wrapping_mul(d));
+    if r > q0 {
+        q1 = q1.wrapping_sub(1);
+        r = r.wrapping_add(d);
+    }
+    if r >= d {
+        q1 += 1;
+        r -= d;
+    }
+    (
+        (u128::from(q_high) << 64) | u128::from(q1),
+        r >> CHUNK_SHIFT,
+    )
+}
+
+/// The decimal text of base-`T` chunks (lowest first, no leading zero chunk): the top chunk
+/// as it is, every other one in fifteen digits.
+fn chunks_text(chunks: &[u64]) -> String {
+    let Some((&top, rest)) = chunks.split_last() else {
+        return "0".to_owned();
+    };
+    let mut text = top.to_string().into_bytes();
+    text.reserve(rest.len() * CHUNK_DIGITS);
+    for &chunk in rest.iter().rev() {
+        text.extend_from_slice(&chunk_digits(chunk));
+    }
+    // Only ASCII digits were written.
+    String::from_utf8(text).unwrap_or_default()
+}
+
+/// The fifteen digits of a chunk `x < 10^15`, by pairs from a table: the two halves below
+/// `10^8` and their quarters below `10^4` are independent, so the divisions overlap.
+fn chunk_digits(x: u64) -> [u8; CHUNK_DIGITS] {
+    const PAIRS: &[u8; 200] = b"0001020304050607080910111213141516171819\
+        2021222324252627282930313233343536373839\
+        4041424344454647484950515253545556575859\
+        6061626364656667686970717273747576777879\
+        8081828384858687888990919293949596979899";
+    let pair = |v: u32| -> [u8; 2] {
+        let i = 2 * v as usize;
+        [PAIRS[i], PAIRS[i + 1]]
+    };
+    let (high, low) = ((x / 100_000_000) as u32, (x % 100_000_000) as u32);
+    let quarters = [high / 10_000, high % 10_000, low / 10_000, low % 10_000];
+    let mut out = [0u8; CHUNK_DIGITS];
+    // The first quarter has three digits (high < 10^7), the others four.
+    out[0] = b'0' + (quarters[0] / 100) as u8;
+    out[1..3].copy_from_slice(&pair(quarters[0] % 100));
+    for (i, &q) in quarters[1..].iter().enumerate() {
+        let at = 3 + 4 * i;
+        out[at..at + 2].copy_from_slice(&pair(q / 100));
+        out[at + 2..at + 4].copy_from_slice(&pair(q % 100));
+    }
+    out
+}
+
+#[cfg(target_arch = "x86_64")]
+mod x86 {
+    use super::PowerTable;
+    use crate::ifma::x86::{load, store};
+    use crate::ifma::LANES;
+    use std::arch::x86_64::{
+        _mm512_madd52hi_epu64, _mm512_madd52lo_epu64, _mm512_set1_epi64, _mm512_setzero_si512,
+    };
+
+    /// The kernel of [`PowerTable::accumulate`]: per block of eight positions, sixteen
+    /// accumulators in registers while the digits `k` run from the block's first power.
+    ///
+    /// # Safety
+    /// The processor must support AVX-512F and AVX-512 IFMA.
+    #[target_feature(enable = "avx512f,avx512ifma")]
+    pub(super) unsafe fn accumulate(
+        table: &PowerTable,
+        digits: &[u64],
+        k_count: usize,
+        block_count: usize,
+        low: &mut [u64],
+        high: &mut [u64],
+    ) {
+        let zero = _mm512_setzero_si512();
+        for (b, (block, &first)) in table
+            .blocks
+            .iter()
+            .zip(&table.first)
+            .take(block_count)
+            .enumerate()
+        {
+            let mut lo = [zero; LANES];
+            let mut hi = [zero; LANES];
+            for (k, row) in (first..k_count).zip(block.chunks_exact(LANES)) {
+                let c = load(digits, k);
+                for t in 0..LANES {
+                    let p = _mm512_set1_epi64(row[t] as i64);
+                    lo[t] = _mm512_madd52lo_epu64(lo[t], c, p);
+                    hi[t] = _mm512_madd52hi_epu64(hi[t], c, p);
+                }
+            }
+            for t in 0..LANES {
+                store(low, b * LANES + t, lo[t]);
+                store(high, b * LANES + t, hi[t]);
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use num_bigint::BigUint;
+    use num_traits::One;
+    use proptest::prelude::*;
+
+    /// The table's chunks are those of the powers of `2^52`.
+    #[test]
+    fn the_table_holds_the_powers_of_two_to_the_52() {
+        let table = PowerTable::new(60);
+        for k in 0..60usize {
+            let power = BigUint::one() << (52 * k);
+            let expected: Vec<u64> = power
+                .to_radix_le(10)
+                .chunks(CHUNK_DIGITS)
+                .map(|d| d.iter().rev().fold(0u64, |acc, &x| acc * 10 + u64::from(x)))
+                .collect();
+            let found: Vec<u64> = (0..expected.len())
+                .map(|j| {
+                    let b = j / LANES;
+                    table.blocks[b][(k - table.first[b]) * LANES + j % LANES]
+                })
+                .collect();
+            assert_eq!(found, expected, "2^(52·{k})");
+            // Past its length, zeros up to the block's end.
+            let b = (expected.len() - 1) / LANES;
+            for j in expected.len()..(b + 1) * LANES {
+                assert_eq!(table.blocks[b][(k - table.first[b]) * LANES + j % LANES], 0);
+            }
+        }
+    }
+
+    /// Carrying the largest accumulators the bounds allow (`2^64 − 1` and `2^61 − 1` at every
+    /// position) gives the value they stand for.
+    #[test]
+    fn normalising_the_largest_accumulators_keeps_their_value() {
+        let positions: Vec<(u64, u64)> = (0..40)
+            .map(|j| match j % 3 {
+                0 => (u64::MAX, (1 << 61) - 1),
+                1 => (0, (1 << 61) - 1),
+                _ => (u64::MAX, CHUNK - 1),
+            })
+            .collect();
+        let expected = positions
+            .iter()
+            .rev()
+            .fold(BigUint::default(), |acc, &(low, high)| {
+                acc * CHUNK + BigUint::from(low) + (BigUint::from(high) << 52)
+            });
+        let chunks = normalise(positions.into_iter());
+        assert!(chunks.iter().all(|&c| c < CHUNK));
+        assert_eq!(chunks_text(&chunks), expected.to_string());
+        assert_eq!(chunks_text(&normalise([(0, 0), (0, 0)].into_iter())), "0");
+    }
+
+    fn integer(limbs: &[u64], negative: bool) -> BigInt {
+        let magnitude = BigUint::from_slice(
+            &limbs
+                .iter()
+                .flat_map(|&l| [l as u32, (l >> 32) as u32])
+                .collect::<Vec<_>>(),
+        );
+        let sign = if negative { Sign::Minus } else { Sign::Plus };
+        BigInt::from_biguint(sign, magnitude)
+    }
+
+    /// Integers of every length around the thresholds (short ones, zero, the longest the
+    /// lanes take and one digit more), of large digits and of chunks that are zero in
+    /// decimal (powers of ten), positive and negative, in a batch long enough for the lanes.
+    #[test]
+    fn the_text_is_to_strings_at_every_length() {
+        let mut values: Vec<BigInt> = vec![BigInt::default(), BigInt::from(-7)];
+        for limbs in [
+            1usize, 10, 19, 20, 21, 40, 333, 700, 1_663, 1_664, 1_665, 1_700,
+        ] {
+            // All bits set, then a power of ten of about that length, then mixed limbs.
+            values.push(integer(&vec![u64::MAX; limbs], limbs % 2 == 0));
+            values.push(
+                BigInt::from(10u32).pow((limbs * 19) as u32) * if limbs % 3 == 0 { -1 } else { 1 },
+            );
+            let mixed: Vec<u64> = (0..limbs as u64)
+                .map(|i| i.wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ (i << 7))
+                .collect();
+            values.push(integer(&mixed, limbs % 3 == 1));
+        }
+        // 52 · 2048 = 106 496 bits: exactly the most digits, and one bit more.
+        values.push(BigInt::from(1u32) << (52 * MAX_DIGITS - 1));
+        values.push(BigInt::from(1u32) << (52 * MAX_DIGITS));
+        let refs: Vec<&BigInt> = values.iter().collect();
+        let texts = decimal_texts(&refs);
+        for (v, text) in values.iter().zip(&texts) {
+            assert_eq!(text, &v.to_string());
+        }
+    }
+
+    /// Chunk divisions at the edges: zero, multiples of `T` and their neighbours, the largest
+    /// dividend allowed.
+    #[test]
+    fn chunk_division_at_the_edges() {
+        let t = u128::from(CHUNK);
+        let limit = (1u128 << 114) - 1;
+        for u in [
+            0,
+            1,
+            t - 1,
+            t,
+            t + 1,
+            t * t,
+            t * t - 1,
+            (1 << 64) - 1,
+            1 << 64,
+            limit,
+            limit / t * t,
+            limit / t * t - 1,
+        ] {
+            assert_eq!(divide_by_chunk(u), (u / t, (u % t) as u64), "{u}");
+        }
+    }
+
+    /// Fifteen digits, zeros kept.
+    #[test]
+    fn chunk_digits_pad_with_zeros() {
+        for x in [
+            0,
+            7,
+            10,
+            99,
+            100_000_000,
+            123_456_789_012_345,
+            CHUNK - 1,
+            100_000_000_000_001,
+        ] {
+            assert_eq!(chunk_digits(x).to_vec(), format!("{x:015}").into_bytes());
+        }
+    }
+
+    proptest! {
+        /// Chunk division agrees with the runtime's 128-bit division below `2^114`.
+        #[test]
+        fn chunk_division_is_division(u in any::<u128>()) {
+            let u = u >> 14;
+            let t = u128::from(CHUNK);
+            prop_assert_eq!(divide_by_chunk(u), (u / t, (u % t) as u64));
+        }
+
+        /// Fifteen digits of any chunk.
+        #[test]
+        fn chunk_digits_are_formats(x in 0..CHUNK) {
+            prop_assert_eq!(chunk_digits(x).to_vec(), format!("{x:015}").into_bytes());
+        }
+
+        /// Random batches (of sizes around the batch threshold, lengths around the digit
+        /// threshold) give `to_string`'s text.
+        #[test]
+        fn random_batches_give_to_strings_text(
+            values in prop::collection::vec(
+                (prop::collection::vec(any::<u64>(), 0..60), any::<bool>()),
+                0..40,
+            ),
+        ) {
+            let values: Vec<BigInt> = values.iter().map(|(l, n)| integer(l, *n)).collect();
+            let refs: Vec<&BigInt> = values.iter().collect();
+            let texts = decimal_texts(&refs);
+            prop_assert_eq!(texts.len(), values.len());
+            for (v, text) in values.iter().zip(&texts) {
+                prop_assert_eq!(text, &v.to_string());
+            }
+        }
+    }
+}
