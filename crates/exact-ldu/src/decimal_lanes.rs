@@ -12,20 +12,19 @@
 //! n = Σ_j T^j · V_j,   V_j = Σ_k c_k · P_k[j].
 //! ```
 //!
-//! The `V_j` are sums of independent products, a matrix product: lane `ℓ` of a register holds
-//! integer `ℓ` of a group of eight, `vpmadd52luq` / `vpmadd52huq` add the low and high 52 bits of
-//! `c_k · P_k[j]` to two accumulators per position, and eight positions at a time stay in
-//! registers while `k` runs. No product waits for another: the work is the same count of
-//! multiplications as the division's, at the multiplier's throughput instead of a division's
-//! latency. One pass per integer then carries the `V_j` into base-`T` chunks (in 64-bit words
-//! only: bounds at [`normalise`]) and writes fifteen digits per chunk.
+//! The `V_j` are sums of independent products, a matrix product ([`crate::lane_products`], eight
+//! integers at a time in IFMA lanes): the same count of multiplications as the division's, at
+//! the multiplier's throughput instead of a division's latency. One pass per integer then
+//! carries the `V_j` into base-`T` chunks (bounds at [`normalise`]) and writes fifteen digits
+//! per chunk.
 //!
 //! Bounds: `c_k < 2^52` and `P_k[j] < T < 2^49.83`, so each high half is below `2^49.83`; over
 //! at most [`MAX_DIGITS`] `= 2^11` digits the low accumulator stays below `2^63` and the high one
-//! below `2^60.83`. Longer integers, short ones (the table is not worth it) and processors
+//! below `2^60.83` (what [`normalise`] takes). Longer integers, short ones (the table is not worth it) and processors
 //! without IFMA take `num-bigint`'s conversion; the text is the same either way.
 
 use crate::ifma::{all_digits, ifma_available, LANES};
+use crate::lane_products::PowerTable;
 use num_bigint::{BigInt, Sign};
 use rayon::prelude::*;
 
@@ -68,7 +67,7 @@ pub fn decimal_texts(values: &[&BigInt]) -> Vec<String> {
     // group's longest computes zeros.
     long.sort_by_key(|&i| std::cmp::Reverse(digits[i].as_ref().map_or(0, Vec::len)));
     let longest = digits[long[0]].as_ref().map_or(0, Vec::len);
-    let table = PowerTable::new(longest);
+    let table = power_table(longest);
     let converted: Vec<(usize, String)> = long
         .par_chunks(LANES)
         .flat_map_iter(|group| {
@@ -76,7 +75,7 @@ pub fn decimal_texts(values: &[&BigInt]) -> Vec<String> {
                 .iter()
                 .map(|&i| digits[i].as_deref().unwrap_or_default())
                 .collect();
-            let texts = table.convert_group(&members);
+            let texts = convert_group(&table, &members);
             group
                 .iter()
                 .zip(texts)
@@ -102,97 +101,39 @@ pub fn decimal_texts(values: &[&BigInt]) -> Vec<String> {
         .collect()
 }
 
-/// `2^(52k)` in base `T = 10^15` for `k` below a bound, laid out for the kernel: block `b`
-/// holds chunks `8b … 8b + 7` of every power that has chunk `8b`, eight values per power (zeros
-/// past its length), from power `first[b]` on (the powers only grow, so each block's powers are
-/// consecutive).
-struct PowerTable {
-    /// The first power with chunk `8b`, per block `b` (nondecreasing).
-    first: Vec<usize>,
-    /// Per block, eight chunks per power from `first[b]`.
-    blocks: Vec<Vec<u64>>,
+/// `2^(52k)` in base `T = 10^15` for `k < digits`.
+fn power_table(digits: usize) -> PowerTable {
+    PowerTable::new(digits, vec![1], |power| {
+        // Times 2^52: each chunk's product plus the carry stays below 2^102, its quotient
+        // below 2^53.
+        let mut carry = 0u64;
+        for chunk in power.iter_mut() {
+            let (q, r) = divide_by_chunk((u128::from(*chunk) << 52) + u128::from(carry));
+            *chunk = r;
+            carry = q as u64;
+        }
+        while carry > 0 {
+            power.push(carry % CHUNK);
+            carry /= CHUNK;
+        }
+    })
 }
 
-impl PowerTable {
-    /// The powers `2^(52k)` for `k < digits`.
-    fn new(digits: usize) -> Self {
-        let mut power: Vec<u64> = vec![1];
-        let mut first: Vec<usize> = Vec::new();
-        let mut blocks: Vec<Vec<u64>> = Vec::new();
-        for k in 0..digits {
-            for (b, chunks) in power.chunks(LANES).enumerate() {
-                if b == blocks.len() {
-                    first.push(k);
-                    blocks.push(Vec::with_capacity((digits - k) * LANES));
-                }
-                let block = &mut blocks[b];
-                block.extend_from_slice(chunks);
-                block.resize(block.len() + LANES - chunks.len(), 0);
-            }
-            // Times 2^52: each chunk's product plus the carry stays below 2^102, its quotient
-            // below 2^53.
-            let mut carry = 0u64;
-            for chunk in power.iter_mut() {
-                let (q, r) = divide_by_chunk((u128::from(*chunk) << 52) + u128::from(carry));
-                *chunk = r;
-                carry = q as u64;
-            }
-            while carry > 0 {
-                power.push(carry % CHUNK);
-                carry /= CHUNK;
-            }
-        }
-        PowerTable { first, blocks }
-    }
-
-    /// The decimal text of the magnitudes of up to eight integers given by their 52-bit
-    /// digits (each at most as many as the table has powers).
-    fn convert_group(&self, members: &[&[u64]]) -> Vec<String> {
-        let k_count = members.iter().map(|m| m.len()).max().unwrap_or(0);
-        // Digit `k` of member `ℓ` at `k·8 + ℓ`.
-        let mut digits = vec![0u64; k_count * LANES];
-        for (lane, member) in members.iter().enumerate() {
-            for (k, &c) in member.iter().enumerate() {
-                digits[k * LANES + lane] = c;
-            }
-        }
-        let block_count = self.first.iter().take_while(|&&f| f < k_count).count();
-        let positions = block_count * LANES;
-        let mut low = vec![0u64; positions * LANES];
-        let mut high = vec![0u64; positions * LANES];
-        self.accumulate(&digits, k_count, block_count, &mut low, &mut high);
-        (0..members.len())
-            .map(|lane| {
-                let chunks = normalise(
-                    (0..positions).map(|j| (low[j * LANES + lane], high[j * LANES + lane])),
-                );
-                chunks_text(&chunks)
-            })
-            .collect()
-    }
-
-    /// `low[j·8 + ℓ]`, `high[j·8 + ℓ]`: the sums of the low and high 52 bits of
-    /// `c_k · P_k[j]` over `k` for lane `ℓ`, for the first `block_count` blocks of positions.
-    fn accumulate(
-        &self,
-        digits: &[u64],
-        k_count: usize,
-        block_count: usize,
-        low: &mut [u64],
-        high: &mut [u64],
-    ) {
-        #[cfg(target_arch = "x86_64")]
-        // SAFETY: `decimal_texts` comes here only where it found AVX-512F and IFMA.
-        unsafe {
-            x86::accumulate(self, digits, k_count, block_count, low, high);
-        }
-        #[cfg(not(target_arch = "x86_64"))]
-        {
-            // `decimal_texts` checks for IFMA, which only x86-64 has.
-            let _ = (digits, k_count, block_count, low, high);
-            unreachable!("the IFMA kernel runs on x86-64 only");
+/// The decimal text of the magnitudes of up to eight integers given by their 52-bit digits
+/// (each at most as many as the table has powers).
+fn convert_group(table: &PowerTable, members: &[&[u64]]) -> Vec<String> {
+    let k_count = members.iter().map(|m| m.len()).max().unwrap_or(0);
+    // Digit `k` of member `ℓ` at `k·8 + ℓ`.
+    let mut transposed = vec![0u64; k_count * LANES];
+    for (lane, member) in members.iter().enumerate() {
+        for (k, &c) in member.iter().enumerate() {
+            transposed[k * LANES + lane] = c;
         }
     }
+    let sums = table.group_sums(&transposed);
+    (0..members.len())
+        .map(|lane| chunks_text(&normalise(sums.lane(lane))))
+        .collect()
 }
 
 /// The base-`T` chunks (lowest first, no leading zero chunk; empty for zero) of
@@ -295,55 +236,6 @@ fn chunk_digits(x: u64) -> [u8; CHUNK_DIGITS] {
     out
 }
 
-#[cfg(target_arch = "x86_64")]
-mod x86 {
-    use super::PowerTable;
-    use crate::ifma::x86::{load, store};
-    use crate::ifma::LANES;
-    use std::arch::x86_64::{
-        _mm512_madd52hi_epu64, _mm512_madd52lo_epu64, _mm512_set1_epi64, _mm512_setzero_si512,
-    };
-
-    /// The kernel of [`PowerTable::accumulate`]: per block of eight positions, sixteen
-    /// accumulators in registers while the digits `k` run from the block's first power.
-    ///
-    /// # Safety
-    /// The processor must support AVX-512F and AVX-512 IFMA.
-    #[target_feature(enable = "avx512f,avx512ifma")]
-    pub(super) unsafe fn accumulate(
-        table: &PowerTable,
-        digits: &[u64],
-        k_count: usize,
-        block_count: usize,
-        low: &mut [u64],
-        high: &mut [u64],
-    ) {
-        let zero = _mm512_setzero_si512();
-        for (b, (block, &first)) in table
-            .blocks
-            .iter()
-            .zip(&table.first)
-            .take(block_count)
-            .enumerate()
-        {
-            let mut lo = [zero; LANES];
-            let mut hi = [zero; LANES];
-            for (k, row) in (first..k_count).zip(block.chunks_exact(LANES)) {
-                let c = load(digits, k);
-                for t in 0..LANES {
-                    let p = _mm512_set1_epi64(row[t] as i64);
-                    lo[t] = _mm512_madd52lo_epu64(lo[t], c, p);
-                    hi[t] = _mm512_madd52hi_epu64(hi[t], c, p);
-                }
-            }
-            for t in 0..LANES {
-                store(low, b * LANES + t, lo[t]);
-                store(high, b * LANES + t, hi[t]);
-            }
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -354,7 +246,7 @@ mod tests {
     /// The table's chunks are those of the powers of `2^52`.
     #[test]
     fn the_table_holds_the_powers_of_two_to_the_52() {
-        let table = PowerTable::new(60);
+        let table = power_table(60);
         for k in 0..60usize {
             let power = BigUint::one() << (52 * k);
             let expected: Vec<u64> = power
@@ -362,18 +254,9 @@ mod tests {
                 .chunks(CHUNK_DIGITS)
                 .map(|d| d.iter().rev().fold(0u64, |acc, &x| acc * 10 + u64::from(x)))
                 .collect();
-            let found: Vec<u64> = (0..expected.len())
-                .map(|j| {
-                    let b = j / LANES;
-                    table.blocks[b][(k - table.first[b]) * LANES + j % LANES]
-                })
-                .collect();
-            assert_eq!(found, expected, "2^(52·{k})");
-            // Past its length, zeros up to the block's end.
-            let b = (expected.len() - 1) / LANES;
-            for j in expected.len()..(b + 1) * LANES {
-                assert_eq!(table.blocks[b][(k - table.first[b]) * LANES + j % LANES], 0);
-            }
+            let mut padded = expected.clone();
+            padded.resize(expected.len().div_ceil(LANES) * LANES, 0);
+            assert_eq!(table.stored_power(k), padded, "2^(52·{k})");
         }
     }
 

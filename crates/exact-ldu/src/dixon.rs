@@ -470,20 +470,25 @@ impl LiftingSolver {
             }
         }
         let steps = lifting.steps;
-        let powers = PadicPowers::new(p, steps);
-        // Entries are independent: combined in parallel (a few balanced multiplications each).
-        let scaled: Vec<BigInt> = (0..n)
-            .into_par_iter()
-            .with_min_len(entries_per_task(n, steps / 2))
-            .map_init(
-                || Vec::with_capacity(steps),
-                |column, i| {
-                    column.clear();
-                    column.extend((0..steps).map(|t| balanced(lifting.digits[t * n + i], p)));
-                    powers.combine_signed(column)
-                },
-            )
-            .collect();
+        // All entries at once in IFMA lanes where they apply; otherwise each entry by halves, in
+        // parallel (a few balanced multiplications each).
+        let scaled: Vec<BigInt> = crate::padic_lanes::combine(&lifting.digits, n, steps, p, true)
+            .unwrap_or_else(|| {
+                let powers = PadicPowers::new(p, steps);
+                (0..n)
+                    .into_par_iter()
+                    .with_min_len(entries_per_task(n, steps / 2))
+                    .map_init(
+                        || Vec::with_capacity(steps),
+                        |column, i| {
+                            column.clear();
+                            column
+                                .extend((0..steps).map(|t| balanced(lifting.digits[t * n + i], p)));
+                            powers.combine_signed(column)
+                        },
+                    )
+                    .collect()
+            });
         let den = BigInt::from(den);
         if exact {
             // A · scaled = d b exactly: nothing to reconstruct or verify.
@@ -576,22 +581,28 @@ impl LiftingSolver {
         p: u64,
     ) -> Option<(Vec<BigInt>, BigUint)> {
         let n = self.n;
-        let powers = PadicPowers::new(p, k);
         let modulus = BigUint::from(p).pow(k as u32);
-        // The entries' p-adic values in parallel (the bulk of the work); the denominator then
-        // grows entry by entry.
-        let values: Vec<BigUint> = (0..n)
-            .into_par_iter()
-            .with_min_len(entries_per_task(n, k / 2))
-            .map_init(
-                || Vec::with_capacity(k),
-                |column, i| {
-                    column.clear();
-                    column.extend((0..k).map(|t| digits[t * n + i]));
-                    powers.combine(column)
-                },
-            )
-            .collect();
+        // The entries' p-adic values (the bulk of the work: all at once in IFMA lanes where
+        // they apply, otherwise by halves in parallel); the denominator then grows entry by
+        // entry.
+        let values: Vec<BigUint> = match crate::padic_lanes::combine(digits, n, k, p, false) {
+            Some(values) => values.into_iter().map(|v| v.into_parts().1).collect(),
+            None => {
+                let powers = PadicPowers::new(p, k);
+                (0..n)
+                    .into_par_iter()
+                    .with_min_len(entries_per_task(n, k / 2))
+                    .map_init(
+                        || Vec::with_capacity(k),
+                        |column, i| {
+                            column.clear();
+                            column.extend((0..k).map(|t| digits[t * n + i]));
+                            powers.combine(column)
+                        },
+                    )
+                    .collect()
+            }
+        };
         let bounds = ReconstructionBounds::new(&modulus, self.hadamard_bits);
         over_one_denominator(values, &modulus, &bounds)
     }

@@ -1,5 +1,6 @@
 //! What the AVX-512 IFMA kernels share ([`crate::montgomery_lanes`]' product chains,
-//! [`crate::decimal_lanes`]' decimal text): the run-time check for the instructions, values
+//! [`crate::lane_products`]' sums of digits times powers, for decimal text and p-adic
+//! expansions): the run-time check for the instructions, values
 //! split into 52-bit digits (`vpmadd52luq` / `vpmadd52huq` multiply 52-bit digits and add the
 //! low or high half of each 104-bit product to a 64-bit lane), and transposed arrays of eight
 //! lanes.

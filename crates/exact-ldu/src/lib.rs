@@ -24,8 +24,6 @@
 mod bareiss_small;
 mod blocks;
 mod certified;
-// SIMD intrinsics need `unsafe` (the processor's features are checked at run time).
-#[allow(unsafe_code)]
 mod decimal_lanes;
 mod dixon;
 mod factorization;
@@ -33,6 +31,9 @@ mod gcd;
 // SIMD loads and stores need `unsafe`.
 #[allow(unsafe_code)]
 mod ifma;
+// SIMD intrinsics need `unsafe` (the processor's features are checked at run time).
+#[allow(unsafe_code)]
+mod lane_products;
 mod ldlt_symbolic;
 mod ldu;
 mod lsq;
@@ -42,6 +43,7 @@ mod montgomery;
 // SIMD intrinsics need `unsafe` (the processor's features are checked at run time).
 #[allow(unsafe_code)]
 mod montgomery_lanes;
+mod padic_lanes;
 mod qvec;
 mod reduce;
 mod reduce_words;
