@@ -470,25 +470,7 @@ impl LiftingSolver {
             }
         }
         let steps = lifting.steps;
-        // All entries at once in IFMA lanes where they apply; otherwise each entry by halves, in
-        // parallel (a few balanced multiplications each).
-        let scaled: Vec<BigInt> = crate::padic_lanes::combine(&lifting.digits, n, steps, p, true)
-            .unwrap_or_else(|| {
-                let powers = PadicPowers::new(p, steps);
-                (0..n)
-                    .into_par_iter()
-                    .with_min_len(entries_per_task(n, steps / 2))
-                    .map_init(
-                        || Vec::with_capacity(steps),
-                        |column, i| {
-                            column.clear();
-                            column
-                                .extend((0..steps).map(|t| balanced(lifting.digits[t * n + i], p)));
-                            powers.combine_signed(column)
-                        },
-                    )
-                    .collect()
-            });
+        let scaled = combine_entries(&lifting.digits, n, steps, p, true);
         let den = BigInt::from(den);
         if exact {
             // A · scaled = d b exactly: nothing to reconstruct or verify.
@@ -582,27 +564,12 @@ impl LiftingSolver {
     ) -> Option<(Vec<BigInt>, BigUint)> {
         let n = self.n;
         let modulus = BigUint::from(p).pow(k as u32);
-        // The entries' p-adic values (the bulk of the work: all at once in IFMA lanes where
-        // they apply, otherwise by halves in parallel); the denominator then grows entry by
-        // entry.
-        let values: Vec<BigUint> = match crate::padic_lanes::combine(digits, n, k, p, false) {
-            Some(values) => values.into_iter().map(|v| v.into_parts().1).collect(),
-            None => {
-                let powers = PadicPowers::new(p, k);
-                (0..n)
-                    .into_par_iter()
-                    .with_min_len(entries_per_task(n, k / 2))
-                    .map_init(
-                        || Vec::with_capacity(k),
-                        |column, i| {
-                            column.clear();
-                            column.extend((0..k).map(|t| digits[t * n + i]));
-                            powers.combine(column)
-                        },
-                    )
-                    .collect()
-            }
-        };
+        // The entries' p-adic values (the bulk of the work); the denominator then grows entry
+        // by entry.
+        let values: Vec<BigUint> = combine_entries(digits, n, k, p, false)
+            .into_iter()
+            .map(|v| v.into_parts().1)
+            .collect();
         let bounds = ReconstructionBounds::new(&modulus, self.hadamard_bits);
         over_one_denominator(values, &modulus, &bounds)
     }
@@ -756,8 +723,37 @@ impl Feed {
     }
 }
 
+/// `Σ_t δ_{t,i} p^t` for every entry `i < n`, from `steps` digits laid out step by step
+/// (`digits[t·n + i] ∈ [0, p)`), balanced into `(−p/2, p/2]` when `balanced`: all entries at
+/// once in IFMA lanes where they apply ([`crate::padic_lanes`]), otherwise each entry by halves,
+/// in parallel (a few balanced multiplications each).
+fn combine_entries(digits: &[u32], n: usize, steps: usize, p: u64, balanced: bool) -> Vec<BigInt> {
+    crate::padic_lanes::combine(digits, n, steps, p, balanced).unwrap_or_else(|| {
+        let powers = PadicPowers::new(p, steps);
+        (0..n)
+            .into_par_iter()
+            .with_min_len(entries_per_task(n, steps / 2))
+            .map_init(
+                || Vec::with_capacity(steps),
+                |column, i| {
+                    column.clear();
+                    column.extend((0..steps).map(|t| {
+                        let d = digits[t * n + i];
+                        if balanced {
+                            balanced_digit(d, p)
+                        } else {
+                            i64::from(d)
+                        }
+                    }));
+                    powers.combine_signed(column)
+                },
+            )
+            .collect()
+    })
+}
+
 /// The digit `d ∈ [0, p)` as the balanced digit in `(−p/2, p/2]`.
-fn balanced(d: u32, p: u64) -> i64 {
+fn balanced_digit(d: u32, p: u64) -> i64 {
     let d = i64::from(d);
     let p = p as i64;
     if 2 * d > p {
@@ -821,7 +817,7 @@ impl Lifting {
         }
         for (s, &d) in self.signed.iter_mut().zip(&self.work) {
             *s = if self.balanced {
-                balanced(d as u32, self.p)
+                balanced_digit(d as u32, self.p)
             } else {
                 d as i64
             };
@@ -906,13 +902,9 @@ impl PadicPowers {
         PadicPowers { squares }
     }
 
-    /// `Σ dᵢ pⁱ`, splitting at the largest power of two below the length (so the cost is that
-    /// of a few balanced multiplications rather than `k` passes over a growing number).
-    fn combine(&self, digits: &[u32]) -> BigUint {
-        self.combine_by(digits, &|d| BigInt::from(d)).into_parts().1
-    }
-
-    /// `Σ dᵢ pⁱ` for signed digits.
+    /// `Σ dᵢ pⁱ` for signed digits, splitting at the largest power of two below the length (so
+    /// the cost is that of a few balanced multiplications rather than `k` passes over a growing
+    /// number).
     fn combine_signed(&self, digits: &[i64]) -> BigInt {
         self.combine_by(digits, &|d| BigInt::from(d))
     }
