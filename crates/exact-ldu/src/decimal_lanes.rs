@@ -23,7 +23,7 @@
 //! below `2^60.83` (what [`normalise`] takes). Longer integers, short ones (the table is not worth it) and processors
 //! without IFMA take `num-bigint`'s conversion; the text is the same either way.
 
-use crate::ifma::{all_digits, ifma_available, LANES};
+use crate::ifma::{all_digits, ifma_available, DIGIT_BITS, LANES};
 use crate::lane_products::PowerTable;
 use num_bigint::{BigInt, Sign};
 use rayon::prelude::*;
@@ -49,44 +49,25 @@ const MAX_DIGITS: usize = 2048;
 /// The decimal text of every integer (`-` before negative ones), as `to_string` writes it, in
 /// order; on all cores.
 pub fn decimal_texts(values: &[&BigInt]) -> Vec<String> {
-    let digits: Vec<Option<Vec<u64>>> = values
-        .par_iter()
-        .map(|v| {
-            let limbs = v.magnitude().to_u64_digits();
-            let count = crate::gcd::bit_len(&limbs).div_ceil(52);
-            (MIN_DIGITS..=MAX_DIGITS)
-                .contains(&count)
-                .then(|| all_digits(&limbs))
-        })
+    let digit_count = |v: &BigInt| v.bits().div_ceil(u64::from(DIGIT_BITS)) as usize;
+    let mut long: Vec<usize> = (0..values.len())
+        .filter(|&i| (MIN_DIGITS..=MAX_DIGITS).contains(&digit_count(values[i])))
         .collect();
-    let mut long: Vec<usize> = (0..values.len()).filter(|&i| digits[i].is_some()).collect();
     if long.len() < MIN_BATCH || !ifma_available() {
         return values.par_iter().map(|v| v.to_string()).collect();
     }
     // Groups of eight of about the same length (longest first): a lane shorter than its
     // group's longest computes zeros.
-    long.sort_by_key(|&i| std::cmp::Reverse(digits[i].as_ref().map_or(0, Vec::len)));
-    let longest = digits[long[0]].as_ref().map_or(0, Vec::len);
-    let table = power_table(longest);
+    long.sort_by_key(|&i| std::cmp::Reverse(digit_count(values[i])));
+    let table = power_table(digit_count(values[long[0]]));
     let converted: Vec<(usize, String)> = long
         .par_chunks(LANES)
         .flat_map_iter(|group| {
-            let members: Vec<&[u64]> = group
-                .iter()
-                .map(|&i| digits[i].as_deref().unwrap_or_default())
-                .collect();
-            let texts = convert_group(&table, &members);
+            let members: Vec<&BigInt> = group.iter().map(|&i| values[i]).collect();
             group
                 .iter()
-                .zip(texts)
-                .map(|(&i, text)| {
-                    let sign = if values[i].sign() == Sign::Minus {
-                        "-"
-                    } else {
-                        ""
-                    };
-                    (i, format!("{sign}{text}"))
-                })
+                .copied()
+                .zip(convert_group(&table, &members))
                 .collect::<Vec<_>>()
         })
         .collect();
@@ -119,20 +100,26 @@ fn power_table(digits: usize) -> PowerTable {
     })
 }
 
-/// The decimal text of the magnitudes of up to eight integers given by their 52-bit digits
-/// (each at most as many as the table has powers).
-fn convert_group(table: &PowerTable, members: &[&[u64]]) -> Vec<String> {
-    let k_count = members.iter().map(|m| m.len()).max().unwrap_or(0);
+/// The decimal text of up to eight integers of at most as many 52-bit digits as the table has
+/// powers.
+fn convert_group(table: &PowerTable, members: &[&BigInt]) -> Vec<String> {
+    let digits: Vec<Vec<u64>> = members
+        .iter()
+        .map(|v| all_digits(&v.magnitude().to_u64_digits()))
+        .collect();
+    let k_count = digits.iter().map(Vec::len).max().unwrap_or(0);
     // Digit `k` of member `ℓ` at `k·8 + ℓ`.
     let mut transposed = vec![0u64; k_count * LANES];
-    for (lane, member) in members.iter().enumerate() {
+    for (lane, member) in digits.iter().enumerate() {
         for (k, &c) in member.iter().enumerate() {
             transposed[k * LANES + lane] = c;
         }
     }
     let sums = table.group_sums(&transposed);
-    (0..members.len())
-        .map(|lane| chunks_text(&normalise(sums.lane(lane))))
+    members
+        .iter()
+        .enumerate()
+        .map(|(lane, v)| chunks_text(&normalise(sums.lane(lane)), v.sign() == Sign::Minus))
         .collect()
 }
 
@@ -195,13 +182,14 @@ fn divide_by_chunk(u: u128) -> (u128, u64) {
     )
 }
 
-/// The decimal text of base-`T` chunks (lowest first, no leading zero chunk): the top chunk
-/// as it is, every other one in fifteen digits.
-fn chunks_text(chunks: &[u64]) -> String {
+/// The decimal text of base-`T` chunks (lowest first, no leading zero chunk), `-` first when
+/// `negative` (and not zero): the top chunk as it is, every other one in fifteen digits.
+fn chunks_text(chunks: &[u64], negative: bool) -> String {
     let Some((&top, rest)) = chunks.split_last() else {
         return "0".to_owned();
     };
-    let mut text = top.to_string().into_bytes();
+    let sign = if negative { "-" } else { "" };
+    let mut text = format!("{sign}{top}").into_bytes();
     text.reserve(rest.len() * CHUNK_DIGITS);
     for &chunk in rest.iter().rev() {
         text.extend_from_slice(&chunk_digits(chunk));
@@ -279,8 +267,11 @@ mod tests {
             });
         let chunks = normalise(positions.into_iter());
         assert!(chunks.iter().all(|&c| c < CHUNK));
-        assert_eq!(chunks_text(&chunks), expected.to_string());
-        assert_eq!(chunks_text(&normalise([(0, 0), (0, 0)].into_iter())), "0");
+        assert_eq!(chunks_text(&chunks, false), expected.to_string());
+        assert_eq!(
+            chunks_text(&normalise([(0, 0), (0, 0)].into_iter()), true),
+            "0"
+        );
     }
 
     fn integer(limbs: &[u64], negative: bool) -> BigInt {
