@@ -20,8 +20,9 @@
 //!
 //! Bounds: `c_k < 2^52` and `P_k[j] < T < 2^49.83`, so each high half is below `2^49.83`; over
 //! at most [`MAX_DIGITS`] `= 2^11` digits the low accumulator stays below `2^63` and the high one
-//! below `2^60.83` (what [`normalise`] takes). Longer integers, short ones (the table is not worth it) and processors
-//! without IFMA take `num-bigint`'s conversion; the text is the same either way.
+//! below `2^60.83` (what [`normalise`] takes). Longer integers, short ones (the table is not
+//! worth it) and processors without IFMA take `num-bigint`'s conversion; the text is the same
+//! either way.
 
 use crate::ifma::{all_digits, ifma_available, DIGIT_BITS, LANES};
 use crate::lane_products::PowerTable;
