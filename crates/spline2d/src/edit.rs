@@ -14,7 +14,7 @@
 //! anchors' triangles plus a few neighbours), and the result is verified, not assumed.
 
 use crate::motion;
-use crate::net::ControlNet;
+use crate::net::{ControlNet, Distances};
 use crate::params::SplineParams;
 use crate::spline::{PointType, Spline};
 use api::{ConstraintSystem, ParamId, Rational, Values};
@@ -43,8 +43,8 @@ pub struct Selection {
     pub derived: Vec<usize>,
     /// `D \ S`: points ExpandDerived added, in the order added.
     pub added: Vec<usize>,
-    /// Relative magnitude `θ` of every control point: 1 for anchors, 0 for fixed points,
-    /// `δ''/(δ' + δ'')` for derived ones.
+    /// Relative magnitude `θ` of each derived point, in the order of `derived`:
+    /// `δ''/(δ' + δ'')` (anchors have 1 and fixed points 0 by definition, and are not listed).
     pub theta: Vec<Rational>,
     /// Solvability checks run by ExpandDerived (1 when `S` was already enough).
     pub checks: usize,
@@ -286,18 +286,24 @@ impl SplineEditor<'_> {
         }
         let anchor_set: BTreeSet<usize> = anchors.iter().copied().collect();
         let anchors: Vec<usize> = anchor_set.iter().copied().collect();
-        let to_anchor = self.net.distances_from(&anchors);
-        let initial: Vec<usize> = (0..n)
-            .filter(|p| !anchor_set.contains(p))
-            .filter(|&p| match neighborhood {
-                Neighborhood::All => true,
-                Neighborhood::Radius(r) => to_anchor[p].is_some_and(|d| d <= r),
-            })
-            .collect();
+        let mut to_anchor = self.net.distances_from(&anchors);
+        let initial: Vec<usize> = match neighborhood {
+            Neighborhood::All => (0..n).filter(|p| !anchor_set.contains(p)).collect(),
+            Neighborhood::Radius(r) => {
+                let mut near: Vec<usize> = to_anchor
+                    .within(r)
+                    .iter()
+                    .copied()
+                    .filter(|p| !anchor_set.contains(p))
+                    .collect();
+                near.sort_unstable();
+                near
+            }
+        };
         let expansion =
-            self.expand_derived(system, values, &anchors, &initial, &to_anchor, moves)?;
+            self.expand_derived(system, values, &anchors, &initial, &mut to_anchor, moves)?;
         let derived = expansion.derived;
-        let theta = self.relative_magnitudes(&anchor_set, &derived, &to_anchor);
+        let theta = self.relative_magnitudes(&anchors, &derived, &mut to_anchor);
         Ok(Selection {
             anchors,
             initial,
@@ -323,7 +329,7 @@ impl SplineEditor<'_> {
         values: &Values,
         anchors: &[usize],
         initial: &[usize],
-        to_anchor: &[Option<u32>],
+        to_anchor: &mut Distances<'_>,
         moves: Option<&[Vec<Vec<Rational>>]>,
     ) -> Result<Expansion, SelectError> {
         let anchor_set: BTreeSet<usize> = anchors.iter().copied().collect();
@@ -383,7 +389,7 @@ impl SplineEditor<'_> {
             }
             let nearest = candidates
                 .iter()
-                .map(|&c| to_anchor[c].unwrap_or(u32::MAX))
+                .map(|&c| to_anchor.get(c).unwrap_or(u32::MAX))
                 .min();
             let Some(nearest) = nearest else {
                 blocked = Some(Blocked {
@@ -395,7 +401,7 @@ impl SplineEditor<'_> {
             candidates.sort_unstable();
             candidates.dedup();
             for c in candidates {
-                if to_anchor[c].unwrap_or(u32::MAX) == nearest {
+                if to_anchor.get(c).unwrap_or(u32::MAX) == nearest {
                     derived.insert(c);
                     added.push(c);
                 }
@@ -459,33 +465,25 @@ impl SplineEditor<'_> {
         points.into_iter().map(|&p| self.params.ids[p]).collect()
     }
 
-    /// 2DSD.ComputeRelMagnitude: `θ_s = δ''/(δ' + δ'')` with `δ'` the net distance to the
-    /// nearest anchor and `δ''` to the nearest fixed point.
+    /// 2DSD.ComputeRelMagnitude: `θ_s = δ''/(δ' + δ'')` for each derived point `s` (in the
+    /// order of `derived`), with `δ'` the net distance to the nearest anchor and `δ''` to the
+    /// nearest fixed point. Both searches stay near the edit: `δ''` never leaves the anchors
+    /// and derived points ([`ControlNet::distances_out_of`]).
     fn relative_magnitudes(
         &self,
-        anchors: &BTreeSet<usize>,
+        anchors: &[usize],
         derived: &[usize],
-        to_anchor: &[Option<u32>],
+        to_anchor: &mut Distances<'_>,
     ) -> Vec<Rational> {
-        let n = self.spline.points().len();
-        let derived_set: BTreeSet<usize> = derived.iter().copied().collect();
-        let fixed: Vec<usize> = (0..n)
-            .filter(|p| !anchors.contains(p) && !derived_set.contains(p))
-            .collect();
-        let to_fixed = self.net.distances_from(&fixed);
-        (0..n)
-            .map(|p| {
-                if anchors.contains(&p) {
-                    Rational::one()
-                } else if !derived_set.contains(&p) {
-                    Rational::zero()
-                } else {
-                    match (to_anchor[p], to_fixed[p]) {
-                        (Some(a), Some(f)) => Rational::new(f.into(), (a + f).into()),
-                        (Some(_), None) => Rational::one(),
-                        (None, _) => Rational::zero(),
-                    }
-                }
+        let moving: Vec<usize> = derived.iter().chain(anchors).copied().collect();
+        let to_fixed = self.net.distances_out_of(&moving);
+        derived
+            .iter()
+            .zip(&to_fixed)
+            .map(|(&p, &f)| match (to_anchor.get(p), f) {
+                (Some(a), Some(f)) => Rational::new(f.into(), (a + f).into()),
+                (Some(_), None) => Rational::one(),
+                (None, _) => Rational::zero(),
             })
             .collect()
     }
@@ -521,7 +519,8 @@ impl SplineEditor<'_> {
                     hints: selection
                         .derived
                         .iter()
-                        .map(|&s| moved(s, &selection.theta[s]))
+                        .zip(&selection.theta)
+                        .map(|(&s, theta)| moved(s, theta))
                         .collect::<Result<_, _>>()?,
                 })
             })
@@ -640,9 +639,9 @@ mod tests {
             .select(&f.system, &f.values, &[anchor], Neighborhood::Radius(3))
             .expect("select");
         assert!(sel.derived.len() >= sel.initial.len());
-        assert_eq!(sel.theta[anchor], Rational::one());
-        for &s in &sel.derived {
-            assert!(sel.theta[s] > Rational::zero() && sel.theta[s] < Rational::one());
+        assert_eq!(sel.theta.len(), sel.derived.len());
+        for theta in &sel.theta {
+            assert!(*theta > Rational::zero() && *theta < Rational::one());
         }
         let op = Operation::Translate {
             by: vec![
@@ -723,7 +722,7 @@ mod tests {
             .expect("select");
         assert_eq!(sel.derived.len(), f.spline.points().len() - 1);
         // With no fixed point left, every hint moves fully with the anchor.
-        assert!(sel.derived.iter().all(|&s| sel.theta[s] == Rational::one()));
+        assert!(sel.theta.iter().all(|theta| *theta == Rational::one()));
         run(
             &mut f,
             &sel,
@@ -927,9 +926,9 @@ mod tests {
         let f = fixture(4);
         let editor = f.editor();
         let anchor = point(&f, "v12");
-        let to_anchor = f.net.distances_from(&[anchor]);
+        let mut to_anchor = f.net.distances_from(&[anchor]);
         let strong = editor
-            .expand_derived(&f.system, &f.values, &[anchor], &[], &to_anchor, None)
+            .expand_derived(&f.system, &f.values, &[anchor], &[], &mut to_anchor, None)
             .expect("expands");
         assert!(strong.blocked.is_none());
         assert!(!strong.derived.is_empty() && strong.checks > 1);
@@ -952,7 +951,7 @@ mod tests {
                 &f.values,
                 &[anchor],
                 &[],
-                &to_anchor,
+                &mut to_anchor,
                 Some(&along_x),
             )
             .expect("expands");
