@@ -45,6 +45,24 @@ pub(crate) fn digit(limbs: &[u64], j: usize) -> u64 {
     (low | high) & DIGIT_MASK
 }
 
+/// The value of 52-bit `digits` (least significant first) in 64-bit limbs, without leading
+/// zero limbs: the inverse of [`to_digits`].
+pub(crate) fn from_digits(digits: impl ExactSizeIterator<Item = u64>) -> Vec<u64> {
+    let mut limbs = vec![0u64; (digits.len() * DIGIT_BITS as usize).div_ceil(64) + 1];
+    for (j, digit) in digits.enumerate() {
+        let bit = j * DIGIT_BITS as usize;
+        let (limb, offset) = (bit / 64, bit % 64);
+        limbs[limb] |= digit << offset;
+        if offset > 64 - DIGIT_BITS as usize {
+            limbs[limb + 1] |= digit >> (64 - offset);
+        }
+    }
+    while limbs.last() == Some(&0) {
+        limbs.pop();
+    }
+    limbs
+}
+
 /// The 52-bit digits of a value, as many as it has.
 pub(crate) fn all_digits(limbs: &[u64]) -> Vec<u64> {
     to_digits(

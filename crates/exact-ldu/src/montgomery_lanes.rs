@@ -20,7 +20,7 @@
 //! product of the values does, which is all the certificate needs. Without IFMA (checked at run
 //! time) the scalar chain runs instead.
 
-use crate::ifma::{digit, ifma_available, to_digits, DIGIT_BITS, DIGIT_MASK, LANES};
+use crate::ifma::{digit, from_digits, ifma_available, to_digits, DIGIT_BITS, DIGIT_MASK, LANES};
 
 /// Moduli of more digits take the scalar chain (the accumulator bound above: `4·2^52·1 000` plus
 /// the carries is below `2^64`). Up to this length the lanes beat the scalar chain's REDC by
@@ -122,20 +122,7 @@ fn modulus_digits(modulus: &[u64]) -> Option<Vec<u64>> {
 
 /// Lane `lane` of transposed, normalised digits as 64-bit limbs.
 fn lane_to_limbs(transposed: &[u64], d: usize, lane: usize) -> Vec<u64> {
-    let mut limbs = vec![0u64; (d * DIGIT_BITS as usize).div_ceil(64) + 1];
-    for j in 0..d {
-        let digit = transposed[j * LANES + lane];
-        let bit = j * DIGIT_BITS as usize;
-        let (limb, offset) = (bit / 64, bit % 64);
-        limbs[limb] |= digit << offset;
-        if offset > 64 - DIGIT_BITS as usize {
-            limbs[limb + 1] |= digit >> (64 - offset);
-        }
-    }
-    while limbs.last() == Some(&0) {
-        limbs.pop();
-    }
-    limbs
+    from_digits((0..d).map(|j| transposed[j * LANES + lane]))
 }
 
 #[cfg(target_arch = "x86_64")]

@@ -15,10 +15,9 @@
 //! `2^33` and each product below `2^85`, so the high halves' sums stay below `2^45` over the
 //! at most [`MAX_TERMS`] steps the lanes take.
 
-use crate::ifma::{ifma_available, DIGIT_BITS, DIGIT_MASK, LANES};
+use crate::ifma::{from_digits, ifma_available, DIGIT_BITS, DIGIT_MASK, LANES};
 use crate::lane_products::{PowerTable, MAX_TERMS};
 use num_bigint::{BigInt, BigUint};
-use num_integer::Integer;
 use rayon::prelude::*;
 
 /// Fewer steps take the product tree (a few products of a few limbs each).
@@ -108,15 +107,7 @@ fn carried(positions: impl Iterator<Item = (u64, u64)>) -> BigUint {
         digits.push(carry as u64 & DIGIT_MASK);
         carry >>= DIGIT_BITS;
     }
-    let mut limbs = vec![0u64; (digits.len() * DIGIT_BITS as usize).div_ceil(64) + 1];
-    for (j, &digit) in digits.iter().enumerate() {
-        let (limb, offset) = (j * DIGIT_BITS as usize).div_rem(&64);
-        limbs[limb] |= digit << offset;
-        if offset > 64 - DIGIT_BITS as usize {
-            limbs[limb + 1] |= digit >> (64 - offset);
-        }
-    }
-    crate::gcd::from_limbs(&limbs)
+    crate::gcd::from_limbs(&from_digits(digits.into_iter()))
 }
 
 #[cfg(test)]
