@@ -221,11 +221,7 @@ where
     let factored = factor(&a)?;
     within(&factored)?;
     let kernel = factored.null_space();
-    let projected: Vec<Vec<Rational>> = kernel
-        .iter()
-        .map(|v| picked_local.iter().map(|&c| v[c].clone()).collect())
-        .collect();
-    let directions = row_basis(&projected);
+    let directions = projected_basis(&kernel, &picked_local);
     let case = match directions.len() {
         0 => Case::FullyConstrained,
         n if n == picked_local.len() => Case::Free,
@@ -348,11 +344,7 @@ where
             continue;
         }
         let value: Vec<Rational> = coordinates.iter().map(|&c| particular[c].clone()).collect();
-        let directions: Vec<Vec<Rational>> = free
-            .iter()
-            .map(|v| coordinates.iter().map(|&c| v[c].clone()).collect())
-            .collect();
-        let basis = row_basis(&directions);
+        let basis = projected_basis(&free, &coordinates);
         let entry = if basis.is_empty() {
             if value.iter().all(Zero::is_zero) {
                 continue;
@@ -362,12 +354,11 @@ where
             let reaches_zero = {
                 // The value is in the span of the free directions exactly when adding it keeps
                 // the rank.
-                let as_rationals: Vec<Vec<Rational>> = basis
+                let as_rationals = basis
                     .iter()
                     .map(|r| r.iter().cloned().map(Rational::from_integer).collect())
-                    .chain(std::iter::once(value.clone()))
-                    .collect();
-                row_basis(&as_rationals).len() == basis.len()
+                    .chain(std::iter::once(value.clone()));
+                row_basis(coordinates.len(), as_rationals).len() == basis.len()
             };
             let freedom = basis.len();
             if reaches_zero {
@@ -420,13 +411,32 @@ fn component(matrix: &IntMatrix, start: impl Iterator<Item = usize>) -> (Vec<usi
     (pick(&seen_row), pick(&seen_column))
 }
 
-/// A basis of the span of `vectors` in reduced echelon form, each row scaled to coprime
-/// integers with a positive leading entry: the same span gives the same basis.
-fn row_basis(vectors: &[Vec<Rational>]) -> Vec<Vec<Integer>> {
+/// [`row_basis`] of the projections of `vectors` onto `coordinates`. A projection is formed
+/// only while the span can still grow, and only when it is not zero (most are, for a parameter
+/// far from the move: the analysis of every edit projects its whole null space once per
+/// parameter).
+fn projected_basis(vectors: &[Vec<Rational>], coordinates: &[usize]) -> Vec<Vec<Integer>> {
+    row_basis(
+        coordinates.len(),
+        vectors
+            .iter()
+            .filter(|v| coordinates.iter().any(|&c| !v[c].is_zero()))
+            .map(|v| coordinates.iter().map(|&c| v[c].clone()).collect()),
+    )
+}
+
+/// A basis of the span of `vectors` (each of `width` entries) in reduced echelon form, each
+/// row scaled to coprime integers with a positive leading entry: the same span gives the same
+/// basis. Once the span is the whole space the rest of `vectors` is not looked at (its basis
+/// is the identity whatever they are).
+fn row_basis(width: usize, vectors: impl IntoIterator<Item = Vec<Rational>>) -> Vec<Vec<Integer>> {
     let mut rows: Vec<Vec<Rational>> = Vec::new();
     let mut pivots: Vec<usize> = Vec::new();
-    for v in vectors {
-        let mut v = v.clone();
+    for mut v in vectors {
+        if rows.len() == width {
+            break;
+        }
+        debug_assert_eq!(v.len(), width);
         for (row, &p) in rows.iter().zip(&pivots) {
             if !v[p].is_zero() {
                 let f = v[p].clone();
@@ -765,6 +775,81 @@ mod tests {
                     }
                 }
             }
+        }
+    }
+
+    /// Rank of rational vectors by plain Gaussian elimination, looking at every vector.
+    fn plain_rank(vectors: &[Vec<Rational>]) -> usize {
+        let mut rows: Vec<Vec<Rational>> = vectors.to_vec();
+        let width = rows.first().map_or(0, Vec::len);
+        let mut rank = 0;
+        for c in 0..width {
+            let Some(p) = (rank..rows.len()).find(|&i| !rows[i][c].is_zero()) else {
+                continue;
+            };
+            rows.swap(rank, p);
+            let pivot = rows[rank].clone();
+            for row in rows.iter_mut().skip(rank + 1) {
+                let f = &row[c] / &pivot[c];
+                for (x, y) in row.iter_mut().zip(&pivot) {
+                    *x -= &f * y;
+                }
+            }
+            rank += 1;
+        }
+        rank
+    }
+
+    proptest::proptest! {
+        /// The basis spans what the vectors span (every vector, the skipped ones after a full
+        /// span included, lies in it, and its size is the plain rank), in reduced echelon
+        /// form with coprime integer rows and positive leading entries; projections give the
+        /// basis of the projected vectors.
+        #[test]
+        fn row_bases_span_the_vectors(
+            entries in proptest::collection::vec(-3i64..=3, 0..40),
+            width in 1usize..4,
+        ) {
+            let vectors: Vec<Vec<Rational>> = entries
+                .chunks_exact(width)
+                .map(|chunk| chunk.iter().map(|&x| q(x)).collect())
+                .collect();
+            let basis = row_basis(width, vectors.iter().cloned());
+            proptest::prop_assert_eq!(basis.len(), plain_rank(&vectors));
+            let as_rationals: Vec<Vec<Rational>> = basis
+                .iter()
+                .map(|r| r.iter().cloned().map(Rational::from_integer).collect())
+                .collect();
+            for v in &vectors {
+                let mut with_v = as_rationals.clone();
+                with_v.push(v.clone());
+                proptest::prop_assert_eq!(plain_rank(&with_v), basis.len());
+            }
+            let leads: Vec<usize> = basis
+                .iter()
+                .map(|r| r.iter().position(|x| !x.is_zero()).expect("no zero row"))
+                .collect();
+            for (k, row) in basis.iter().enumerate() {
+                proptest::prop_assert!(row[leads[k]].is_positive());
+                proptest::prop_assert!(k == 0 || leads[k - 1] < leads[k]);
+                for (other, &lead) in basis.iter().zip(&leads) {
+                    if other != row {
+                        proptest::prop_assert!(row[lead].is_zero());
+                    }
+                }
+                let content = row.iter().fold(Integer::zero(), |g, x| num_integer::Integer::gcd(&g, x));
+                proptest::prop_assert!(content.is_one());
+            }
+            // Projected onto the last coordinate (and the first, when there are two or more).
+            let coordinates: Vec<usize> = if width > 1 { vec![width - 1, 0] } else { vec![0] };
+            let projected: Vec<Vec<Rational>> = vectors
+                .iter()
+                .map(|v| coordinates.iter().map(|&c| v[c].clone()).collect())
+                .collect();
+            proptest::prop_assert_eq!(
+                projected_basis(&vectors, &coordinates),
+                row_basis(coordinates.len(), projected)
+            );
         }
     }
 }
