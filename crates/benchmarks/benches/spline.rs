@@ -220,6 +220,62 @@ fn edits(c: &mut Criterion) {
     edits_with(c, "float", &FloatQr::default());
 }
 
+/// The two float cross-checks of an edit, on the same edits: the float backend's own
+/// Initialize and Update (dense QR of `R_ED`), against the host's sparse twin's work (the
+/// reduced system, the sparse rank test and QR of `R_ED`, one least-squares solve): where the
+/// sparse one becomes the faster is where the host switches.
+fn float_cross_checks(c: &mut Criterion) {
+    let fixture = GridFixture::new();
+    let (editor, system, values, anchor) = (
+        fixture.editor(),
+        &fixture.system,
+        &fixture.values,
+        fixture.anchor,
+    );
+    let mut group = c.benchmark_group("float-cross-check");
+    group.sample_size(10);
+    for radius in [1u32, 2, 3, 5, 8] {
+        let sel = editor
+            .select(system, values, &[anchor], Neighborhood::Radius(radius))
+            .expect("select");
+        let plan = editor
+            .plan(
+                &sel,
+                values,
+                &Operation::Translate {
+                    by: vec![api::Rational::from_integer(3.into()); 2],
+                },
+                1,
+            )
+            .expect("plan");
+        let step = &plan.steps[0];
+        let (_, reduced) =
+            ecles::reduce_edit::<f64>(system, values, &plan.spec).expect("a valid edit");
+        let entries = reduced.r_ed().rows() * reduced.r_ed().cols();
+        let label = format!("delta{radius}-{entries}-entries");
+        group.bench_function(BenchmarkId::new("dense", &label), |b| {
+            b.iter(|| {
+                let edit = Edit::initialize(&FloatQr::default(), system, values, &plan.spec)
+                    .expect("initialize");
+                black_box(edit.update(&step.anchors, &step.hints).is_ok())
+            })
+        });
+        group.bench_function(BenchmarkId::new("sparse", &label), |b| {
+            b.iter(|| {
+                let (_, reduced) =
+                    ecles::reduce_edit::<f64>(system, values, &plan.spec).expect("a valid edit");
+                let r_ed = reduced.r_ed();
+                let weights = vec![1.0; r_ed.cols()];
+                let (lsq, _) =
+                    float_qr::SparseLeastSquares::new(r_ed, &weights, 1e-10).expect("prepared");
+                let b = vec![0.0; r_ed.rows()];
+                black_box(lsq.solve(&b, &b, &weights).is_ok())
+            })
+        });
+    }
+    group.finish();
+}
+
 /// A snapped Update (`Edit::update_snapped` on the grid `2^−24`) on the same edits, after the
 /// first one: what an editor committing snapped points draws per frame; and the exact drag
 /// frame (`Edit::frame`: the values of `Edit::update` over the solution's common denominator,
@@ -270,5 +326,12 @@ fn exact_frames(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, build, rank, edits, exact_frames);
+criterion_group!(
+    benches,
+    build,
+    rank,
+    edits,
+    float_cross_checks,
+    exact_frames
+);
 criterion_main!(benches);

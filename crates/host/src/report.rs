@@ -180,6 +180,11 @@ pub struct EditReport {
     pub float_deviation: Option<f64>,
     /// Whether the float backend agreed (verdicts, rank, values within tolerance).
     pub float_agrees: Option<bool>,
+    /// How the float cross-check solved the edit: `"dense QR"` (the float backend's own ECLES
+    /// edit, for the smallest `R_ED`) or `"sparse QR"` (the sparse twin); absent without a
+    /// cross-check.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub float_method: Option<String>,
     /// What differs, in words.
     pub disagreements: Vec<String>,
     /// Facts from the source's planning.

@@ -630,6 +630,7 @@ impl Session {
                     > super::float_twin::DENSE_EDIT_LIMIT
             })
             .unwrap_or(false);
+        report.float_method = Some(if large { "sparse QR" } else { "dense QR" }.to_string());
         let float = if large {
             super::float_twin::execute_sparse(&self.system, &self.values, spec, steps, tolerance)
         } else {

@@ -1,6 +1,7 @@
-//! The float twin of an edit too large for the dense QR: the same edit run by
-//! [`float_qr::SparseLeastSquares`] (sparse rank test, least squares by a sparse QR), so the
-//! cross-check of a big neighbourhood takes about as long as the edit instead of minutes.
+//! The float twin of an edit: the same edit run by [`float_qr::SparseLeastSquares`] (sparse
+//! rank test, least squares by a sparse QR), so the cross-check of a big neighbourhood takes
+//! about as long as the edit instead of minutes, and of a medium one a fraction of the dense
+//! QR's time.
 
 use super::edit::{Execution, InitFacts};
 use api::{exact::rational_to_f64, BackendError, ConstraintSystem, PlannedStep, Rational, Values};
@@ -8,8 +9,12 @@ use ecles::{EditError, EditSpec, Layout, UpdateResult};
 use num_traits::{One, Signed};
 
 /// Edits whose `R_ED` has more entries (rows × columns) than this are cross-checked by the
-/// sparse float twin; below it, by the float backend itself (dense QR).
-pub(crate) const DENSE_EDIT_LIMIT: usize = 250_000;
+/// sparse float twin; up to it, by the float backend itself (dense QR), which runs the whole
+/// ECLES edit in floats. The sparse twin is the faster from the smallest edits on
+/// (`cargo bench -p benchmarks --bench spline -- float-cross-check`, the grid's edits: 169
+/// entries 31 against 21 µs, 1 080 entries 86 against 44 µs, 31 968 entries 5.96 against
+/// 0.33 ms), so the dense QR is kept only where both take microseconds.
+pub(crate) const DENSE_EDIT_LIMIT: usize = 1_000;
 
 /// Runs `spec` with `steps` on the sparse float twin: the rank of `R_ED` and, per step, the
 /// derived values (or why the float side refuses the step).
