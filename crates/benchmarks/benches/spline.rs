@@ -14,7 +14,7 @@ use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use ecles::Edit;
 use exact_ldu::ExactLdu;
 use float_qr::FloatQr;
-use spline2d::edit::{Neighborhood, Operation, SplineEditor};
+use spline2d::edit::{Neighborhood, Operation, Plan, SplineEditor};
 use spline2d::net::ControlNet;
 use spline2d::spline::Spline;
 use std::hint::black_box;
@@ -138,6 +138,36 @@ impl GridFixture {
             params: &self.params,
         }
     }
+
+    /// 2DSD Select and the plan of a one-step translation of the anchor by `by` within
+    /// `radius`.
+    fn translation(&self, radius: u32, by: Vec<api::Rational>) -> Plan {
+        let editor = self.editor();
+        let sel = editor
+            .select(
+                &self.system,
+                &self.values,
+                &[self.anchor],
+                Neighborhood::Radius(radius),
+            )
+            .expect("select");
+        editor
+            .plan(&sel, &self.values, &Operation::Translate { by }, 1)
+            .expect("plan")
+    }
+}
+
+/// The translation the Select + Initialize benches plan: by (3, 3).
+fn by_three() -> Vec<api::Rational> {
+    vec![api::Rational::from_integer(3.into()); 2]
+}
+
+/// The translation of the Update benches: by (7/3, −5/4).
+fn by_fractions() -> Vec<api::Rational> {
+    vec![
+        api::Rational::new(7.into(), 3.into()),
+        api::Rational::new((-5).into(), 4.into()),
+    ]
 }
 
 fn edits_with<B: LinearBackend>(c: &mut Criterion, name: &str, backend: &B)
@@ -146,50 +176,18 @@ where
     Edit<B::Factorization>: Clone,
 {
     let fixture = GridFixture::new();
-    let (editor, system, values, anchor) = (
-        fixture.editor(),
-        &fixture.system,
-        &fixture.values,
-        fixture.anchor,
-    );
+    let (system, values) = (&fixture.system, &fixture.values);
     let mut group = c.benchmark_group("spline-edit");
     group.sample_size(20);
     for radius in [3u32, 8] {
         let label = format!("{name}-delta{radius}");
         group.bench_function(BenchmarkId::new("select+initialize", &label), |b| {
             b.iter(|| {
-                let sel = editor
-                    .select(system, values, &[anchor], Neighborhood::Radius(radius))
-                    .expect("select");
-                let plan = editor
-                    .plan(
-                        &sel,
-                        values,
-                        &Operation::Translate {
-                            by: vec![api::Rational::from_integer(3.into()); 2],
-                        },
-                        1,
-                    )
-                    .expect("plan");
+                let plan = fixture.translation(radius, by_three());
                 black_box(Edit::initialize(backend, system, values, &plan.spec).is_ok())
             })
         });
-        let sel = editor
-            .select(system, values, &[anchor], Neighborhood::Radius(radius))
-            .expect("select");
-        let plan = editor
-            .plan(
-                &sel,
-                values,
-                &Operation::Translate {
-                    by: vec![
-                        api::Rational::new(7.into(), 3.into()),
-                        api::Rational::new((-5).into(), 4.into()),
-                    ],
-                },
-                1,
-            )
-            .expect("plan");
+        let plan = fixture.translation(radius, by_fractions());
         let edit = Edit::initialize(backend, system, values, &plan.spec).expect("initialize");
         let step = &plan.steps[0];
         edit.update(&step.anchors, &step.hints)
@@ -226,28 +224,11 @@ fn edits(c: &mut Criterion) {
 /// sparse one becomes the faster is where the host switches.
 fn float_cross_checks(c: &mut Criterion) {
     let fixture = GridFixture::new();
-    let (editor, system, values, anchor) = (
-        fixture.editor(),
-        &fixture.system,
-        &fixture.values,
-        fixture.anchor,
-    );
+    let (system, values) = (&fixture.system, &fixture.values);
     let mut group = c.benchmark_group("float-cross-check");
     group.sample_size(10);
     for radius in [1u32, 2, 3, 5, 8] {
-        let sel = editor
-            .select(system, values, &[anchor], Neighborhood::Radius(radius))
-            .expect("select");
-        let plan = editor
-            .plan(
-                &sel,
-                values,
-                &Operation::Translate {
-                    by: vec![api::Rational::from_integer(3.into()); 2],
-                },
-                1,
-            )
-            .expect("plan");
+        let plan = fixture.translation(radius, by_three());
         let step = &plan.steps[0];
         let (_, reduced) =
             ecles::reduce_edit::<f64>(system, values, &plan.spec).expect("a valid edit");
@@ -282,25 +263,11 @@ fn float_cross_checks(c: &mut Criterion) {
 /// not reduced), what an editor committing the exact optimum draws per frame.
 fn exact_frames(c: &mut Criterion) {
     let fixture = GridFixture::new();
-    let (editor, system, values, anchor) = (
-        fixture.editor(),
-        &fixture.system,
-        &fixture.values,
-        fixture.anchor,
-    );
+    let (system, values) = (&fixture.system, &fixture.values);
     let mut group = c.benchmark_group("spline-edit");
     group.sample_size(20);
     for radius in [3u32, 8] {
-        let sel = editor
-            .select(system, values, &[anchor], Neighborhood::Radius(radius))
-            .expect("select");
-        let by = vec![
-            api::Rational::new(7.into(), 3.into()),
-            api::Rational::new((-5).into(), 4.into()),
-        ];
-        let plan = editor
-            .plan(&sel, values, &Operation::Translate { by }, 1)
-            .expect("plan");
+        let plan = fixture.translation(radius, by_fractions());
         let edit =
             Edit::initialize(&ExactLdu::default(), system, values, &plan.spec).expect("initialize");
         let step = &plan.steps[0];
