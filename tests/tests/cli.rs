@@ -38,6 +38,17 @@ fn bundled_spline_examples_run_exactly_and_deterministically() {
             assert_eq!(edit["max_residual"], "0", "{name}");
             assert_eq!(edit["float_agrees"], Value::Bool(true), "{name}: {edit}");
         }
+        if name == "grid" {
+            // The local move's R_ED (24 × 36 entries) is cross-checked by the float backend's
+            // own dense edit, the global move's (40 × 120) by the sparse twin.
+            let methods: Vec<&Value> = report["edits"]
+                .as_array()
+                .expect("edits")
+                .iter()
+                .map(|edit| &edit["float_method"])
+                .collect();
+            assert_eq!(methods, [&Value::from("dense QR"), &Value::from("sparse QR")]);
+        }
         for f in files {
             assert!(out_a.path().join(f).exists(), "{name}: {f} missing");
         }
