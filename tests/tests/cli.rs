@@ -47,7 +47,10 @@ fn bundled_spline_examples_run_exactly_and_deterministically() {
                 .iter()
                 .map(|edit| &edit["float_method"])
                 .collect();
-            assert_eq!(methods, [&Value::from("dense QR"), &Value::from("sparse QR")]);
+            assert_eq!(
+                methods,
+                [&Value::from("dense QR"), &Value::from("sparse QR")]
+            );
         }
         for f in files {
             assert!(out_a.path().join(f).exists(), "{name}: {f} missing");
