@@ -156,10 +156,10 @@ pub struct PointDrag {
 /// point `p`, `2p + 1` its `y`) and the dragged point.
 type PointLayout = (Vec<(i64, i64)>, Vec<Vec<(usize, i64)>>, usize);
 
-/// The system `kind` with about `n` points, as in `tools/peer_bench.py`.
-pub fn point_drag(kind: PointSystem, n: usize) -> PointDrag {
-    use api::{Coord, RowBody};
-    let (points, equations, dragged): PointLayout = match kind {
+/// The points, equations and dragged point of `kind` with about `n` points, as in
+/// `tools/peer_bench.py`.
+fn point_layout(kind: PointSystem, n: usize) -> PointLayout {
+    match kind {
         PointSystem::Chain => {
             let points = (0..n as i64).map(|i| (i, 0)).collect();
             // Point p has parameters 2p (x) and 2p + 1 (y).
@@ -212,12 +212,24 @@ pub fn point_drag(kind: PointSystem, n: usize) -> PointDrag {
             }
             (points, eq, 2 * (m / 2))
         }
-    };
+    }
+}
+
+/// The name of parameter `q` of a point system: `x<p>` or `y<p>` of point `p = q / 2`.
+fn coordinate_name(q: usize) -> String {
+    format!("{}{}", ["x", "y"][q % 2], q / 2)
+}
+
+/// The system `kind` with about `n` points, as in `tools/peer_bench.py`.
+pub fn point_drag(kind: PointSystem, n: usize) -> PointDrag {
+    use api::Coord;
+    let (points, equations, dragged) = point_layout(kind, n);
     let mut system = ConstraintSystem::new();
     let params: Vec<ParamId> = (0..2 * points.len())
         .map(|q| {
-            let name = format!("{}{}", if q % 2 == 0 { "x" } else { "y" }, q / 2);
-            system.add_parameter(name, 1).expect("distinct names")
+            system
+                .add_parameter(coordinate_name(q), 1)
+                .expect("distinct names")
         })
         .collect();
     for (i, terms) in equations.iter().enumerate() {
@@ -275,6 +287,60 @@ pub fn point_drag(kind: PointSystem, n: usize) -> PointDrag {
     }
 }
 
+/// The run file `tools/peer_bench.py` times `ecles run` on, for the drag of [`point_drag`]
+/// (byte for byte, but for the order of the grid's equations, interleaved here as in
+/// [`point_drag`]):
+/// one `linear` source `c` (parameters `x<p>`, `y<p>`, one text equation per row),
+/// `cross_check: None` and one generic edit with the dragged point's coordinates as anchors at
+/// their targets and every other parameter derived.
+pub fn point_run_text(kind: PointSystem, n: usize) -> String {
+    let (points, equations, dragged) = point_layout(kind, n);
+    let parameters: Vec<String> = points
+        .iter()
+        .flat_map(|(x, y)| [*x, *y])
+        .enumerate()
+        .map(|(q, v)| format!("\"{}\": \"{v}\"", coordinate_name(q)))
+        .collect();
+    let equations: Vec<String> = equations
+        .iter()
+        .map(|terms| {
+            let mut text = String::new();
+            for (i, (q, c)) in terms.iter().enumerate() {
+                let sign = match (i, *c < 0) {
+                    (0, false) => "",
+                    (0, true) => "-",
+                    (_, false) => " + ",
+                    (_, true) => " - ",
+                };
+                let magnitude = c.unsigned_abs();
+                let factor = if magnitude == 1 {
+                    String::new()
+                } else {
+                    format!("{magnitude} ")
+                };
+                text += &format!("{sign}{factor}{}", coordinate_name(*q));
+            }
+            format!("\"{text} = 0\"")
+        })
+        .collect();
+    let (x, y) = points[dragged];
+    let anchors = format!(
+        "\"c.x{dragged}\": \"{}\", \"c.y{dragged}\": \"{}\"",
+        x + 3,
+        y - 2
+    );
+    let derived: Vec<String> = (0..2 * points.len())
+        .filter(|q| q / 2 != dragged)
+        .map(|q| format!("\"c.{}\"", coordinate_name(q)))
+        .collect();
+    format!(
+        "(\n    sources: [(name: \"c\", plugin: \"linear\", config: (\n        parameters: {{{}}},\n        equations: [{}],\n    ))],\n    cross_check: None,\n    edits: [Ecles(anchors: {{{anchors}}}, derived: [{}])],\n)\n",
+        parameters.join(", "),
+        equations.join(", "),
+        derived.join(", ")
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -294,6 +360,24 @@ mod tests {
             assert!(drag.system.violations(&drag.values).is_empty(), "{kind:?}");
             assert_eq!(drag.derived.len() + 2, 2 * points);
         }
+    }
+
+    /// The run file of the smallest chain, as `tools/peer_bench.py` writes it.
+    #[test]
+    fn point_run_text_is_the_peer_benchmarks_run_file() {
+        let expected = concat!(
+            "(\n",
+            "    sources: [(name: \"c\", plugin: \"linear\", config: (\n",
+            "        parameters: {\"x0\": \"0\", \"y0\": \"0\", \"x1\": \"1\", \"y1\": \"0\", ",
+            "\"x2\": \"2\", \"y2\": \"0\"},\n",
+            "        equations: [\"2 x1 - x0 - x2 = 0\", \"2 y1 - y0 - y2 = 0\"],\n",
+            "    ))],\n",
+            "    cross_check: None,\n",
+            "    edits: [Ecles(anchors: {\"c.x1\": \"4\", \"c.y1\": \"-2\"}, ",
+            "derived: [\"c.x0\", \"c.y0\", \"c.x2\", \"c.y2\"])],\n",
+            ")\n"
+        );
+        assert_eq!(point_run_text(PointSystem::Chain, 3), expected);
     }
 
     #[test]

@@ -14,12 +14,22 @@
 //!   way (the backend's inconsistency certificate).
 //!
 //! Only the connected component(s) of `P` (coordinates linked to `P` through rows) are looked
-//! at: every other parameter stays whatever `P` does. The work is two or three exact
-//! factorizations of that component and two null spaces, dense: `n − r` vectors of `n` exact
-//! values for a component of `n` coordinates and rank `r`. The caller gives the most null-space
+//! at: every other parameter stays whatever `P` does. Everything is read off one exact
+//! factorization of `M = [A; E_P]` (the component's rows and one row per picked coordinate):
+//!
+//! * the directions by at most `|P|` solves `M δ = [0; m]` ([`reachable_directions`]): each
+//!   either reaches `m` or returns a certificate whose `P` part is a lost direction not
+//!   orthogonal to `m`;
+//! * the move's particular solution by one more solve, its freedom by the null space of `M`,
+//!   dense: `n − rank M` vectors of `n` exact values for a component of `n` coordinates;
+//! * the rows removing each lost direction by a factorization of `Aᵀ`, only when a direction
+//!   is lost.
+//!
+//! (The null space of `A` itself, `|P|` vectors more than that of `M` at most, is not formed:
+//! its lifted solves were half of every edit's analysis.) The caller gives the most null-space
 //! values it accepts ([`EXPLAIN_NULL_SPACE_BUDGET`] for `ecles explain`,
-//! [`REPORT_NULL_SPACE_BUDGET`] for every edit's report); a larger component is refused
-//! before its null space is formed.
+//! [`REPORT_NULL_SPACE_BUDGET`] for every edit's report); a larger component is refused before
+//! its null space is formed.
 
 use api::{
     ConstraintSystem, Factorization, IntMatrix, Integer, LinearBackend, ParamId, Rational, RowId,
@@ -183,27 +193,17 @@ where
             .iter()
             .map(|&(p, k)| offsets[p.index()] + k),
     );
-    // Even a null space of rank-free columns: refused before anything is factored.
+    // A move's null space has at least `n − rows − |P|` vectors (`M` has full row rank at
+    // best): refused before anything is factored. Without a move no null space is formed.
     let n = columns.len();
-    let least = n.saturating_mul(n.saturating_sub(rows.len()));
-    if least > budget {
+    let least = n.saturating_mul(n.saturating_sub(rows.len() + picked_coordinates.len()));
+    if requested.is_some() && least > budget {
         return Err(PropagationError::TooLarge {
             coordinates: n,
             values: least,
             budget,
         });
     }
-    let within = |factored: &B::Factorization| -> Result<(), PropagationError> {
-        let values = n.saturating_mul(factored.cols() - factored.rank());
-        if values > budget {
-            return Err(PropagationError::TooLarge {
-                coordinates: n,
-                values,
-                budget,
-            });
-        }
-        Ok(())
-    };
     let local: BTreeMap<usize, usize> = columns.iter().enumerate().map(|(i, &c)| (c, i)).collect();
     let a = matrix.select(&rows, &columns);
     let picked_local: Vec<usize> = picked_coordinates
@@ -217,11 +217,16 @@ where
     };
     let row_of = |i: usize| -> (RowId, usize) { origin[rows[i]] };
 
-    // The directions P can move in: ker A projected on P.
-    let factored = factor(&a)?;
-    within(&factored)?;
-    let kernel = factored.null_space();
-    let directions = projected_basis(&kernel, &picked_local);
+    // M = [A; E_P]: its solves give the directions P can move in (ker A projected on P) and
+    // the move's particular solution, its null space the move's freedom.
+    let mut with_picked = a.clone();
+    for &c in &picked_local {
+        with_picked
+            .push_row(vec![(c, Integer::one())])
+            .map_err(|e| PropagationError::Backend(e.to_string()))?;
+    }
+    let factored = factor(&with_picked)?;
+    let directions = reachable_directions(&factored, a.rows(), picked_local.len())?;
     let case = match directions.len() {
         0 => Case::FullyConstrained,
         n if n == picked_local.len() => Case::Free,
@@ -259,9 +264,9 @@ where
         None => None,
         Some(moves) => Some(propagate(
             &a,
+            &factored,
             &picked_local,
             moves,
-            &factor,
             budget,
             &row_of,
             |i| {
@@ -282,30 +287,68 @@ where
     })
 }
 
-/// The move's consequences: the affine set `{δ : A δ = 0, δ_P = m}`, per parameter.
-fn propagate<F, E>(
+/// A basis of the moves `m` of the picked coordinates that some `δ` with `A δ = 0` and
+/// `δ_P = m` takes (ker A projected on `P`), from `m_factored`, the factorization of
+/// `[A; E_P]` (`A` its first `rows_of_a` rows), in [`row_basis`]'s form.
+///
+/// Each trial `m` is orthogonal to every direction reached and every direction found lost so
+/// far. Either `[A; E_P] δ = [0; m]` is solved (`m` is reached), or its certificate `y` has
+/// `y_Aᵀ A = −y_Pᵀ E_P`: `y_P` is orthogonal to every reachable move and `y_P · m ≠ 0`, a lost
+/// direction outside the span found so far. So each of at most `|P|` solves adds a dimension,
+/// and once reached and lost directions span the whole space, the reached ones span the
+/// reachable moves.
+fn reachable_directions<E>(
+    m_factored: &E,
+    rows_of_a: usize,
+    picked: usize,
+) -> Result<Vec<Vec<Integer>>, PropagationError>
+where
+    E: Factorization<Scalar = Rational>,
+{
+    let mut reached: Vec<Vec<Rational>> = Vec::new();
+    let mut lost: Vec<Vec<Rational>> = Vec::new();
+    loop {
+        let known = row_basis(picked, reached.iter().chain(&lost).cloned());
+        let Some(trial) = orthogonal_complement(&known, picked).into_iter().next() else {
+            break;
+        };
+        let trial: Vec<Rational> = trial.into_iter().map(Rational::from_integer).collect();
+        let mut rhs = vec![Rational::zero(); rows_of_a];
+        rhs.extend(trial.iter().cloned());
+        match m_factored.solve(&rhs) {
+            Ok(_) => reached.push(trial),
+            Err(SolveError::Inconsistent(certificate)) => {
+                let mut direction = vec![Rational::zero(); picked];
+                for (&i, y) in certificate.rows.iter().zip(certificate.certificate) {
+                    if i >= rows_of_a {
+                        direction[i - rows_of_a] = y;
+                    }
+                }
+                lost.push(direction);
+            }
+            Err(e) => return Err(PropagationError::Backend(e.to_string())),
+        }
+    }
+    Ok(row_basis(picked, reached))
+}
+
+/// The move's consequences: the affine set `{δ : A δ = 0, δ_P = m}`, per parameter, from `m`,
+/// the factorization of `[A; E_P]`.
+fn propagate<E>(
     a: &IntMatrix,
+    m: &E,
     picked: &[usize],
     moves: &[Rational],
-    factor: &F,
     budget: usize,
     row_of: &dyn Fn(usize) -> (RowId, usize),
     coordinate_of: impl Fn(usize) -> (ParamId, usize),
 ) -> Result<MoveOutcome, PropagationError>
 where
-    F: Fn(&IntMatrix) -> Result<E, PropagationError>,
     E: Factorization<Scalar = Rational>,
 {
-    // M = [A; E_P], right-hand side [0; m].
-    let mut with_picked = a.clone();
-    for &c in picked {
-        with_picked
-            .push_row(vec![(c, Integer::one())])
-            .map_err(|e| PropagationError::Backend(e.to_string()))?;
-    }
+    // Right-hand side [0; m].
     let mut rhs = vec![Rational::zero(); a.rows()];
     rhs.extend(moves.iter().cloned());
-    let m = factor(&with_picked)?;
     let particular = match m.solve(&rhs) {
         Ok(x) => x,
         Err(SolveError::Inconsistent(certificate)) => {
@@ -732,13 +775,16 @@ mod tests {
             }
             let a = f.analyze(&["a"], Some(&m));
             proptest::prop_assert_eq!(a.directions.len() + a.lost.len(), 2);
+            // The directions are ker A projected on a, read off A's own null space.
+            let (matrix, _, _) = f.system.scalar_matrix();
+            let kernel = ExactLdu::default().factor(&matrix).expect("factored").null_space();
+            proptest::prop_assert_eq!(&a.directions, &projected_basis(&kernel, &[0, 1]));
             for lost in &a.lost {
                 for d in &a.directions {
                     let dot: Integer = lost.direction.iter().zip(d).map(|(x, y)| x * y).sum();
                     proptest::prop_assert!(dot.is_zero());
                 }
             }
-            let (matrix, _, _) = f.system.scalar_matrix();
             match a.outcome.expect("a move") {
                 MoveOutcome::Blocked(rows) => {
                     // yᵀ A vanishes off a, and yᵀ A δ_a ≠ 0: no move reaches m.

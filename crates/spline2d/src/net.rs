@@ -89,7 +89,8 @@ impl ControlNet {
     /// A shortest path from a point of the region to the nearest outside point runs inside the
     /// region until its last hop (an earlier outside point would be nearer), so the search
     /// starts from the region's points next to an outside one, at distance 1, and never leaves
-    /// the region: `O(region + its edges)`, not the whole net.
+    /// the region: it visits the region and its edges, not the whole net (only the zeroed
+    /// lookup array from a point to its place in `region` has the net's size).
     pub fn distances_out_of(&self, region: &[usize]) -> Vec<Option<u32>> {
         // `slot[p]` is `1 +` the position of `p` in `region`, `0` outside it.
         let mut slot = vec![0u32; self.len()];
