@@ -17,9 +17,9 @@
 //! at: every other parameter stays whatever `P` does. Everything is read off one exact
 //! factorization of `M = [A; E_P]` (the component's rows and one row per picked coordinate):
 //!
-//! * the directions by at most `|P|` solves `M δ = [0; m]` ([`reachable_directions`]): each
-//!   either reaches `m` or returns a certificate whose `P` part is a lost direction not
-//!   orthogonal to `m`;
+//! * the directions by at most `|P|` consistency checks of `M δ = [0; m]`
+//!   ([`reachable_directions`]): each either reaches `m` or returns a certificate whose `P` part
+//!   is a lost direction not orthogonal to `m`;
 //! * the move's particular solution by one more solve, its freedom by the null space of `M`,
 //!   dense: `n − rank M` vectors of `n` exact values for a component of `n` coordinates;
 //! * the rows removing each lost direction by a factorization of `Aᵀ`, only when a direction
@@ -292,9 +292,9 @@ where
 /// `[A; E_P]` (`A` its first `rows_of_a` rows), in [`row_basis`]'s form.
 ///
 /// Each trial `m` is orthogonal to every direction reached and every direction found lost so
-/// far. Either `[A; E_P] δ = [0; m]` is solved (`m` is reached), or its certificate `y` has
+/// far. Either `[A; E_P] δ = [0; m]` is consistent (`m` is reached), or its certificate `y` has
 /// `y_Aᵀ A = −y_Pᵀ E_P`: `y_P` is orthogonal to every reachable move and `y_P · m ≠ 0`, a lost
-/// direction outside the span found so far. So each of at most `|P|` solves adds a dimension,
+/// direction outside the span found so far. So each of at most `|P|` checks adds a dimension,
 /// and once reached and lost directions span the whole space, the reached ones span the
 /// reachable moves.
 fn reachable_directions<E>(
@@ -315,8 +315,10 @@ where
         let trial: Vec<Rational> = trial.into_iter().map(Rational::from_integer).collect();
         let mut rhs = vec![Rational::zero(); rows_of_a];
         rhs.extend(trial.iter().cloned());
-        match m_factored.solve(&rhs) {
-            Ok(_) => reached.push(trial),
+        // Only consistency is asked: no solution is formed (with independent rows, nothing is
+        // solved at all).
+        match m_factored.check_consistent(&rhs) {
+            Ok(()) => reached.push(trial),
             Err(SolveError::Inconsistent(certificate)) => {
                 let mut direction = vec![Rational::zero(); picked];
                 for (&i, y) in certificate.rows.iter().zip(certificate.certificate) {
