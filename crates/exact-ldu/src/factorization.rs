@@ -17,6 +17,16 @@ use num_traits::Zero;
 use rayon::prelude::*;
 use std::sync::{Arc, OnceLock};
 
+/// A certified factoring forms its null space by one lifted solve per free column up to this
+/// many free columns; beyond, on a matrix of at most [`FRACTION_FREE_NULL_SPACE_ENTRIES`]
+/// entries, by the fraction-free LDU (made for it) and one back substitution per free column:
+/// a hundred lifted solves (the null space of a strip of 50 parallelograms in every edit's
+/// propagation analysis) cost twice that.
+const LIFTED_NULL_VECTORS_UP_TO: usize = 16;
+
+/// See [`LIFTED_NULL_VECTORS_UP_TO`]: the fraction-free LDU is dense, so only small matrices.
+const FRACTION_FREE_NULL_SPACE_ENTRIES: usize = 1 << 16;
+
 /// A sparse integer row: `(column, value)` by increasing column.
 pub(crate) type SparseRow<R> = Vec<(usize, R)>;
 
@@ -332,6 +342,15 @@ impl<R: Ring> ExactFactorization<R> {
                         })
                         .collect();
                 };
+                if free.len() > LIFTED_NULL_VECTORS_UP_TO
+                    && self.a.len().saturating_mul(self.cols) <= FRACTION_FREE_NULL_SPACE_ENTRIES
+                {
+                    return null_space_fraction_free(&Self::fraction_free(
+                        &self.a,
+                        self.cols,
+                        Simplification::default(),
+                    ));
+                }
                 // One lifted solve per free column, independent: in parallel when they are
                 // real work (the propagation analysis asks for the null space of every edit).
                 let per_task = crate::dixon::entries_per_task(free.len(), self.cols);
@@ -641,6 +660,47 @@ mod tests {
                 prop_assert_eq!(f.ldu(), Some(&ldu));
                 prop_assert_eq!(f.null_space_integers(), null_space_fraction_free(&ldu));
                 prop_assert_eq!(f.null_space_integers().len(), cols - m);
+            }
+        }
+
+        /// A certified factoring's null space, by lifted solves (few free columns) or by the
+        /// fraction-free LDU (more than [`LIFTED_NULL_VECTORS_UP_TO`]): vectors of the kernel,
+        /// as many as the columns less the rank, and independent (their own rank is that many).
+        #[test]
+        fn certified_null_spaces_are_bases_of_the_kernel(
+            m in 1usize..7,
+            cols in prop_oneof![Just(12usize), Just(30usize)],
+            entries in proptest::collection::vec(-2i64..3, 6 * 30),
+            copies in proptest::collection::vec(any::<bool>(), 6),
+        ) {
+            // Some rows repeat the one before: a rank below the number of rows.
+            let mut rows: Vec<Vec<i64>> = Vec::new();
+            for i in 0..m {
+                let row = if i > 0 && copies[i] {
+                    rows[i - 1].clone()
+                } else {
+                    entries[i * 30..i * 30 + cols].to_vec()
+                };
+                rows.push(row);
+            }
+            let matrix = IntMatrix::from_dense(cols, &rows).expect("rectangular");
+            let f = ExactFactorization::<Int>::certified(&matrix, Simplification::Gcd);
+            let kernel = f.null_space_integers();
+            prop_assert_eq!(kernel.len(), cols - f.rank());
+            for v in &kernel {
+                for row in &rows {
+                    let dot: BigInt = row.iter().zip(v).map(|(a, x)| x * BigInt::from(*a)).sum();
+                    prop_assert_eq!(dot, BigInt::from(0));
+                }
+            }
+            if !kernel.is_empty() {
+                let as_rows: Vec<Vec<i64>> = kernel
+                    .iter()
+                    .map(|v| v.iter().map(|x| x.to_i64().expect("small")).collect())
+                    .collect();
+                let spanned = IntMatrix::from_dense(cols, &as_rows).expect("rectangular");
+                let rank = ExactFactorization::<Int>::new(&spanned, Simplification::Gcd).rank();
+                prop_assert_eq!(rank, kernel.len());
             }
         }
     }
