@@ -324,7 +324,8 @@ impl<R: Ring> ExactFactorization<R> {
     }
 
     /// The null space as primitive integer vectors: one per free column (fraction-free: in
-    /// `Π_C` order; certified: the projections of the unit vectors of the non-pivot columns).
+    /// `Π_C` order; certified: the projections of the unit vectors of the non-pivot columns, or,
+    /// beyond 16 of them on a matrix of at most 2^16 entries, the fraction-free LDU's).
     pub fn null_space_integers(&self) -> Vec<Vec<BigInt>> {
         match self.factoring.as_ref() {
             Factoring::FractionFree(_) | Factoring::FullRowRank { .. } => {
