@@ -202,6 +202,13 @@ pub trait LinearBackend {
     fn name(&self) -> &'static str;
     /// Factors `A`. Any shape and rank is allowed, including `0 × n` and `m × 0`.
     fn factor(&self, matrix: &IntMatrix) -> Result<Self::Factorization, BackendError>;
+    /// Factors `A` where its solutions and null space will be asked for, not least squares:
+    /// the same answers as [`LinearBackend::factor`], by whatever way of factoring suits
+    /// that use (the exact backend then skips the proof of independent rows it keeps for
+    /// least squares and makes the LDU those answers need at once).
+    fn factor_for_solves(&self, matrix: &IntMatrix) -> Result<Self::Factorization, BackendError> {
+        self.factor(matrix)
+    }
 }
 
 /// A factored matrix `A` (`m × n`).

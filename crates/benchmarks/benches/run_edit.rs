@@ -42,7 +42,12 @@ fn run_edits(c: &mut Criterion) {
             assert_eq!(report.max_residual, "0", "{label}{n}");
             group.bench_function(BenchmarkId::new("exact", format!("{label}{n}")), |b| {
                 b.iter_batched(
-                    || session(&text),
+                    || {
+                        // Every edit starts as a fresh process's would: not from the memo of
+                        // the previous iteration's last factoring.
+                        exact_ldu::forget_last_factoring();
+                        session(&text)
+                    },
                     |mut session| {
                         let report = session.run_edit(0).expect("the edit runs");
                         black_box(serde_json::to_vec(&report).expect("JSON"))

@@ -212,7 +212,7 @@ where
         .collect();
     let factor = |m: &IntMatrix| {
         backend
-            .factor(m)
+            .factor_for_solves(m)
             .map_err(|e| PropagationError::Backend(e.to_string()))
     };
     let row_of = |i: usize| -> (RowId, usize) { origin[rows[i]] };
@@ -389,32 +389,107 @@ where
             continue;
         }
         let value: Vec<Rational> = coordinates.iter().map(|&c| particular[c].clone()).collect();
-        let basis = projected_basis(&free, &coordinates);
-        let entry = if basis.is_empty() {
+        // The span of the freedom projected on the parameter, formed only while it can still
+        // grow and from projections that are not zero (most are, for a parameter far from the
+        // move: every edit's analysis projects its whole null space once per parameter).
+        let mut span = IntegerEchelon::new(coordinates.len());
+        for v in &free {
+            if span.is_whole_space() {
+                break;
+            }
+            if coordinates.iter().any(|&c| !v[c].is_zero()) {
+                // A projection scaled to integers spans what it does.
+                let projected: Vec<Rational> = coordinates.iter().map(|&c| v[c].clone()).collect();
+                span.insert(integer_multiple(&projected));
+            }
+        }
+        let freedom = span.dimension();
+        let entry = if freedom == 0 {
             if value.iter().all(Zero::is_zero) {
                 continue;
             }
             Follows::Forced(value)
+        } else if span.contains(integer_multiple(&value)) {
+            // The move's value minus a free move is zero: the parameter may stay.
+            Follows::MayStay { freedom }
         } else {
-            let reaches_zero = {
-                // The value is in the span of the free directions exactly when adding it keeps
-                // the rank.
-                let as_rationals = basis
-                    .iter()
-                    .map(|r| r.iter().cloned().map(Rational::from_integer).collect())
-                    .chain(std::iter::once(value.clone()));
-                row_basis(coordinates.len(), as_rationals).len() == basis.len()
-            };
-            let freedom = basis.len();
-            if reaches_zero {
-                Follows::MayStay { freedom }
-            } else {
-                Follows::MustMoveWithChoice { freedom }
-            }
+            Follows::MustMoveWithChoice { freedom }
         };
         follows.push((param, entry));
     }
     Ok(MoveOutcome::Moves(follows))
+}
+
+/// Integer vectors of one width in echelon form, each reduced by the rows before it
+/// fraction-free and divided by its content: enough to tell the dimension of their span and
+/// whether a vector lies in it, without the rationals of a reduced basis.
+struct IntegerEchelon {
+    width: usize,
+    /// Each row with its pivot, the position of its first nonzero entry; every later row is
+    /// zero there.
+    rows: Vec<(usize, Vec<Integer>)>,
+}
+
+impl IntegerEchelon {
+    fn new(width: usize) -> Self {
+        IntegerEchelon {
+            width,
+            rows: Vec::new(),
+        }
+    }
+
+    fn dimension(&self) -> usize {
+        self.rows.len()
+    }
+
+    fn is_whole_space(&self) -> bool {
+        self.rows.len() == self.width
+    }
+
+    /// `v` less its part along the rows: zero exactly when `v` is in their span.
+    fn reduced(&self, mut v: Vec<Integer>) -> Vec<Integer> {
+        debug_assert_eq!(v.len(), self.width);
+        for (p, row) in &self.rows {
+            if v[*p].is_zero() {
+                continue;
+            }
+            // v ← row[p]·v − v[p]·row, then divided by its content: zero at p.
+            let (a, b) = (row[*p].clone(), v[*p].clone());
+            for (x, r) in v.iter_mut().zip(row) {
+                *x = &a * &*x - &b * r;
+            }
+            let content = v
+                .iter()
+                .fold(Integer::zero(), |g, x| num_integer::Integer::gcd(&g, x));
+            if !content.is_zero() && !content.is_one() {
+                for x in v.iter_mut() {
+                    *x = &*x / &content;
+                }
+            }
+        }
+        v
+    }
+
+    /// Adds `v` to the span.
+    fn insert(&mut self, v: Vec<Integer>) {
+        let v = self.reduced(v);
+        if let Some(p) = v.iter().position(|x| !x.is_zero()) {
+            self.rows.push((p, v));
+        }
+    }
+
+    fn contains(&self, v: Vec<Integer>) -> bool {
+        self.reduced(v).iter().all(Zero::is_zero)
+    }
+}
+
+/// A nonzero integer multiple of `values` (themselves when they are integers).
+fn integer_multiple(values: &[Rational]) -> Vec<Integer> {
+    if values.iter().all(|v| v.denom().is_one()) {
+        values.iter().map(|v| v.numer().clone()).collect()
+    } else {
+        api::coprime_integers(values.iter())
+    }
 }
 
 /// The scalar rows and the columns of the connected component(s) of `start` (rows linked to
@@ -454,20 +529,6 @@ fn component(matrix: &IntMatrix, start: impl Iterator<Item = usize>) -> (Vec<usi
             .collect()
     };
     (pick(&seen_row), pick(&seen_column))
-}
-
-/// [`row_basis`] of the projections of `vectors` onto `coordinates`. A projection is formed
-/// only while the span can still grow, and only when it is not zero (most are, for a parameter
-/// far from the move: the analysis of every edit projects its whole null space once per
-/// parameter).
-fn projected_basis(vectors: &[Vec<Rational>], coordinates: &[usize]) -> Vec<Vec<Integer>> {
-    row_basis(
-        coordinates.len(),
-        vectors
-            .iter()
-            .filter(|v| coordinates.iter().any(|&c| !v[c].is_zero()))
-            .map(|v| coordinates.iter().map(|&c| v[c].clone()).collect()),
-    )
 }
 
 /// A basis of the span of `vectors` (each of `width` entries) in reduced echelon form, each
@@ -826,6 +887,18 @@ mod tests {
         }
     }
 
+    /// [`row_basis`] of the projections of `vectors` onto `coordinates`, leaving out zero
+    /// projections.
+    fn projected_basis(vectors: &[Vec<Rational>], coordinates: &[usize]) -> Vec<Vec<Integer>> {
+        row_basis(
+            coordinates.len(),
+            vectors
+                .iter()
+                .filter(|v| coordinates.iter().any(|&c| !v[c].is_zero()))
+                .map(|v| coordinates.iter().map(|&c| v[c].clone()).collect()),
+        )
+    }
+
     /// Rank of rational vectors by plain Gaussian elimination, looking at every vector.
     fn plain_rank(vectors: &[Vec<Rational>]) -> usize {
         let mut rows: Vec<Vec<Rational>> = vectors.to_vec();
@@ -898,6 +971,35 @@ mod tests {
                 projected_basis(&vectors, &coordinates),
                 row_basis(coordinates.len(), projected)
             );
+        }
+
+        /// The integer echelon's dimension is the plain rank of what was inserted, and it
+        /// contains exactly the vectors that do not raise that rank.
+        #[test]
+        fn integer_echelons_know_their_span(
+            entries in proptest::collection::vec(-4i64..=4, 0..40),
+            probe in proptest::collection::vec(-4i64..=4, 4),
+            width in 1usize..5,
+        ) {
+            let vectors: Vec<Vec<i64>> =
+                entries.chunks_exact(width).map(<[i64]>::to_vec).collect();
+            let as_rationals = |v: &[i64]| v.iter().map(|&x| q(x)).collect::<Vec<_>>();
+            let mut span = IntegerEchelon::new(width);
+            for v in &vectors {
+                span.insert(v.iter().map(|&x| Integer::from(x)).collect());
+            }
+            let rationals: Vec<Vec<Rational>> = vectors.iter().map(|v| as_rationals(v)).collect();
+            let rank = plain_rank(&rationals);
+            proptest::prop_assert_eq!(span.dimension(), rank);
+            proptest::prop_assert_eq!(span.is_whole_space(), rank == width);
+            for candidate in vectors.iter().map(Vec::as_slice).chain([&probe[..width]]) {
+                let mut with = rationals.clone();
+                with.push(as_rationals(candidate));
+                proptest::prop_assert_eq!(
+                    span.contains(candidate.iter().map(|&x| Integer::from(x)).collect()),
+                    plain_rank(&with) == rank
+                );
+            }
         }
     }
 }

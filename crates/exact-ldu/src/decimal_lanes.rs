@@ -43,14 +43,27 @@ const MIN_DIGITS: usize = 24;
 /// about what converting one or two of them does.
 const MIN_BATCH: usize = 16;
 
+/// Below this much work (`Σ (1 + d²)` over the integers' 52-bit digit counts `d`, about the
+/// count of one-digit conversions it equals) the integers are converted on the calling thread:
+/// handing work to the thread pool costs several microseconds, what a few hundred short
+/// conversions take (the values of a small edit's report).
+const SEQUENTIAL_WORK: usize = 256;
+
 /// The most 52-bit digits an integer may have here (106 496 bits): the accumulators' bounds
 /// above.
 const MAX_DIGITS: usize = 2048;
 
 /// The decimal text of every integer (`-` before negative ones), as `to_string` writes it, in
-/// order; on all cores.
+/// order; on all cores unless there is little to do.
 pub fn decimal_texts(values: &[&BigInt]) -> Vec<String> {
     let digit_count = |v: &BigInt| v.bits().div_ceil(u64::from(DIGIT_BITS)) as usize;
+    let work = values.iter().fold(0usize, |sum, v| {
+        let d = digit_count(v);
+        sum.saturating_add(d.saturating_mul(d).saturating_add(1))
+    });
+    if work < SEQUENTIAL_WORK {
+        return values.iter().map(|v| v.to_string()).collect();
+    }
     let mut long: Vec<usize> = (0..values.len())
         .filter(|&i| (MIN_DIGITS..=MAX_DIGITS).contains(&digit_count(values[i])))
         .collect();

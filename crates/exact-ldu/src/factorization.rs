@@ -139,6 +139,19 @@ impl<R: Ring> ExactFactorization<R> {
         }
     }
 
+    /// Factors `matrix` by the fraction-free LDU at once, whatever its shape: the same factors
+    /// (and so the same answers) as [`ExactFactorization::new`] makes when a solve or the null
+    /// space first asks, without the Gram proof that only least squares uses.
+    pub fn fraction_free_now(matrix: &IntMatrix, method: Simplification) -> Self {
+        let a = Self::sparse(matrix);
+        let factoring = Factoring::FractionFree(Self::fraction_free(&a, matrix.cols(), method));
+        ExactFactorization {
+            a: Arc::new(a),
+            cols: matrix.cols(),
+            factoring: Arc::new(factoring),
+        }
+    }
+
     /// The certified row basis of `matrix` ([`crate::certified`]); fraction-free with `method`
     /// in the rare case that no prime tried gives a basis that can be proved.
     pub fn certified(matrix: &IntMatrix, method: Simplification) -> Self {
@@ -609,7 +622,8 @@ mod tests {
         /// exactly when the fraction-free LDU finds full row rank, and every answer is then
         /// the LDU's (the same factors, made when asked): rank, independent rows, no
         /// redundancies, consistency of any right-hand side, a solution that satisfies the
-        /// equations exactly, the null space of the same factors.
+        /// equations exactly, the null space of the same factors. Factored for solves
+        /// ([`ExactFactorization::fraction_free_now`]), every rank gives that LDU at once.
         #[test]
         fn independent_rows_are_proved_by_the_gram_matrix(
             cols in 1usize..7,
@@ -633,6 +647,13 @@ mod tests {
                     .map(|row| row.iter().map(|v| Int::from_i64(*v)).collect())
                     .collect();
                 let ldu = Ldu::factor(dense, cols, method).expect("rectangular");
+                // Factored for solves: the same LDU at once, whatever the rank.
+                let now = ExactFactorization::<Int>::fraction_free_now(&matrix, method);
+                prop_assert!(matches!(now.factoring.as_ref(), Factoring::FractionFree(_)));
+                prop_assert_eq!(now.ldu(), Some(&ldu));
+                prop_assert_eq!(now.rank(), f.rank());
+                prop_assert_eq!(now.independent_rows(), ldu.row_perm()[..ldu.rank()].to_vec());
+                prop_assert_eq!(now.null_space_integers(), null_space_fraction_free(&ldu));
                 let proved = matches!(f.factoring.as_ref(), Factoring::FullRowRank { .. });
                 prop_assert_eq!(proved, ldu.rank() == m);
                 prop_assert_eq!(f.rank(), ldu.rank());
@@ -657,8 +678,9 @@ mod tests {
                         .sum();
                     prop_assert_eq!(&lhs, bi);
                 }
-                // The LDU made on demand is the fraction-free one.
+                // The LDU made on demand is the fraction-free one, and solves as it does.
                 prop_assert_eq!(f.ldu(), Some(&ldu));
+                prop_assert_eq!(now.solve(&b).expect("consistent"), x);
                 prop_assert_eq!(f.null_space_integers(), null_space_fraction_free(&ldu));
                 prop_assert_eq!(f.null_space_integers().len(), cols - m);
             }

@@ -143,6 +143,16 @@ impl<R: Ring> LinearBackend for ExactLdu<R> {
         let certified = matrix.rows().saturating_mul(matrix.cols()) > self.certified_above;
         Ok(memo::factor(matrix, self.method, certified))
     }
+
+    /// The fraction-free LDU at once below the size limit (a solve or the null space would
+    /// make it anyway), without the Gram proof of independent rows that only least squares
+    /// uses; not kept in the memo (the edit's `R_ED` stays there).
+    fn factor_for_solves(&self, matrix: &IntMatrix) -> Result<Self::Factorization, BackendError> {
+        if matrix.rows().saturating_mul(matrix.cols()) > self.certified_above {
+            return self.factor(matrix);
+        }
+        Ok(ExactFactorization::fraction_free_now(matrix, self.method))
+    }
 }
 
 /// The exact backend factoring each connected component of the matrix separately (identical

@@ -253,9 +253,7 @@ pub fn explain(
         Some(session.propagation(&whole, requested)?.1)
     };
     if json {
-        let value = analysis
-            .as_ref()
-            .map_or(serde_json::Value::Null, |a| session.propagation_json(a));
+        let value = analysis.as_ref().map(|a| session.propagation_json(a));
         console.line(
             serde_json::to_string_pretty(&value)
                 .map_err(|e| RunError::environment(e.to_string()))?,

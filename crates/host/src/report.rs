@@ -196,7 +196,7 @@ pub struct EditReport {
     /// How the anchors' move propagates (as `ecles explain --move --json` gives it), or why it
     /// was not analysed (`{"skipped": …}`: a component too large).
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub propagation: Option<serde_json::Value>,
+    pub propagation: Option<crate::session::EditPropagation>,
     /// The change criterion, when the edit names one other than least squares on every
     /// derived parameter.
     #[serde(skip_serializing_if = "Option::is_none")]

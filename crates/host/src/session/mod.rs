@@ -29,6 +29,7 @@ mod value_text;
 pub use check::OutputsPlan;
 pub use configure::Configured;
 pub use edit::{equation_counts, ActiveEdit, PlannedEdit, Planning};
+pub use propagation::{EditPropagation, PropagationJson};
 pub use target_image::CheckedImage;
 
 /// The label of row `index` (0-based) of source `source` in the system and in reports:

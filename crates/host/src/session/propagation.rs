@@ -6,7 +6,7 @@ use crate::error::RunError;
 use api::{format_rational, parse_rational, ParamId, Rational};
 use ecles::{Case, Follows, MoveOutcome, Propagation, RowCombination};
 use exact_ldu::ExactLdu;
-use serde_json::{json, Value};
+use serde::Serialize;
 
 impl Session {
     /// The propagation analysis of the parameters `names` (whole parameters, `source.name`),
@@ -53,7 +53,11 @@ impl Session {
     /// The propagation of an edit's anchor move (`anchors` moved to `targets` from their
     /// current values) as JSON for the edit's report; a component too large is skipped with a
     /// note, as is any other failure (the edit itself decides solvability).
-    pub(super) fn edit_propagation(&self, anchors: &[ParamId], targets: &[Vec<Rational>]) -> Value {
+    pub(super) fn edit_propagation(
+        &self,
+        anchors: &[ParamId],
+        targets: &[Vec<Rational>],
+    ) -> EditPropagation {
         let moves: Vec<Rational> = anchors
             .iter()
             .zip(targets)
@@ -73,8 +77,10 @@ impl Session {
             Some(&moves),
             ecles::REPORT_NULL_SPACE_BUDGET,
         ) {
-            Ok(analysis) => self.propagation_json(&analysis),
-            Err(e) => json!({ "skipped": e.to_string() }),
+            Ok(analysis) => EditPropagation::Analysed(self.propagation_json(&analysis)),
+            Err(e) => EditPropagation::Skipped {
+                skipped: e.to_string(),
+            },
         }
     }
 
@@ -173,49 +179,62 @@ impl Session {
     }
 
     /// The analysis as JSON (the names of parameters and the labels of rows).
-    pub fn propagation_json(&self, analysis: &Propagation) -> Value {
+    pub fn propagation_json(&self, analysis: &Propagation) -> PropagationJson {
         let name = |p: ParamId| self.system.params()[p.index()].name.clone();
         let strings = |v: &[api::Integer]| v.iter().map(ToString::to_string).collect::<Vec<_>>();
-        let outcome = match &analysis.outcome {
-            None => Value::Null,
-            Some(MoveOutcome::Blocked(rows)) => {
-                json!({ "blocked_by": self.combination_json(rows) })
-            }
-            Some(MoveOutcome::Moves(follows)) => {
-                let entries: Vec<Value> = follows
+        let outcome = analysis.outcome.as_ref().map(|outcome| match outcome {
+            MoveOutcome::Blocked(rows) => OutcomeJson::Blocked {
+                blocked_by: self.combination_json(rows),
+            },
+            MoveOutcome::Moves(follows) => OutcomeJson::Moves {
+                moves: follows
                     .iter()
                     .map(|(p, f)| match f {
-                        Follows::Forced(by) => json!({
-                            "param": name(*p),
-                            "follows": "forced",
-                            "by": by.iter().map(format_rational).collect::<Vec<_>>(),
-                        }),
-                        Follows::MayStay { freedom } => json!({
-                            "param": name(*p), "follows": "may_stay", "freedom": freedom,
-                        }),
-                        Follows::MustMoveWithChoice { freedom } => json!({
-                            "param": name(*p), "follows": "must_move_with_choice", "freedom": freedom,
-                        }),
+                        Follows::Forced(by) => FollowsJson::Forced {
+                            by: by.iter().map(format_rational).collect(),
+                            follows: "forced",
+                            param: name(*p),
+                        },
+                        Follows::MayStay { freedom } => FollowsJson::WithChoice {
+                            follows: "may_stay",
+                            freedom: *freedom,
+                            param: name(*p),
+                        },
+                        Follows::MustMoveWithChoice { freedom } => FollowsJson::WithChoice {
+                            follows: "must_move_with_choice",
+                            freedom: *freedom,
+                            param: name(*p),
+                        },
                     })
-                    .collect();
-                json!({ "moves": entries })
-            }
-        };
-        json!({
-            "picked": analysis.picked.iter().map(|(p, k)| json!({"param": name(*p), "coordinate": k})).collect::<Vec<_>>(),
-            "case": match analysis.case {
+                    .collect(),
+            },
+        });
+        PropagationJson {
+            case: match analysis.case {
                 Case::FullyConstrained => "fully_constrained",
                 Case::PartiallyConstrained => "partially_constrained",
                 Case::Free => "free",
             },
-            "directions": analysis.directions.iter().map(|d| strings(d)).collect::<Vec<_>>(),
-            "lost": analysis.lost.iter().map(|l| json!({
-                "direction": strings(&l.direction),
-                "rows": self.combination_json(&l.rows),
-            })).collect::<Vec<_>>(),
-            "component": analysis.component,
-            "move": outcome,
-        })
+            component: analysis.component,
+            directions: analysis.directions.iter().map(|d| strings(d)).collect(),
+            lost: analysis
+                .lost
+                .iter()
+                .map(|l| LostJson {
+                    direction: strings(&l.direction),
+                    rows: self.combination_json(&l.rows),
+                })
+                .collect(),
+            outcome,
+            picked: analysis
+                .picked
+                .iter()
+                .map(|(p, k)| PickedJson {
+                    coordinate: *k,
+                    param: name(*p),
+                })
+                .collect(),
+        }
     }
 
     /// Rows of a combination in words: `"label" × multiplier`, coordinates of vector rows as
@@ -235,14 +254,12 @@ impl Session {
             .join(", ")
     }
 
-    fn combination_json(&self, rows: &RowCombination) -> Vec<Value> {
+    fn combination_json(&self, rows: &RowCombination) -> Vec<RowJson> {
         rows.iter()
-            .map(|(row, k, y)| {
-                json!({
-                    "label": self.system.rows()[row.index()].label,
-                    "coordinate": k,
-                    "multiplier": format_rational(y),
-                })
+            .map(|(row, k, y)| RowJson {
+                coordinate: *k,
+                label: self.system.rows()[row.index()].label.clone(),
+                multiplier: format_rational(y),
             })
             .collect()
     }
@@ -253,4 +270,79 @@ impl Session {
             api::RowBody::Vector { ref rhs, .. } if rhs.len() > 1
         )
     }
+}
+
+// The JSON of an analysis. Its fields are in the order of their names: the order this JSON has
+// always had (it was first built as `serde_json` maps, which sort their keys), so reports stay
+// byte-identical; typed, it is written without building a map per object.
+
+/// A propagation analysis as the report and `ecles explain --json` write it.
+#[derive(Debug, Clone, Serialize)]
+pub struct PropagationJson {
+    case: &'static str,
+    component: usize,
+    directions: Vec<Vec<String>>,
+    lost: Vec<LostJson>,
+    #[serde(rename = "move")]
+    outcome: Option<OutcomeJson>,
+    picked: Vec<PickedJson>,
+}
+
+/// An edit's propagation analysis, or why there is none.
+#[derive(Debug, Clone, Serialize)]
+#[serde(untagged)]
+pub enum EditPropagation {
+    /// The analysis of the anchors' move.
+    Analysed(PropagationJson),
+    /// Why it was not analysed (a component too large, a backend failure).
+    Skipped {
+        /// The reason, in words.
+        skipped: String,
+    },
+}
+
+/// One picked coordinate.
+#[derive(Debug, Clone, Serialize)]
+struct PickedJson {
+    coordinate: usize,
+    param: String,
+}
+
+/// A direction the picked coordinates cannot move in, with the rows that remove it.
+#[derive(Debug, Clone, Serialize)]
+struct LostJson {
+    direction: Vec<String>,
+    rows: Vec<RowJson>,
+}
+
+/// One row of a combination.
+#[derive(Debug, Clone, Serialize)]
+struct RowJson {
+    coordinate: usize,
+    label: String,
+    multiplier: String,
+}
+
+/// What the requested move does.
+#[derive(Debug, Clone, Serialize)]
+#[serde(untagged)]
+enum OutcomeJson {
+    Blocked { blocked_by: Vec<RowJson> },
+    Moves { moves: Vec<FollowsJson> },
+}
+
+/// How one other parameter follows the move.
+#[derive(Debug, Clone, Serialize)]
+#[serde(untagged)]
+enum FollowsJson {
+    Forced {
+        by: Vec<String>,
+        follows: &'static str,
+        param: String,
+    },
+    WithChoice {
+        follows: &'static str,
+        freedom: usize,
+        param: String,
+    },
 }
