@@ -305,16 +305,15 @@ fn reachable_directions<E>(
 where
     E: Factorization<Scalar = Rational>,
 {
-    let mut reached: Vec<Vec<Rational>> = Vec::new();
-    let mut lost: Vec<Vec<Rational>> = Vec::new();
+    let mut reached: Vec<Vec<Integer>> = Vec::new();
+    let mut lost: Vec<Vec<Integer>> = Vec::new();
     loop {
         let known = row_basis(picked, reached.iter().chain(&lost).cloned());
         let Some(trial) = orthogonal_complement(&known, picked).into_iter().next() else {
             break;
         };
-        let trial: Vec<Rational> = trial.into_iter().map(Rational::from_integer).collect();
         let mut rhs = vec![Rational::zero(); rows_of_a];
-        rhs.extend(trial.iter().cloned());
+        rhs.extend(trial.iter().cloned().map(Rational::from_integer));
         // Only consistency is asked: no solution is formed (with independent rows, nothing is
         // solved at all).
         match m_factored.check_consistent(&rhs) {
@@ -326,7 +325,7 @@ where
                         direction[i - rows_of_a] = y;
                     }
                 }
-                lost.push(direction);
+                lost.push(integer_multiple(&direction));
             }
             Err(e) => return Err(PropagationError::Backend(e.to_string())),
         }
@@ -453,19 +452,7 @@ impl IntegerEchelon {
             if v[*p].is_zero() {
                 continue;
             }
-            // v ← row[p]·v − v[p]·row, then divided by its content: zero at p.
-            let (a, b) = (row[*p].clone(), v[*p].clone());
-            for (x, r) in v.iter_mut().zip(row) {
-                *x = &a * &*x - &b * r;
-            }
-            let content = v
-                .iter()
-                .fold(Integer::zero(), |g, x| num_integer::Integer::gcd(&g, x));
-            if !content.is_zero() && !content.is_one() {
-                for x in v.iter_mut() {
-                    *x = &*x / &content;
-                }
-            }
+            eliminate(&mut v, row, *p);
         }
         v
     }
@@ -480,6 +467,42 @@ impl IntegerEchelon {
 
     fn contains(&self, v: Vec<Integer>) -> bool {
         self.reduced(v).iter().all(Zero::is_zero)
+    }
+
+    /// The rows made zero at every other row's pivot (Gauss–Jordan, fraction-free: from the
+    /// last row back, each clears its pivot from the rows before it, which alone can be
+    /// nonzero there), primitive with a positive pivot, by increasing pivot.
+    fn reduced_basis(mut self) -> Vec<Vec<Integer>> {
+        for i in (0..self.rows.len()).rev() {
+            let (done, rest) = self.rows.split_at_mut(i);
+            let (p, row) = &rest[0];
+            for (_, earlier) in done.iter_mut() {
+                if !earlier[*p].is_zero() {
+                    eliminate(earlier, row, *p);
+                }
+            }
+        }
+        self.rows.sort_by_key(|(p, _)| *p);
+        self.rows
+            .into_iter()
+            .map(|(_, row)| primitive_with_positive_lead(row))
+            .collect()
+    }
+}
+
+/// `v ← row[p]·v − v[p]·row` (zero at `p`), then divided by the GCD of its entries.
+fn eliminate(v: &mut [Integer], row: &[Integer], p: usize) {
+    let (a, b) = (row[p].clone(), v[p].clone());
+    for (x, r) in v.iter_mut().zip(row) {
+        *x = &a * &*x - &b * r;
+    }
+    let content = v
+        .iter()
+        .fold(Integer::zero(), |g, x| num_integer::Integer::gcd(&g, x));
+    if !content.is_zero() && !content.is_one() {
+        for x in v.iter_mut() {
+            *x = &*x / &content;
+        }
     }
 }
 
@@ -534,63 +557,38 @@ fn component(matrix: &IntMatrix, start: impl Iterator<Item = usize>) -> (Vec<usi
 /// A basis of the span of `vectors` (each of `width` entries) in reduced echelon form, each
 /// row scaled to coprime integers with a positive leading entry: the same span gives the same
 /// basis. Once the span is the whole space the rest of `vectors` is not looked at (its basis
-/// is the identity whatever they are).
-fn row_basis(width: usize, vectors: impl IntoIterator<Item = Vec<Rational>>) -> Vec<Vec<Integer>> {
-    let mut rows: Vec<Vec<Rational>> = Vec::new();
-    let mut pivots: Vec<usize> = Vec::new();
-    for mut v in vectors {
-        if rows.len() == width {
+/// is the identity whatever they are). Fraction-free ([`IntegerEchelon::reduced_basis`]): a
+/// row of the reduced form is determined up to a factor by its zeros at the other pivots.
+fn row_basis(width: usize, vectors: impl IntoIterator<Item = Vec<Integer>>) -> Vec<Vec<Integer>> {
+    let mut span = IntegerEchelon::new(width);
+    for v in vectors {
+        if span.is_whole_space() {
             break;
         }
-        debug_assert_eq!(v.len(), width);
-        for (row, &p) in rows.iter().zip(&pivots) {
-            if !v[p].is_zero() {
-                let f = v[p].clone();
-                for (x, r) in v.iter_mut().zip(row) {
-                    *x -= &f * r;
-                }
-            }
-        }
-        let Some(p) = v.iter().position(|x| !x.is_zero()) else {
-            continue;
-        };
-        let lead = v[p].clone();
-        for x in v.iter_mut() {
-            *x /= &lead;
-        }
-        // Keep the rows reduced: clear the new pivot from the others.
-        for row in rows.iter_mut() {
-            if !row[p].is_zero() {
-                let f = row[p].clone();
-                for (x, r) in row.iter_mut().zip(&v) {
-                    *x -= &f * r;
-                }
-            }
-        }
-        rows.push(v);
-        pivots.push(p);
+        span.insert(v);
     }
-    let mut order: Vec<usize> = (0..rows.len()).collect();
-    order.sort_by_key(|&k| pivots[k]);
-    order
-        .into_iter()
-        .map(|k| scaled_to_integers(&rows[k]))
-        .collect()
+    span.reduced_basis()
 }
 
-/// Rationals scaled by one positive factor to coprime integers, the first nonzero positive.
-fn scaled_to_integers(values: &[Rational]) -> Vec<Integer> {
-    let mut out = api::coprime_integers(values.iter());
-    if out
+/// `v` divided by the GCD of its entries, its first nonzero entry made positive.
+fn primitive_with_positive_lead(mut v: Vec<Integer>) -> Vec<Integer> {
+    let content = v
         .iter()
+        .fold(Integer::zero(), |g, x| num_integer::Integer::gcd(&g, x));
+    if !content.is_zero() && !content.is_one() {
+        for x in v.iter_mut() {
+            *x = &*x / &content;
+        }
+    }
+    if v.iter()
         .find(|x| !x.is_zero())
         .is_some_and(Signed::is_negative)
     {
-        for x in out.iter_mut() {
-            *x = -x.clone();
+        for x in v.iter_mut() {
+            *x = -std::mem::take(x);
         }
     }
-    out
+    v
 }
 
 /// A basis of the vectors orthogonal to every row of `basis` (a reduced echelon basis) in
@@ -605,12 +603,17 @@ fn orthogonal_complement(basis: &[Vec<Integer>], n: usize) -> Vec<Vec<Integer>> 
     (0..n)
         .filter(|f| !pivots.contains(f))
         .map(|f| {
-            let mut v = vec![Rational::zero(); n];
-            v[f] = Rational::one();
+            // Times the product of the pivots' entries, every entry is an integer.
+            let scale = basis
+                .iter()
+                .zip(&pivots)
+                .fold(Integer::one(), |acc, (row, &p)| acc * &row[p]);
+            let mut v = vec![Integer::zero(); n];
             for (row, &p) in basis.iter().zip(&pivots) {
-                v[p] = -Rational::new(row[f].clone(), row[p].clone());
+                v[p] = -(&row[f] * &scale) / &row[p];
             }
-            scaled_to_integers(&v)
+            v[f] = scale;
+            primitive_with_positive_lead(v)
         })
         .collect()
 }
@@ -895,7 +898,11 @@ mod tests {
             vectors
                 .iter()
                 .filter(|v| coordinates.iter().any(|&c| !v[c].is_zero()))
-                .map(|v| coordinates.iter().map(|&c| v[c].clone()).collect()),
+                .map(|v| {
+                    let projected: Vec<Rational> =
+                        coordinates.iter().map(|&c| v[c].clone()).collect();
+                    integer_multiple(&projected)
+                }),
         )
     }
 
@@ -935,7 +942,7 @@ mod tests {
                 .chunks_exact(width)
                 .map(|chunk| chunk.iter().map(|&x| q(x)).collect())
                 .collect();
-            let basis = row_basis(width, vectors.iter().cloned());
+            let basis = row_basis(width, vectors.iter().map(|v| integer_multiple(v)));
             proptest::prop_assert_eq!(basis.len(), plain_rank(&vectors));
             let as_rationals: Vec<Vec<Rational>> = basis
                 .iter()
@@ -969,7 +976,7 @@ mod tests {
                 .collect();
             proptest::prop_assert_eq!(
                 projected_basis(&vectors, &coordinates),
-                row_basis(coordinates.len(), projected)
+                row_basis(coordinates.len(), projected.iter().map(|v| integer_multiple(v)))
             );
         }
 
