@@ -555,7 +555,15 @@ impl<R: Ring> Factorization for ExactFactorization<R> {
         Ok(self.solution(forwarded, rhs))
     }
 
+    /// Independent rows (fraction-free with the rank equal to the rows, or proved by the Gram
+    /// matrix) make every right-hand side consistent: nothing is substituted.
     fn check_consistent(&self, rhs: &[Rational]) -> Result<(), SolveError<Rational>> {
+        if let Factoring::FractionFree(ldu) = self.factoring.as_ref() {
+            if ldu.rank() == ldu.rows() {
+                check_len("right-hand side", rhs.len(), self.a.len())?;
+                return Ok(());
+            }
+        }
         self.forward_checked(rhs).map(|_| ())
     }
 
@@ -654,6 +662,15 @@ mod tests {
                 prop_assert_eq!(now.rank(), f.rank());
                 prop_assert_eq!(now.independent_rows(), ldu.row_perm()[..ldu.rank()].to_vec());
                 prop_assert_eq!(now.null_space_integers(), null_space_fraction_free(&ldu));
+                // Consistency without substitution when the rows are independent: the same
+                // verdict as the solve's own check, at every rank.
+                let any_rhs: Vec<Rational> =
+                    rhs[..m].iter().map(|v| Rational::from_integer(BigInt::from(*v))).collect();
+                prop_assert_eq!(
+                    now.check_consistent(&any_rhs).is_ok(),
+                    now.forward_checked(&any_rhs).is_ok()
+                );
+                prop_assert_eq!(now.check_consistent(&any_rhs).is_ok(), now.solve(&any_rhs).is_ok());
                 let proved = matches!(f.factoring.as_ref(), Factoring::FullRowRank { .. });
                 prop_assert_eq!(proved, ldu.rank() == m);
                 prop_assert_eq!(f.rank(), ldu.rank());
