@@ -496,6 +496,11 @@ fn eliminate(v: &mut [Integer], row: &[Integer], p: usize) {
     for (x, r) in v.iter_mut().zip(row) {
         *x = &a * &*x - &b * r;
     }
+    divide_by_content(v);
+}
+
+/// `v` divided by the GCD of its entries (unchanged when that is 0 or 1).
+fn divide_by_content(v: &mut [Integer]) {
     let content = v
         .iter()
         .fold(Integer::zero(), |g, x| num_integer::Integer::gcd(&g, x));
@@ -572,14 +577,7 @@ fn row_basis(width: usize, vectors: impl IntoIterator<Item = Vec<Integer>>) -> V
 
 /// `v` divided by the GCD of its entries, its first nonzero entry made positive.
 fn primitive_with_positive_lead(mut v: Vec<Integer>) -> Vec<Integer> {
-    let content = v
-        .iter()
-        .fold(Integer::zero(), |g, x| num_integer::Integer::gcd(&g, x));
-    if !content.is_zero() && !content.is_one() {
-        for x in v.iter_mut() {
-            *x = &*x / &content;
-        }
-    }
+    divide_by_content(&mut v);
     if v.iter()
         .find(|x| !x.is_zero())
         .is_some_and(Signed::is_negative)
