@@ -358,6 +358,12 @@ impl<F: Factorization> Edit<F> {
         &self.reduced
     }
 
+    /// The reduced system, once the edit is done with: what a report describes, without
+    /// reducing the edit again ([`crate::reduce_edit`] gives the same system).
+    pub fn into_reduced(self) -> ReducedSystem {
+        self.reduced
+    }
+
     /// The factorization of `R_ED`.
     pub fn factorization(&self) -> &F {
         &self.factorization

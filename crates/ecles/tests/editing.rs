@@ -517,3 +517,19 @@ fn a_projection_is_the_nearest_state_that_keeps_every_row() {
         .write_into(&mut values);
     assert_eq!(values, before);
 }
+
+/// A report describes the initialised edit's reduced system instead of reducing the edit
+/// again: both ways give the same `R_ED`, `R_EA`, right-hand sides and layout.
+#[test]
+fn an_edit_keeps_the_reduced_system_reduce_edit_gives() {
+    let (s, p, values) = pumps();
+    for spec in [
+        EditSpec::new(vec![p[0]], vec![p[2], p[3]]),
+        EditSpec::new(vec![p[0]], vec![p[1], p[2], p[3]]),
+        EditSpec::new(vec![p[3]], vec![p[2]]),
+    ] {
+        let (_, expected) = ecles::reduce_edit::<Rational>(&s, &values, &spec).expect("reduce");
+        let edit: ExactEdit = Edit::initialize(&backend(), &s, &values, &spec).expect("init");
+        assert_eq!(edit.into_reduced(), expected);
+    }
+}

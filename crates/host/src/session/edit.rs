@@ -330,9 +330,14 @@ impl Session {
         report.criterion = chosen
             .into_inner()
             .map(|summary| self.criterion_report(&summary));
-        report.structure = ecles::reduce_edit::<Rational>(&self.system, &self.values, spec)
-            .ok()
-            .map(|(_, reduced)| crate::structural::edit_structure(&self.system, &reduced));
+        // The initialised edit's reduced system; reduced again only when Initialize refused
+        // the edit (a conflict's report still describes its structure).
+        report.structure = match exact.init.as_ref().and_then(|i| i.reduced.as_ref()) {
+            Some(reduced) => Some(crate::structural::edit_structure(&self.system, reduced)),
+            None => ecles::reduce_edit::<Rational>(&self.system, &self.values, spec)
+                .ok()
+                .map(|(_, reduced)| crate::structural::edit_structure(&self.system, &reduced)),
+        };
         if let Some(init) = &exact.init {
             report.relevant = init.relevant;
             report.fixed_relevant = init.fixed.iter().map(|p| self.name(*p)).collect();
@@ -793,6 +798,9 @@ pub(super) struct InitFacts {
     pub(super) rank: usize,
     pub(super) redundant: usize,
     pub(super) independent: Vec<api::RowId>,
+    /// The reduced system the edit factored (`ecles::reduce_edit`'s), for the report's
+    /// structure; `None` where the run did not go through [`ecles::Edit`].
+    pub(super) reduced: Option<ecles::ReducedSystem>,
 }
 
 /// One backend's run of an edit.
@@ -829,6 +837,10 @@ pub(super) fn execute<B: LinearBackend>(
     };
     let report = edit.report();
     let (relevant, rank, redundant) = equation_counts(system, &report);
+    let outcome = steps
+        .iter()
+        .map(|s| update(&edit, s))
+        .collect::<Result<Vec<_>, _>>();
     let init = InitFacts {
         relevant,
         fixed: report.fixed_relevant.clone(),
@@ -840,11 +852,8 @@ pub(super) fn execute<B: LinearBackend>(
             rows.dedup();
             rows
         },
+        reduced: Some(edit.into_reduced()),
     };
-    let outcome = steps
-        .iter()
-        .map(|s| update(&edit, s))
-        .collect::<Result<Vec<_>, _>>();
     Execution {
         init: Some(init),
         outcome,

@@ -72,6 +72,7 @@ pub(crate) fn execute_sparse(
         rank: rank.rank * copies,
         redundant: (reduced.r_ed().rows() - rank.rank) * copies,
         independent: Vec::new(),
+        reduced: None,
     };
     let family = reduced.family();
     // b_j = c_j − K α and the magnitudes its rounding is proportional to, per row.
