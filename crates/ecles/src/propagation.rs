@@ -33,10 +33,10 @@
 
 use api::{
     ConstraintSystem, Factorization, IntMatrix, Integer, LinearBackend, ParamId, Rational, RowId,
-    SolveError,
+    ScalarEquation, SolveError,
 };
 use num_traits::{One, Signed, Zero};
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, HashMap, HashSet};
 
 /// Most null-space values (`(n − r)·n`) an explicit analysis forms: about 2·10⁶ (a component
 /// of 1 400 free coordinates; seconds and hundreds of MB).
@@ -186,17 +186,12 @@ where
             });
         }
     }
-    let (matrix, _, origin) = system.scalar_matrix();
-    let (rows, columns) = component(
-        &matrix,
-        picked_coordinates
-            .iter()
-            .map(|&(p, k)| offsets[p.index()] + k),
-    );
+    let Component { a, origin, columns } =
+        Component::of(system, &offsets, picked_coordinates.iter().copied())?;
     // A move's null space has at least `n − rows − |P|` vectors (`M` has full row rank at
     // best): refused before anything is factored. Without a move no null space is formed.
     let n = columns.len();
-    let least = n.saturating_mul(n.saturating_sub(rows.len() + picked_coordinates.len()));
+    let least = n.saturating_mul(n.saturating_sub(a.rows() + picked_coordinates.len()));
     if requested.is_some() && least > budget {
         return Err(PropagationError::TooLarge {
             coordinates: n,
@@ -204,18 +199,23 @@ where
             budget,
         });
     }
-    let local: BTreeMap<usize, usize> = columns.iter().enumerate().map(|(i, &c)| (c, i)).collect();
-    let a = matrix.select(&rows, &columns);
     let picked_local: Vec<usize> = picked_coordinates
         .iter()
-        .map(|&(p, k)| local[&(offsets[p.index()] + k)])
-        .collect();
+        .map(|&(p, k)| {
+            // The component starts from the picked coordinates, so it holds each of them.
+            columns
+                .binary_search(&(offsets[p.index()] + k))
+                .map_err(|_| {
+                    PropagationError::Backend("a picked coordinate left its component".into())
+                })
+        })
+        .collect::<Result<_, _>>()?;
     let factor = |m: &IntMatrix| {
         backend
             .factor_for_solves(m)
             .map_err(|e| PropagationError::Backend(e.to_string()))
     };
-    let row_of = |i: usize| -> (RowId, usize) { origin[rows[i]] };
+    let row_of = |i: usize| -> (RowId, usize) { origin[i] };
 
     // M = [A; E_P]: its solves give the directions P can move in (ker A projected on P) and
     // the move's particular solution, its null space the move's freedom.
@@ -520,43 +520,86 @@ fn integer_multiple(values: &[Rational]) -> Vec<Integer> {
     }
 }
 
-/// The scalar rows and the columns of the connected component(s) of `start` (rows linked to
-/// columns through nonzero entries), both increasing.
-fn component(matrix: &IntMatrix, start: impl Iterator<Item = usize>) -> (Vec<usize>, Vec<usize>) {
-    let mut rows_of_column: Vec<Vec<usize>> = vec![Vec::new(); matrix.cols()];
-    for i in 0..matrix.rows() {
-        for (c, _) in matrix.row(i) {
-            rows_of_column[*c].push(i);
-        }
-    }
-    let mut seen_column = vec![false; matrix.cols()];
-    let mut seen_row = vec![false; matrix.rows()];
-    let mut stack: Vec<usize> = start.collect();
-    for &c in &stack {
-        seen_column[c] = true;
-    }
-    while let Some(c) = stack.pop() {
-        for &i in &rows_of_column[c] {
-            if seen_row[i] {
-                continue;
+/// The connected component(s) of some coordinates: the scalar equations linked to them
+/// through nonzero coefficients, as the matrix `A` (rows in the system's order of scalar
+/// equations, columns increasing), where each row of `A` comes from, and the coordinates
+/// (columns of the whole system's scalar matrix) that are `A`'s columns.
+struct Component {
+    a: IntMatrix,
+    origin: Vec<(RowId, usize)>,
+    columns: Vec<usize>,
+}
+
+impl Component {
+    /// The component of the coordinates `start`, found by walking the rows that touch each
+    /// parameter reached ([`ConstraintSystem::rows_of`]): only the component's rows are split
+    /// into scalar equations, not the whole system's (which a small edit's report paid for on
+    /// every edit).
+    fn of(
+        system: &ConstraintSystem,
+        offsets: &[usize],
+        start: impl Iterator<Item = (ParamId, usize)>,
+    ) -> Result<Self, PropagationError> {
+        let mut equations: HashMap<RowId, Vec<ScalarEquation>> = HashMap::new();
+        let mut seen_equation: HashSet<(RowId, usize)> = HashSet::new();
+        let mut seen_column: HashSet<usize> = HashSet::new();
+        let mut stack: Vec<(ParamId, usize)> = Vec::new();
+        for (p, k) in start {
+            if seen_column.insert(offsets[p.index()] + k) {
+                stack.push((p, k));
             }
-            seen_row[i] = true;
-            for (next, _) in matrix.row(i) {
-                if !seen_column[*next] {
-                    seen_column[*next] = true;
-                    stack.push(*next);
+        }
+        while let Some((p, k)) = stack.pop() {
+            for &row in system.rows_of(p) {
+                let of_row = equations
+                    .entry(row)
+                    .or_insert_with(|| system.rows()[row.index()].body.scalar_equations());
+                // A system's rows hold no zero coefficients (`ConstraintSystem::add_row`
+                // merges them away): every term links its equation and its coordinate.
+                for (j, equation) in of_row.iter().enumerate() {
+                    let touches = equation
+                        .terms
+                        .iter()
+                        .any(|(c, _)| c.param == p && c.component == k);
+                    if !touches || !seen_equation.insert((row, j)) {
+                        continue;
+                    }
+                    for (c, _) in &equation.terms {
+                        if seen_column.insert(offsets[c.param.index()] + c.component) {
+                            stack.push((c.param, c.component));
+                        }
+                    }
                 }
             }
         }
+        let mut rows: Vec<(RowId, usize)> = seen_equation.into_iter().collect();
+        rows.sort_unstable();
+        let mut columns: Vec<usize> = seen_column.into_iter().collect();
+        columns.sort_unstable();
+        // Every coordinate of an equation reached was reached with it.
+        let lost = |_| PropagationError::Backend("a coordinate left its component".into());
+        let mut sparse = Vec::with_capacity(rows.len());
+        let mut origin = Vec::with_capacity(rows.len());
+        for &(row, j) in &rows {
+            let equation = &equations[&row][j];
+            sparse.push(
+                equation
+                    .terms
+                    .iter()
+                    .map(|(c, v)| {
+                        columns
+                            .binary_search(&(offsets[c.param.index()] + c.component))
+                            .map(|l| (l, v.clone()))
+                            .map_err(lost)
+                    })
+                    .collect::<Result<Vec<_>, _>>()?,
+            );
+            origin.push((row, equation.component.unwrap_or(0)));
+        }
+        let a = IntMatrix::from_sparse(columns.len(), sparse)
+            .map_err(|e| PropagationError::Backend(e.to_string()))?;
+        Ok(Component { a, origin, columns })
     }
-    let pick = |seen: &[bool]| {
-        seen.iter()
-            .enumerate()
-            .filter(|(_, s)| **s)
-            .map(|(i, _)| i)
-            .collect()
-    };
-    (pick(&seen_row), pick(&seen_column))
 }
 
 /// A basis of the span of `vectors` (each of `width` entries) in reduced echelon form, each
@@ -817,6 +860,91 @@ mod tests {
                 found: 1
             }
         );
+    }
+
+    /// The component of `start` read off the whole system's scalar matrix (rows linked to
+    /// columns through nonzero entries): the oracle for [`Component::of`].
+    fn component_of_whole_matrix(
+        system: &ConstraintSystem,
+        start: &[usize],
+    ) -> (IntMatrix, Vec<(RowId, usize)>, Vec<usize>) {
+        let (matrix, _, origin) = system.scalar_matrix();
+        let mut seen_column = vec![false; matrix.cols()];
+        let mut seen_row = vec![false; matrix.rows()];
+        let mut stack: Vec<usize> = start.to_vec();
+        for &c in &stack {
+            seen_column[c] = true;
+        }
+        while let Some(c) = stack.pop() {
+            for (i, seen) in seen_row.iter_mut().enumerate() {
+                if *seen || !matrix.row(i).iter().any(|(j, _)| *j == c) {
+                    continue;
+                }
+                *seen = true;
+                for (next, _) in matrix.row(i) {
+                    if !seen_column[*next] {
+                        seen_column[*next] = true;
+                        stack.push(*next);
+                    }
+                }
+            }
+        }
+        let pick = |seen: &[bool]| -> Vec<usize> { (0..seen.len()).filter(|&i| seen[i]).collect() };
+        let (rows, columns) = (pick(&seen_row), pick(&seen_column));
+        let a = matrix.select(&rows, &columns);
+        (a, rows.iter().map(|&i| origin[i]).collect(), columns)
+    }
+
+    proptest::proptest! {
+        /// Walking the rows of each parameter finds the component the whole scalar matrix
+        /// gives: the same equations in the same order, the same columns, the same origins — on
+        /// systems of scalar and vector rows with zero coefficients and several components.
+        #[test]
+        fn components_found_by_walking_rows_are_those_of_the_whole_matrix(
+            rows in proptest::collection::vec(
+                (
+                    proptest::bool::ANY,
+                    proptest::collection::vec((0usize..7, 0usize..2, -1i64..=1), 1..4),
+                ),
+                0..7,
+            ),
+            start in (0usize..7, 0usize..2),
+        ) {
+            // Parameters of dimension 2 (vector rows join them) and 1.
+            let dims = [2, 1, 2, 1, 2, 1, 2];
+            let names = ["a", "b", "c", "d", "e", "f", "g"];
+            let mut f = Fixture::new(&names.iter().zip(dims).map(|(n, d)| (*n, d)).collect::<Vec<_>>());
+            for (i, (vector, terms)) in rows.iter().enumerate() {
+                let label = format!("row {i}");
+                if *vector {
+                    let mut vector_terms: Vec<(&str, i64)> = Vec::new();
+                    for &(p, _, c) in terms {
+                        let p = p - p % 2; // a parameter of dimension 2
+                        if !vector_terms.iter().any(|(q, _)| *q == names[p]) {
+                            vector_terms.push((names[p], c));
+                        }
+                    }
+                    f.vector(&label, &vector_terms, 2);
+                } else {
+                    let mut scalar_terms: Vec<(&str, usize, i64)> = Vec::new();
+                    for &(p, k, c) in terms {
+                        let k = k % dims[p];
+                        if !scalar_terms.iter().any(|(q, l, _)| *q == names[p] && *l == k) {
+                            scalar_terms.push((names[p], k, c));
+                        }
+                    }
+                    f.scalar(&label, &scalar_terms, 0);
+                }
+            }
+            let (p, k) = (start.0, start.1 % dims[start.0]);
+            let offsets = f.system.coordinate_offsets();
+            let found = Component::of(&f.system, &offsets, std::iter::once((ParamId(p as u32), k)))
+                .expect("a component");
+            let (a, origin, columns) = component_of_whole_matrix(&f.system, &[offsets[p] + k]);
+            proptest::prop_assert_eq!(found.a, a);
+            proptest::prop_assert_eq!(found.origin, origin);
+            proptest::prop_assert_eq!(found.columns, columns);
+        }
     }
 
     proptest::proptest! {
