@@ -52,36 +52,43 @@ fn case() -> impl Strategy<Value = Case> {
                 let first = blocks[0].clone();
                 blocks.push(first);
             }
-            let rows: usize = blocks.iter().map(Vec::len).sum();
-            let cols: usize = blocks.iter().map(|b| b[0].len()).sum::<usize>() + 1; // one free column
-            let shuffle = |k: usize, len: usize| (k * 7 + seed as usize) % len;
-            let mut row_map: Vec<usize> = (0..rows).collect();
-            let mut col_map: Vec<usize> = (0..cols).collect();
-            for k in 0..rows {
-                row_map.swap(k, shuffle(k, rows));
-            }
-            for k in 0..cols {
-                col_map.swap(k, shuffle(k, cols));
-            }
-            let mut entries = Vec::new();
-            let (mut r0, mut c0) = (0, 0);
-            for b in &blocks {
-                for (i, row) in b.iter().enumerate() {
-                    for (j, v) in row.iter().enumerate() {
-                        if *v != 0 {
-                            entries.push((row_map[r0 + i], col_map[c0 + j], *v));
-                        }
-                    }
-                }
-                r0 += b.len();
-                c0 += b[0].len();
-            }
-            Case {
-                rows,
-                cols,
-                entries,
-            }
+            placed(&blocks, 1, seed)
         })
+}
+
+/// `blocks` placed on the diagonal of a matrix with `free` empty columns more, rows and columns
+/// then scattered by a fixed shuffle (`seed`), so the components are interleaved in the
+/// numbering.
+fn placed(blocks: &[Vec<Vec<i64>>], free: usize, seed: u64) -> Case {
+    let rows: usize = blocks.iter().map(Vec::len).sum();
+    let cols: usize = blocks.iter().map(|b| b[0].len()).sum::<usize>() + free;
+    let shuffle = |k: usize, len: usize| (k * 7 + seed as usize) % len;
+    let mut row_map: Vec<usize> = (0..rows).collect();
+    let mut col_map: Vec<usize> = (0..cols).collect();
+    for k in 0..rows {
+        row_map.swap(k, shuffle(k, rows));
+    }
+    for k in 0..cols {
+        col_map.swap(k, shuffle(k, cols));
+    }
+    let mut entries = Vec::new();
+    let (mut r0, mut c0) = (0, 0);
+    for b in blocks {
+        for (i, row) in b.iter().enumerate() {
+            for (j, v) in row.iter().enumerate() {
+                if *v != 0 {
+                    entries.push((row_map[r0 + i], col_map[c0 + j], *v));
+                }
+            }
+        }
+        r0 += b.len();
+        c0 += b[0].len();
+    }
+    Case {
+        rows,
+        cols,
+        entries,
+    }
 }
 
 fn matrix(c: &Case) -> IntMatrix {
@@ -90,6 +97,20 @@ fn matrix(c: &Case) -> IntMatrix {
         rows[i].push((j, v.into()));
     }
     IntMatrix::from_sparse(c.cols, rows).expect("in range")
+}
+
+/// Redundancies as a set, each combination sorted by row: comparable whatever the order.
+fn redundancy_set(
+    redundancies: Vec<api::Redundancy<Rational>>,
+) -> BTreeSet<(usize, Vec<(usize, Rational)>)> {
+    redundancies
+        .into_iter()
+        .map(|r| {
+            let mut combo = r.combination;
+            combo.sort_by_key(|(i, _)| *i);
+            (r.row, combo)
+        })
+        .collect()
 }
 
 fn set<T: Ord + Clone>(v: &[T]) -> BTreeSet<T> {
@@ -112,14 +133,7 @@ proptest! {
             let blocks = BlockwiseLdu::new(method).factor(&a).expect("factor");
             prop_assert_eq!(mono.rank(), blocks.rank());
             prop_assert_eq!(set(&mono.independent_rows()), set(&blocks.independent_rows()));
-            let reds = |f: Vec<api::Redundancy<Rational>>| -> BTreeSet<(usize, Vec<(usize, Rational)>)> {
-                f.into_iter().map(|r| {
-                    let mut combo = r.combination;
-                    combo.sort_by_key(|(i, _)| *i);
-                    (r.row, combo)
-                }).collect()
-            };
-            prop_assert_eq!(reds(mono.redundancies()), reds(blocks.redundancies()));
+            prop_assert_eq!(redundancy_set(mono.redundancies()), redundancy_set(blocks.redundancies()));
             prop_assert_eq!(set(&mono.null_space()), set(&blocks.null_space()));
             // A consistent right-hand side: identical basic solutions and least squares.
             let xr: Vec<Rational> = (0..c.cols).map(|j| r(x[j % x.len()])).collect();
@@ -210,37 +224,8 @@ fn tall_block() -> impl Strategy<Value = Vec<Vec<i64>>> {
 }
 
 fn tall_case() -> impl Strategy<Value = Case> {
-    (prop::collection::vec(tall_block(), 1..=6), 0u64..1000).prop_map(|(blocks, seed)| {
-        let rows: usize = blocks.iter().map(Vec::len).sum();
-        let cols: usize = blocks.iter().map(|b| b[0].len()).sum();
-        let shuffle = |k: usize, len: usize| (k * 7 + seed as usize) % len;
-        let mut row_map: Vec<usize> = (0..rows).collect();
-        let mut col_map: Vec<usize> = (0..cols).collect();
-        for k in 0..rows {
-            row_map.swap(k, shuffle(k, rows));
-        }
-        for k in 0..cols {
-            col_map.swap(k, shuffle(k, cols));
-        }
-        let mut entries = Vec::new();
-        let (mut r0, mut c0) = (0, 0);
-        for b in &blocks {
-            for (i, row) in b.iter().enumerate() {
-                for (j, v) in row.iter().enumerate() {
-                    if *v != 0 {
-                        entries.push((row_map[r0 + i], col_map[c0 + j], *v));
-                    }
-                }
-            }
-            r0 += b.len();
-            c0 += b[0].len();
-        }
-        Case {
-            rows,
-            cols,
-            entries,
-        }
-    })
+    (prop::collection::vec(tall_block(), 1..=6), 0u64..1000)
+        .prop_map(|(blocks, seed)| placed(&blocks, 0, seed))
 }
 
 proptest! {
@@ -259,13 +244,6 @@ proptest! {
             let whole = ExactLdu::new(method).factor(&a).expect("factor");
             let for_solves = ExactLdu::new(method).factor_for_solves(&a).expect("factor");
             let blocks = BlockwiseLdu::new(method).factor(&a).expect("factor");
-            let reds = |f: Vec<api::Redundancy<Rational>>| -> BTreeSet<(usize, Vec<(usize, Rational)>)> {
-                f.into_iter().map(|r| {
-                    let mut combo = r.combination;
-                    combo.sort_by_key(|(i, _)| *i);
-                    (r.row, combo)
-                }).collect()
-            };
             let xr: Vec<Rational> = (0..c.cols).map(|j| r(x[j % x.len()])).collect();
             let b: Vec<Rational> = a.row_iter().map(|row| {
                 row.iter().map(|(j, v)| Rational::from_integer(v.clone()) * &xr[*j]).sum()
@@ -273,12 +251,12 @@ proptest! {
             let expected = whole.solve(&b).expect("consistent");
             prop_assert_eq!(whole.rank(), for_solves.rank(), "{:?} for solves", method);
             prop_assert_eq!(set(&whole.independent_rows()), set(&for_solves.independent_rows()));
-            prop_assert_eq!(reds(whole.redundancies()), reds(for_solves.redundancies()));
+            prop_assert_eq!(redundancy_set(whole.redundancies()), redundancy_set(for_solves.redundancies()));
             prop_assert_eq!(set(&whole.null_space()), set(&for_solves.null_space()));
             prop_assert_eq!(&expected, &for_solves.solve(&b).expect("consistent"));
             prop_assert_eq!(whole.rank(), blocks.rank(), "{:?} blocks", method);
             prop_assert_eq!(set(&whole.independent_rows()), set(&blocks.independent_rows()));
-            prop_assert_eq!(reds(whole.redundancies()), reds(blocks.redundancies()));
+            prop_assert_eq!(redundancy_set(whole.redundancies()), redundancy_set(blocks.redundancies()));
             prop_assert_eq!(set(&whole.null_space()), set(&blocks.null_space()));
             prop_assert_eq!(&expected, &blocks.solve(&b).expect("consistent"));
             // Inconsistent right-hand sides: the same verdict and valid certificates.
