@@ -557,13 +557,24 @@ impl Component {
                 // A system's rows hold no zero coefficients (`ConstraintSystem::add_row`
                 // merges them away): every term links its equation and its coordinate.
                 for (j, equation) in of_row.iter().enumerate() {
-                    let touches = equation
-                        .terms
-                        .iter()
-                        .any(|(c, _)| c.param == p && c.component == k);
-                    if !touches || !seen_equation.insert((row, j)) {
+                    if seen_equation.contains(&(row, j)) {
                         continue;
                     }
+                    // A vector row's equation for coordinate `c` holds coordinate `c` of each of
+                    // its parameters (`p` among them); a scalar row's terms are looked at. Each
+                    // equation is scanned only until it is reached, so a row of many terms costs
+                    // in proportion to them, not to their square.
+                    let touches = match equation.component {
+                        Some(c) => c == k,
+                        None => equation
+                            .terms
+                            .iter()
+                            .any(|(c, _)| c.param == p && c.component == k),
+                    };
+                    if !touches {
+                        continue;
+                    }
+                    seen_equation.insert((row, j));
                     for (c, _) in &equation.terms {
                         if seen_column.insert(offsets[c.param.index()] + c.component) {
                             stack.push((c.param, c.component));
