@@ -36,7 +36,7 @@ use api::{
     ScalarEquation, SolveError,
 };
 use num_traits::{One, Signed, Zero};
-use std::collections::{BTreeMap, HashMap, HashSet};
+use std::collections::BTreeMap;
 
 /// Most null-space values (`(n − r)·n`) an explicit analysis forms: about 2·10⁶ (a component
 /// of 1 400 free coordinates; seconds and hundreds of MB).
@@ -540,24 +540,38 @@ impl Component {
         offsets: &[usize],
         start: impl Iterator<Item = (ParamId, usize)>,
     ) -> Result<Self, PropagationError> {
-        let mut equations: HashMap<RowId, Vec<ScalarEquation>> = HashMap::new();
-        let mut seen_equation: HashSet<(RowId, usize)> = HashSet::new();
-        let mut seen_column: HashSet<usize> = HashSet::new();
+        // Flags indexed by coordinate and by row (a fill of the system's size, far cheaper
+        // than hashing every coordinate of a whole-mesh component); per row touched, its
+        // scalar equations and which of them the component holds.
+        let mut seen_column = vec![false; system.coordinate_count()];
+        let mut reached_columns: Vec<usize> = Vec::new();
+        let mut equations: Vec<Option<(Vec<ScalarEquation>, Vec<bool>)>> =
+            vec![None; system.rows().len()];
+        let mut touched_rows: Vec<RowId> = Vec::new();
         let mut stack: Vec<(ParamId, usize)> = Vec::new();
-        for (p, k) in start {
-            if seen_column.insert(offsets[p.index()] + k) {
+        let mut reach = |p: ParamId, k: usize, stack: &mut Vec<(ParamId, usize)>| {
+            let column = offsets[p.index()] + k;
+            if !seen_column[column] {
+                seen_column[column] = true;
+                reached_columns.push(column);
                 stack.push((p, k));
             }
+        };
+        for (p, k) in start {
+            reach(p, k, &mut stack);
         }
         while let Some((p, k)) = stack.pop() {
             for &row in system.rows_of(p) {
-                let of_row = equations
-                    .entry(row)
-                    .or_insert_with(|| system.rows()[row.index()].body.scalar_equations());
+                let (of_row, seen) = equations[row.index()].get_or_insert_with(|| {
+                    touched_rows.push(row);
+                    let of_row = system.rows()[row.index()].body.scalar_equations();
+                    let seen = vec![false; of_row.len()];
+                    (of_row, seen)
+                });
                 // A system's rows hold no zero coefficients (`ConstraintSystem::add_row`
                 // merges them away): every term links its equation and its coordinate.
-                for (j, equation) in of_row.iter().enumerate() {
-                    if seen_equation.contains(&(row, j)) {
+                for (equation, seen) in of_row.iter().zip(seen.iter_mut()) {
+                    if *seen {
                         continue;
                     }
                     // A vector row's equation for coordinate `c` holds coordinate `c` of each of
@@ -574,38 +588,39 @@ impl Component {
                     if !touches {
                         continue;
                     }
-                    seen_equation.insert((row, j));
+                    *seen = true;
                     for (c, _) in &equation.terms {
-                        if seen_column.insert(offsets[c.param.index()] + c.component) {
-                            stack.push((c.param, c.component));
-                        }
+                        reach(c.param, c.component, &mut stack);
                     }
                 }
             }
         }
-        let mut rows: Vec<(RowId, usize)> = seen_equation.into_iter().collect();
-        rows.sort_unstable();
-        let mut columns: Vec<usize> = seen_column.into_iter().collect();
+        touched_rows.sort_unstable();
+        let mut columns = reached_columns;
         columns.sort_unstable();
         // Every coordinate of an equation reached was reached with it.
         let lost = |_| PropagationError::Backend("a coordinate left its component".into());
-        let mut sparse = Vec::with_capacity(rows.len());
-        let mut origin = Vec::with_capacity(rows.len());
-        for &(row, j) in &rows {
-            let equation = &equations[&row][j];
-            sparse.push(
-                equation
-                    .terms
-                    .iter()
-                    .map(|(c, v)| {
-                        columns
-                            .binary_search(&(offsets[c.param.index()] + c.component))
-                            .map(|l| (l, v.clone()))
-                            .map_err(lost)
-                    })
-                    .collect::<Result<Vec<_>, _>>()?,
-            );
-            origin.push((row, equation.component.unwrap_or(0)));
+        let mut sparse = Vec::new();
+        let mut origin = Vec::new();
+        for (row, (of_row, seen)) in touched_rows
+            .iter()
+            .filter_map(|&row| equations[row.index()].as_ref().map(|e| (row, e)))
+        {
+            for equation in of_row.iter().zip(seen).filter(|(_, s)| **s).map(|(e, _)| e) {
+                sparse.push(
+                    equation
+                        .terms
+                        .iter()
+                        .map(|(c, v)| {
+                            columns
+                                .binary_search(&(offsets[c.param.index()] + c.component))
+                                .map(|l| (l, v.clone()))
+                                .map_err(lost)
+                        })
+                        .collect::<Result<Vec<_>, _>>()?,
+                );
+                origin.push((row, equation.component.unwrap_or(0)));
+            }
         }
         let a = IntMatrix::from_sparse(columns.len(), sparse)
             .map_err(|e| PropagationError::Backend(e.to_string()))?;
