@@ -10,7 +10,7 @@ use api::{
     ConstraintSystem, Factorization, Fraction, Inconsistency, LinearBackend, ParamId,
     PreparedLeastSquares, Rational, RowId, SolveError, StrongFailure, Values,
 };
-use num_traits::{One, Zero};
+use num_traits::{One, Signed};
 use rayon::prelude::*;
 use std::collections::HashMap;
 
@@ -1076,7 +1076,8 @@ fn validate_ids_and_weights<S: std::fmt::Debug>(
                 });
             }
             for (wi, p) in w.iter().zip(&spec.derived) {
-                if *wi <= Rational::zero() {
+                // A sign test, not a comparison of fractions (which multiplies across).
+                if !wi.is_positive() {
                     return Err(EditError::NonPositiveWeight {
                         name: system.params()[p.index()].name.clone(),
                         weight: api::format_rational(wi),

@@ -14,8 +14,11 @@
 //!   way (the backend's inconsistency certificate).
 //!
 //! Only the connected component(s) of `P` (coordinates linked to `P` through rows) are looked
-//! at: every other parameter stays whatever `P` does. Everything is read off one exact
-//! factorization of `M = [A; E_P]` (the component's rows and one row per picked coordinate):
+//! at: every other parameter stays whatever `P` does. Coordinates that rows `±x_i ± x_j = 0`
+//! tie (coincidences, alignments) are merged first (module `equalities`): the solves below run on
+//! the merged `M`, which has the same answers, and only what names rows of `A` uses `A`
+//! itself. Everything is read off one exact factorization of `M = [A; E_P]` (the component's
+//! rows and one row per picked coordinate):
 //!
 //! * the directions by at most `|P|` consistency checks of `M δ = [0; m]`
 //!   ([`reachable_directions`]): each either reaches `m` or returns a certificate whose `P` part
@@ -37,6 +40,9 @@ use api::{
 };
 use num_traits::{One, Signed, Zero};
 use std::collections::BTreeMap;
+
+mod equalities;
+use equalities::Equalities;
 
 /// Most null-space values (`(n − r)·n`) an explicit analysis forms: about 2·10⁶ (a component
 /// of 1 400 free coordinates; seconds and hundreds of MB).
@@ -156,6 +162,23 @@ where
     B: LinearBackend,
     B::Factorization: Factorization<Scalar = Rational>,
 {
+    analyze(backend, system, picked, requested, budget, true)
+}
+
+/// [`analyze_propagation`], its solves on coordinates merged by equalities when
+/// `merge_equalities` (the answers are the same either way; tests compare them).
+fn analyze<B>(
+    backend: &B,
+    system: &ConstraintSystem,
+    picked: &[ParamId],
+    requested: Option<&[Rational]>,
+    budget: usize,
+    merge_equalities: bool,
+) -> Result<Propagation, PropagationError>
+where
+    B: LinearBackend,
+    B::Factorization: Factorization<Scalar = Rational>,
+{
     let params = system.params();
     if picked.is_empty() {
         return Err(PropagationError::Picked(
@@ -216,17 +239,46 @@ where
             .map_err(|e| PropagationError::Backend(e.to_string()))
     };
     let row_of = |i: usize| -> (RowId, usize) { origin[i] };
-
+    let combination = |rows: Vec<(usize, Rational)>| -> RowCombination {
+        rows.into_iter()
+            .map(|(i, y)| {
+                let (row, k) = row_of(i);
+                (row, k, y)
+            })
+            .collect()
+    };
+    let coordinate_of = |i: usize| {
+        let c = columns[i];
+        // The parameter and coordinate of component column `i`.
+        let p = offsets.partition_point(|&o| o <= c) - 1;
+        (ParamId(p as u32), c - offsets[p])
+    };
     // M = [A; E_P]: its solves give the directions P can move in (ker A projected on P) and
     // the move's particular solution, its null space the move's freedom.
-    let mut with_picked = a.clone();
-    for &c in &picked_local {
-        with_picked
-            .push_row(vec![(c, Integer::one())])
-            .map_err(|e| PropagationError::Backend(e.to_string()))?;
-    }
-    let factored = factor(&with_picked)?;
-    let directions = reachable_directions(&factored, a.rows(), picked_local.len())?;
+    let with_picked = |a: &IntMatrix, picked_row: &dyn Fn(usize) -> Vec<(usize, Integer)>| {
+        let mut m = a.clone();
+        for &c in &picked_local {
+            m.push_row(picked_row(c))
+                .map_err(|e| PropagationError::Backend(e.to_string()))?;
+        }
+        factor(&m)
+    };
+    let whole_picked_row = |c: usize| vec![(c, Integer::one())];
+    // The solves run on the coordinates merged by equalities when rows merge any (the same
+    // directions and moves; see `equalities`), else on `M` itself.
+    let equalities = if merge_equalities {
+        Equalities::merge(&a)
+    } else {
+        None
+    };
+    let (factored, rows_of_factored) = match &equalities {
+        Some(e) => (
+            with_picked(e.reduced(), &|c| e.picked_row(c))?,
+            e.reduced().rows(),
+        ),
+        None => (with_picked(&a, &whole_picked_row)?, a.rows()),
+    };
+    let directions = reachable_directions(&factored, rows_of_factored, picked_local.len())?;
     let case = match directions.len() {
         0 => Case::FullyConstrained,
         n if n == picked_local.len() => Case::Free,
@@ -262,20 +314,48 @@ where
 
     let outcome = match requested {
         None => None,
-        Some(moves) => Some(propagate(
-            &a,
-            &factored,
-            &picked_local,
-            moves,
-            budget,
-            &row_of,
-            |i| {
-                let c = columns[i];
-                // The parameter and coordinate of component column `i`.
-                let p = offsets.partition_point(|&o| o <= c) - 1;
-                (ParamId(p as u32), c - offsets[p])
-            },
-        )?),
+        Some(moves) => Some(match move_solution(&factored, rows_of_factored, moves)? {
+            MoveSolution::Reached(particular) => {
+                let nullity = factored.cols() - factored.rank();
+                let values = columns.len().saturating_mul(nullity);
+                if values > budget {
+                    return Err(PropagationError::TooLarge {
+                        coordinates: columns.len(),
+                        values,
+                        budget,
+                    });
+                }
+                let (particular, free) = match &equalities {
+                    Some(e) => (
+                        e.expand(&particular),
+                        factored.null_space().iter().map(|v| e.expand(v)).collect(),
+                    ),
+                    None => (particular, factored.null_space()),
+                };
+                MoveOutcome::Moves(follows(
+                    columns.len(),
+                    &picked_local,
+                    &particular,
+                    &free,
+                    coordinate_of,
+                ))
+            }
+            // The rows in the way are named by the certificate of `M` itself.
+            MoveSolution::Blocked(rows) if equalities.is_none() => {
+                MoveOutcome::Blocked(combination(rows))
+            }
+            MoveSolution::Blocked(_) => {
+                let whole = with_picked(&a, &whole_picked_row)?;
+                match move_solution(&whole, a.rows(), moves)? {
+                    MoveSolution::Blocked(rows) => MoveOutcome::Blocked(combination(rows)),
+                    MoveSolution::Reached(_) => {
+                        return Err(PropagationError::Backend(
+                            "a move blocked on merged coordinates is not blocked on all".into(),
+                        ))
+                    }
+                }
+            }
+        }),
     };
     Ok(Propagation {
         picked: picked_coordinates,
@@ -333,53 +413,54 @@ where
     Ok(row_basis(picked, reached))
 }
 
-/// The move's consequences: the affine set `{δ : A δ = 0, δ_P = m}`, per parameter, from `m`,
-/// the factorization of `[A; E_P]`.
-fn propagate<E>(
-    a: &IntMatrix,
-    m: &E,
-    picked: &[usize],
+/// What `M δ = [0; m]` gives.
+enum MoveSolution {
+    /// A particular solution.
+    Reached(Vec<Rational>),
+    /// No solution: the rows of `A` in the way, `(row of M, multiplier)`.
+    Blocked(Vec<(usize, Rational)>),
+}
+
+/// `M δ = [0; m]` solved with `factored`, the factorization of `M` (its first `rows_of_a` rows
+/// `A`).
+fn move_solution<E>(
+    factored: &E,
+    rows_of_a: usize,
     moves: &[Rational],
-    budget: usize,
-    row_of: &dyn Fn(usize) -> (RowId, usize),
-    coordinate_of: impl Fn(usize) -> (ParamId, usize),
-) -> Result<MoveOutcome, PropagationError>
+) -> Result<MoveSolution, PropagationError>
 where
     E: Factorization<Scalar = Rational>,
 {
-    // Right-hand side [0; m].
-    let mut rhs = vec![Rational::zero(); a.rows()];
+    let mut rhs = vec![Rational::zero(); rows_of_a];
     rhs.extend(moves.iter().cloned());
-    let particular = match m.solve(&rhs) {
-        Ok(x) => x,
-        Err(SolveError::Inconsistent(certificate)) => {
-            // Rows of A in the certificate (the picked rows are the move itself).
-            let rows = certificate
+    match factored.solve(&rhs) {
+        Ok(x) => Ok(MoveSolution::Reached(x)),
+        // Rows of A in the certificate (the picked rows are the move itself).
+        Err(SolveError::Inconsistent(certificate)) => Ok(MoveSolution::Blocked(
+            certificate
                 .rows
-                .iter()
+                .into_iter()
                 .zip(certificate.certificate)
-                .filter(|(&i, _)| i < a.rows())
-                .map(|(&i, y)| {
-                    let (row, k) = row_of(i);
-                    (row, k, y)
-                })
-                .collect();
-            return Ok(MoveOutcome::Blocked(rows));
-        }
-        Err(e) => return Err(PropagationError::Backend(e.to_string())),
-    };
-    let values = a.cols().saturating_mul(m.cols() - m.rank());
-    if values > budget {
-        return Err(PropagationError::TooLarge {
-            coordinates: a.cols(),
-            values,
-            budget,
-        });
+                .filter(|(i, _)| *i < rows_of_a)
+                .collect(),
+        )),
+        Err(e) => Err(PropagationError::Backend(e.to_string())),
     }
-    let free = m.null_space();
+}
+
+/// The move's consequences per parameter of a component of `n` coordinates: the affine set
+/// `{δ : A δ = 0, δ_P = m}` is `particular` plus the span of `free` (each over the component's
+/// columns).
+fn follows(
+    n: usize,
+    picked: &[usize],
+    particular: &[Rational],
+    free: &[Vec<Rational>],
+    coordinate_of: impl Fn(usize) -> (ParamId, usize),
+) -> Vec<(ParamId, Follows)> {
     // Per parameter: its coordinates in the component.
     let mut groups: BTreeMap<ParamId, Vec<usize>> = BTreeMap::new();
-    for c in 0..a.cols() {
+    for c in 0..n {
         groups.entry(coordinate_of(c).0).or_default().push(c);
     }
     let mut follows = Vec::new();
@@ -392,7 +473,7 @@ where
         // grow and from projections that are not zero (most are, for a parameter far from the
         // move: every edit's analysis projects its whole null space once per parameter).
         let mut span = IntegerEchelon::new(coordinates.len());
-        for v in &free {
+        for v in free {
             if span.is_whole_space() {
                 break;
             }
@@ -416,7 +497,7 @@ where
         };
         follows.push((param, entry));
     }
-    Ok(MoveOutcome::Moves(follows))
+    follows
 }
 
 /// Integer vectors of one width in echelon form, each reduced by the rows before it
@@ -706,6 +787,10 @@ mod tests {
             Fixture { system }
         }
 
+        fn add_param(&mut self, name: &str, dim: usize) {
+            self.system.add_parameter(name, dim).expect("a parameter");
+        }
+
         fn id(&self, name: &str) -> ParamId {
             self.system.param_id(name).expect("declared")
         }
@@ -970,6 +1055,125 @@ mod tests {
             proptest::prop_assert_eq!(found.a, a);
             proptest::prop_assert_eq!(found.origin, origin);
             proptest::prop_assert_eq!(found.columns, columns);
+        }
+    }
+
+    /// The analysis with and without merging the coordinates equalities tie.
+    fn merged_and_whole(
+        f: &Fixture,
+        picked: &[ParamId],
+        requested: &[Rational],
+        budget: usize,
+    ) -> (
+        Result<Propagation, PropagationError>,
+        Result<Propagation, PropagationError>,
+    ) {
+        let run = |merge| {
+            analyze(
+                &ExactLdu::default(),
+                &f.system,
+                picked,
+                Some(requested),
+                budget,
+                merge,
+            )
+        };
+        (run(true), run(false))
+    }
+
+    #[test]
+    fn a_grid_of_alignments_is_analysed_on_merged_coordinates_with_the_same_answers() {
+        // Nine points in a 3 × 3 grid, each row of points horizontal and each column
+        // vertical (scalar equalities), one vector coincidence, one diagonal row that is not
+        // an equality; then a contradiction: p0's x equal to p8's x and to its opposite.
+        let names: Vec<String> = (0..9).map(|i| format!("p{i}")).collect();
+        let mut f = Fixture::new(&names.iter().map(|n| (n.as_str(), 2)).collect::<Vec<_>>());
+        f.add_param("q", 2);
+        for r in 0..3 {
+            for c in 0..2 {
+                let (a, b) = (&names[3 * r + c], &names[3 * r + c + 1]);
+                f.scalar(&format!("h{r}{c}"), &[(a, 1, 1), (b, 1, -1)], 0);
+                let (a, b) = (&names[3 * c + r], &names[3 * c + 3 + r]);
+                f.scalar(&format!("v{r}{c}"), &[(a, 0, 1), (b, 0, -1)], 0);
+            }
+        }
+        f.vector("q on p4", &[("q", 1), ("p4", -1)], 2);
+        f.scalar("diagonal", &[("p0", 0, 1), ("p4", 1, 1), ("p8", 0, -2)], 0);
+        let offsets = f.system.coordinate_offsets();
+        let start = std::iter::once((f.id("p0"), 0));
+        let component = Component::of(&f.system, &offsets, start).expect("a component");
+        let merged = Equalities::merge(&component.a).expect("alignments merge");
+        assert_eq!(merged.reduced().rows(), 1, "only the diagonal row is left");
+        for (picked, m) in [
+            (vec!["p0"], vec![3, -2]),
+            (vec!["p4", "p8"], vec![1, 1, 2, 5]),
+        ] {
+            let picked: Vec<ParamId> = picked.iter().map(|p| f.id(p)).collect();
+            let m: Vec<Rational> = m.into_iter().map(q).collect();
+            let (with, without) = merged_and_whole(&f, &picked, &m, EXPLAIN_NULL_SPACE_BUDGET);
+            assert_eq!(with, without);
+        }
+        f.scalar("x0 = x8", &[("p0", 0, 1), ("p8", 0, -1)], 0);
+        f.scalar("x0 = -x8", &[("p0", 0, 1), ("p8", 0, 1)], 0);
+        let picked = [f.id("p0")];
+        let (with, without) = merged_and_whole(&f, &picked, &[q(3), q(-2)], 1_000);
+        assert_eq!(with, without);
+        // x0 is forced to stay: the move is blocked, and the rows in the way are those of the
+        // whole factoring.
+        assert!(matches!(
+            with.expect("analysed").outcome,
+            Some(MoveOutcome::Blocked(_))
+        ));
+    }
+
+    proptest::proptest! {
+        /// Merging the coordinates that rows `±x_i ± x_j = 0` tie changes no answer: on random
+        /// systems of such rows (scalar and vector), other rows and picks, the analysis on
+        /// merged coordinates equals the one on all of them — case, directions, lost
+        /// directions with their rows, blocked moves with theirs, forced moves, freedoms and
+        /// the refusal of a component too large.
+        #[test]
+        fn merging_equalities_changes_no_answer(
+            equalities in proptest::collection::vec(
+                (0usize..5, 0usize..2, 0usize..5, 0usize..2, proptest::bool::ANY, proptest::bool::ANY),
+                1..7,
+            ),
+            others in proptest::collection::vec(
+                proptest::collection::vec((0usize..5, 0usize..2, -2i64..=2), 1..4),
+                0..3,
+            ),
+            picked in proptest::collection::btree_set(0usize..5, 1..3),
+            moves in proptest::collection::vec(-3i64..=3, 4),
+            small_budget in proptest::bool::ANY,
+        ) {
+            let names = ["a", "b", "c", "d", "e"];
+            let mut f = Fixture::new(&names.iter().map(|n| (*n, 2)).collect::<Vec<_>>());
+            for (i, &(p, k, r, l, negated, vector)) in equalities.iter().enumerate() {
+                if p == r && (vector || k == l) {
+                    continue;
+                }
+                let sign = if negated { 1 } else { -1 };
+                if vector {
+                    f.vector(&format!("eq {i}"), &[(names[p], 1), (names[r], sign)], 2);
+                } else {
+                    f.scalar(&format!("eq {i}"), &[(names[p], k, 1), (names[r], l, sign)], 0);
+                }
+            }
+            for (i, terms) in others.iter().enumerate() {
+                let mut scalar_terms: Vec<(&str, usize, i64)> = Vec::new();
+                for &(p, k, c) in terms {
+                    if !scalar_terms.iter().any(|(q, l, _)| *q == names[p] && *l == k) {
+                        scalar_terms.push((names[p], k, c));
+                    }
+                }
+                f.scalar(&format!("other {i}"), &scalar_terms, 0);
+            }
+            let picked: Vec<ParamId> = picked.iter().map(|&p| f.id(names[p])).collect();
+            let requested: Vec<Rational> =
+                moves[..2 * picked.len()].iter().map(|&x| q(x)).collect();
+            let budget = if small_budget { 12 } else { EXPLAIN_NULL_SPACE_BUDGET };
+            let (with, without) = merged_and_whole(&f, &picked, &requested, budget);
+            proptest::prop_assert_eq!(with, without);
         }
     }
 

@@ -342,10 +342,13 @@ fn bad_specs_are_typed_errors() {
         init(EditSpec::new(vec![p[0]], vec![p[1]]).with_weights(vec![])),
         Err(EditError::WeightCount { .. })
     ));
-    assert!(matches!(
-        init(EditSpec::new(vec![p[0]], vec![p[1]]).with_weights(vec![z(0)])),
-        Err(EditError::NonPositiveWeight { .. })
-    ));
+    for weight in [z(0), z(-1), q(-1, 3)] {
+        assert!(matches!(
+            init(EditSpec::new(vec![p[0]], vec![p[1]]).with_weights(vec![weight])),
+            Err(EditError::NonPositiveWeight { .. })
+        ));
+    }
+    assert!(init(EditSpec::new(vec![p[0]], vec![p[1]]).with_weights(vec![q(1, 1000)])).is_ok());
     let edit = init(EditSpec::new(vec![p[0]], vec![p[1], p[2], p[3]])).expect("init");
     assert!(matches!(
         edit.update(&[], &[vec![z(0)], vec![z(0)], vec![z(0)]]),

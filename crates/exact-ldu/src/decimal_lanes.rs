@@ -62,13 +62,13 @@ pub fn decimal_texts(values: &[&BigInt]) -> Vec<String> {
         sum.saturating_add(d.saturating_mul(d).saturating_add(1))
     });
     if work < SEQUENTIAL_WORK {
-        return values.iter().map(|v| v.to_string()).collect();
+        return values.iter().map(|v| short_text(v)).collect();
     }
     let mut long: Vec<usize> = (0..values.len())
         .filter(|&i| (MIN_DIGITS..=MAX_DIGITS).contains(&digit_count(values[i])))
         .collect();
     if long.len() < MIN_BATCH || !ifma_available() {
-        return values.par_iter().map(|v| v.to_string()).collect();
+        return values.par_iter().map(|v| short_text(v)).collect();
     }
     // Groups of eight of about the same length (longest first): a lane shorter than its
     // group's longest computes zeros.
@@ -92,8 +92,17 @@ pub fn decimal_texts(values: &[&BigInt]) -> Vec<String> {
     texts
         .into_par_iter()
         .zip(values.par_iter())
-        .map(|(text, v)| text.unwrap_or_else(|| v.to_string()))
+        .map(|(text, v)| text.unwrap_or_else(|| short_text(v)))
         .collect()
+}
+
+/// `v.to_string()`, through the machine integer's conversion when `v` fits one (a small edit's
+/// values: `num-bigint` converts by digit vectors and allocations, ten times the work).
+fn short_text(v: &BigInt) -> String {
+    match i64::try_from(v) {
+        Ok(x) => x.to_string(),
+        Err(_) => v.to_string(),
+    }
 }
 
 /// `2^(52k)` in base `T = 10^15` for `k < digits`.
@@ -325,6 +334,32 @@ mod tests {
         let texts = decimal_texts(&refs);
         for (v, text) in values.iter().zip(&texts) {
             assert_eq!(text, &v.to_string());
+        }
+    }
+
+    /// Machine-word integers and their neighbours beyond the word: `to_string`'s text, in a
+    /// short batch (the calling thread) and a long one (the pool).
+    #[test]
+    fn word_integers_and_their_neighbours_are_to_strings() {
+        let mut values: Vec<BigInt> = Vec::new();
+        for edge in [
+            BigInt::from(i64::MIN),
+            BigInt::from(i64::MAX),
+            BigInt::default(),
+        ] {
+            for delta in -2i64..=2 {
+                values.push(&edge + delta);
+            }
+        }
+        values.push(BigInt::from(u64::MAX));
+        values.push(-BigInt::from(u64::MAX));
+        let refs: Vec<&BigInt> = values.iter().collect();
+        let long_batch: Vec<&BigInt> = refs.iter().copied().cycle().take(400).collect();
+        for batch in [&refs, &long_batch] {
+            let texts = decimal_texts(batch);
+            for (v, text) in batch.iter().zip(&texts) {
+                assert_eq!(text, &v.to_string());
+            }
         }
     }
 
