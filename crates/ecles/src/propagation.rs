@@ -477,10 +477,25 @@ fn follows(
             if span.is_whole_space() {
                 break;
             }
-            if coordinates.iter().any(|&c| !v[c].is_zero()) {
+            let mut nonzero = coordinates
+                .iter()
+                .enumerate()
+                .filter(|(_, &c)| !v[c].is_zero());
+            match (nonzero.next(), nonzero.next()) {
+                (None, _) => {}
+                // One nonzero entry spans the line of its unit vector (a scalar parameter's
+                // projection always does): no rationals scaled.
+                (Some((j, _)), None) => {
+                    let mut unit = vec![Integer::zero(); coordinates.len()];
+                    unit[j] = Integer::one();
+                    span.insert(unit);
+                }
                 // A projection scaled to integers spans what it does.
-                let projected: Vec<Rational> = coordinates.iter().map(|&c| v[c].clone()).collect();
-                span.insert(integer_multiple(&projected));
+                _ => {
+                    let projected: Vec<Rational> =
+                        coordinates.iter().map(|&c| v[c].clone()).collect();
+                    span.insert(integer_multiple(&projected));
+                }
             }
         }
         let freedom = span.dimension();
@@ -489,8 +504,9 @@ fn follows(
                 continue;
             }
             Follows::Forced(value)
-        } else if span.contains(integer_multiple(&value)) {
-            // The move's value minus a free move is zero: the parameter may stay.
+        } else if span.is_whole_space() || span.contains(integer_multiple(&value)) {
+            // The move's value minus a free move is zero (always, when the free moves span
+            // every direction of the parameter): the parameter may stay.
             Follows::MayStay { freedom }
         } else {
             Follows::MustMoveWithChoice { freedom }
@@ -1260,6 +1276,92 @@ mod tests {
                     integer_multiple(&projected)
                 }),
         )
+    }
+
+    proptest::proptest! {
+        /// Each parameter's freedom is the rank of the move's free directions projected on it
+        /// (plain rational elimination over the null space of `[A; E_P]`), and it may stay
+        /// exactly when its value in one solution lies in that span — on random systems of
+        /// parameters of dimension 2 and 1, where projections with a single nonzero entry
+        /// and whole-space spans both occur.
+        #[test]
+        fn freedoms_and_choices_are_those_of_the_null_space(
+            entries in proptest::collection::vec(-2i64..=2, 21),
+            m in proptest::collection::vec(-3i64..=3, 2),
+        ) {
+            // Three rows over a, b, c (dim 2) and d (dim 1): 7 coordinates.
+            let mut f = Fixture::new(&[("a", 2), ("b", 2), ("c", 2), ("d", 1)]);
+            let coords = [("a", 0), ("a", 1), ("b", 0), ("b", 1), ("c", 0), ("c", 1), ("d", 0)];
+            for (i, row) in entries.chunks(7).enumerate() {
+                let terms: Vec<(&str, usize, i64)> = coords
+                    .iter()
+                    .zip(row)
+                    .filter(|(_, &c)| c != 0)
+                    .map(|(&(p, k), &c)| (p, k, c))
+                    .collect();
+                if !terms.is_empty() {
+                    f.scalar(&format!("row {i}"), &terms, 0);
+                }
+            }
+            let analysis = f.analyze(&["a"], Some(&m));
+            let MoveOutcome::Moves(moves) = analysis.outcome.expect("a move") else {
+                return Ok(());
+            };
+            // [A; E_a] over all 7 coordinates, its null space and one solution of the move.
+            let (mut whole, _, _) = f.system.scalar_matrix();
+            let rows_of_a = whole.rows();
+            for c in [0, 1] {
+                whole.push_row(vec![(c, Integer::one())]).expect("in range");
+            }
+            let factored = ExactLdu::default().factor(&whole).expect("factored");
+            let mut rhs = vec![Rational::zero(); rows_of_a];
+            rhs.extend(m.iter().map(|&x| q(x)));
+            let x = factored.solve(&rhs).expect("reached");
+            let free = factored.null_space();
+            // The component of a: coordinates linked to a's through rows (the analysis looks
+            // at nothing else).
+            let mut linked = vec![false; 7];
+            linked[0] = true;
+            linked[1] = true;
+            for _ in 0..7 {
+                for row in whole.row_iter().take(rows_of_a) {
+                    if row.iter().any(|(c, _)| linked[*c]) {
+                        row.iter().for_each(|(c, _)| linked[*c] = true);
+                    }
+                }
+            }
+            for (name, all) in [("b", vec![2, 3]), ("c", vec![4, 5]), ("d", vec![6])] {
+                let coordinates: Vec<usize> = all.into_iter().filter(|&c| linked[c]).collect();
+                let projected: Vec<Vec<Rational>> = free
+                    .iter()
+                    .map(|v| coordinates.iter().map(|&c| v[c].clone()).collect())
+                    .collect();
+                let freedom = plain_rank(&projected);
+                let value: Vec<Rational> = coordinates.iter().map(|&c| x[c].clone()).collect();
+                let mut with_value = projected.clone();
+                with_value.push(value.clone());
+                let may_stay = plain_rank(&with_value) == freedom;
+                let found = moves.iter().find(|(p, _)| *p == f.id(name)).map(|(_, e)| e);
+                match found {
+                    None => {
+                        proptest::prop_assert_eq!(freedom, 0);
+                        proptest::prop_assert!(value.iter().all(Zero::is_zero));
+                    }
+                    Some(Follows::Forced(by)) => {
+                        proptest::prop_assert_eq!(freedom, 0);
+                        proptest::prop_assert_eq!(by, &value);
+                    }
+                    Some(Follows::MayStay { freedom: found }) => {
+                        proptest::prop_assert_eq!(*found, freedom);
+                        proptest::prop_assert!(freedom > 0 && may_stay);
+                    }
+                    Some(Follows::MustMoveWithChoice { freedom: found }) => {
+                        proptest::prop_assert_eq!(*found, freedom);
+                        proptest::prop_assert!(freedom > 0 && !may_stay);
+                    }
+                }
+            }
+        }
     }
 
     /// Rank of rational vectors by plain Gaussian elimination, looking at every vector.
