@@ -1320,7 +1320,7 @@ mod tests {
             let free = factored.null_space();
             // The component of a: coordinates linked to a's through rows (the analysis looks
             // at nothing else).
-            let mut linked = vec![false; 7];
+            let mut linked = [false; 7];
             linked[0] = true;
             linked[1] = true;
             for _ in 0..7 {
