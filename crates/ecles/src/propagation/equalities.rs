@@ -198,14 +198,8 @@ impl SignedUnionFind {
 mod tests {
     use super::*;
 
-    fn matrix(cols: usize, rows: &[&[(usize, i64)]]) -> IntMatrix {
-        IntMatrix::from_sparse(
-            cols,
-            rows.iter()
-                .map(|r| r.iter().map(|&(c, v)| (c, Integer::from(v))).collect())
-                .collect(),
-        )
-        .expect("in range")
+    fn matrix(rows: &[Vec<i64>]) -> IntMatrix {
+        IntMatrix::from_dense(rows[0].len(), rows).expect("rows of one length")
     }
 
     fn q(n: i64) -> Rational {
@@ -215,14 +209,7 @@ mod tests {
     #[test]
     fn equal_and_opposite_coordinates_share_a_class_with_their_signs() {
         // x0 = x1, x2 = −x1, x3 free, and a row x0 + x3 − 2 x2 = 0 over them.
-        let a = matrix(
-            4,
-            &[
-                &[(0, 1), (1, -1)],
-                &[(2, 1), (1, 1)],
-                &[(0, 1), (3, 1), (2, -2)],
-            ],
-        );
+        let a = matrix(&[vec![1, -1, 0, 0], vec![0, 1, 1, 0], vec![1, 0, -2, 1]]);
         let e = Equalities::merge(&a).expect("two merges");
         let classes: Vec<usize> = e.class_of.iter().map(|c| c.0).collect();
         assert_eq!(classes[0], classes[1]);
@@ -245,14 +232,11 @@ mod tests {
     #[test]
     fn cycles_are_left_out_when_implied_and_kept_when_they_force_zero() {
         // x0 = x1 = x2, then x2 = x0 again (implied): no row left.
-        let implied = matrix(
-            3,
-            &[&[(0, 1), (1, -1)], &[(1, 1), (2, -1)], &[(2, 1), (0, -1)]],
-        );
+        let implied = matrix(&[vec![1, -1, 0], vec![0, 1, -1], vec![-1, 0, 1]]);
         let e = Equalities::merge(&implied).expect("merges");
         assert_eq!(e.reduced().rows(), 0);
         // x0 = x1, then x0 = −x1: the class is zero, 2 x = 0 kept.
-        let forced = matrix(2, &[&[(0, 1), (1, -1)], &[(0, 1), (1, 1)]]);
+        let forced = matrix(&[vec![1, -1], vec![1, 1]]);
         let e = Equalities::merge(&forced).expect("a merge");
         assert_eq!(e.reduced().rows(), 1);
         assert_eq!(e.reduced().row(0), &[(0, Integer::from(2))][..]);
@@ -260,13 +244,13 @@ mod tests {
 
     #[test]
     fn no_equality_no_classes() {
-        let a = matrix(3, &[&[(0, 2), (1, -1)], &[(0, 1), (1, 1), (2, 1)]]);
+        let a = matrix(&[vec![2, -1, 0], vec![1, 1, 1]]);
         assert_eq!(Equalities::merge(&a), None);
     }
 
     #[test]
     fn a_picked_row_carries_its_columns_sign() {
-        let a = matrix(2, &[&[(0, 1), (1, 1)]]);
+        let a = matrix(&[vec![1, 1]]);
         let e = Equalities::merge(&a).expect("a merge");
         let (c0, c1) = (e.picked_row(0), e.picked_row(1));
         assert_eq!(c0[0].0, c1[0].0);
