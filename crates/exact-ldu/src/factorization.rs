@@ -6,7 +6,7 @@ use crate::dixon::LiftingSolver;
 use crate::ldu::{Ldu, Simplification};
 use crate::lsq::ExactLeastSquares;
 use crate::qvec::QVec;
-use crate::ring::{Int, Ring};
+use crate::ring::{gcd_all, Int, Ring};
 use api::backend::{check_len, validate_family};
 use api::{
     BackendError, Factorization, Inconsistency, IntMatrix, Rational, Redundancy, RhsFamily,
@@ -464,14 +464,21 @@ fn null_space_fraction_free<R: Ring>(ldu: &Ldu<R>) -> Vec<Vec<BigInt>> {
             let mut y = QVec::from_integers((0..r).map(|k| ldu.u_row(k)[f].neg()).collect());
             ldu.backward(&mut y);
             let mut x = vec![R::zero(); n];
-            for (k, v) in y.num.iter().enumerate() {
-                x[ldu.col_perm()[k]] = v.clone();
+            let QVec { num, den } = y;
+            for (k, v) in num.into_iter().enumerate() {
+                x[ldu.col_perm()[k]] = v;
             }
-            x[ldu.col_perm()[f]] = y.den.clone();
-            QVec::from_integers(x)
-                .primitive_integers()
-                .iter()
-                .map(Ring::to_bigint)
+            x[ldu.col_perm()[f]] = den;
+            // Divided by its content: primitive (the free entry, the denominator, is positive).
+            let g = gcd_all(&x);
+            x.iter()
+                .map(|v| {
+                    if v.is_zero() || g.is_one() {
+                        v.to_bigint()
+                    } else {
+                        v.div_exact(&g).to_bigint()
+                    }
+                })
                 .collect()
         })
         .collect()

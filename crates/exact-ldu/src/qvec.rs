@@ -92,6 +92,12 @@ impl<R: Ring> QVec<R> {
     /// Sets entry `k` to `s / (den · divisor)` and rescales the other entries so that all keep
     /// one denominator. `divisor` must be nonzero.
     pub fn divide_entry(&mut self, k: usize, s: R, divisor: &R) {
+        // A zero entry and a unit divisor keep the denominator: no GCD (substitutions on
+        // sparse factors meet both at most steps).
+        if s.is_zero() || divisor.is_one() {
+            self.num[k] = s;
+            return;
+        }
         let g = s.gcd(divisor);
         let mut f = divisor.div_exact(&g);
         let mut q = s.div_exact(&g);
@@ -175,6 +181,8 @@ mod tests {
         );
     }
 
+    use proptest::strategy::Just;
+
     proptest::proptest! {
         /// Runs of one denominator, alternating ones and integers all come back exactly, over
         /// the least common denominator.
@@ -192,6 +200,27 @@ mod tests {
                 .fold(BigInt::from(1), |acc, x| num_integer::Integer::lcm(&acc, x.denom()));
             proptest::prop_assert_eq!(v.den.to_bigint(), lcm);
             proptest::prop_assert_eq!(v.to_rationals(), values);
+        }
+
+        /// Entry `k` becomes `s / (den · divisor)` and the others keep their values over a
+        /// positive denominator, for zero entries and unit divisors (the shortcuts) as for any.
+        #[test]
+        fn dividing_an_entry_changes_that_entry_alone(
+            entries in proptest::collection::vec((-30i64..=30, 1i64..=9), 1..8),
+            k in 0usize..8,
+            s in proptest::prop_oneof![Just(0i64), -40i64..=40],
+            divisor in proptest::prop_oneof![Just(1i64), Just(-1i64), -12i64..=12],
+        ) {
+            proptest::prop_assume!(divisor != 0);
+            let values: Vec<BigRational> = entries.iter().map(|&(n, d)| q(n, d)).collect();
+            let k = k % values.len();
+            let mut v = QVec::<Int>::from_rationals(&values);
+            let expected_k = q(s, 1) / (BigRational::from_integer(v.den.to_bigint()) * q(divisor, 1));
+            v.divide_entry(k, Int::from_i64(s), &Int::from_i64(divisor));
+            proptest::prop_assert!(!v.den.is_negative() && !v.den.is_zero());
+            let mut expected = values;
+            expected[k] = expected_k;
+            proptest::prop_assert_eq!(v.to_rationals(), expected);
         }
     }
 }

@@ -100,7 +100,15 @@ pub(super) fn eliminate_variable_gcd<R: Ring>(
     let a = pivot.div_exact(&h);
     let b = uti.div_exact(&h);
     for (v, p) in tail.iter_mut().zip(&pivot_row[i + 1..]) {
-        *v = R::mul_sub(&a, v, &b, p);
+        // Where the pivot row is zero the entry is only scaled by `a` (often 1, and most
+        // entries of a constraint row are zero).
+        if p.is_zero() {
+            if !v.is_zero() && !a.is_one() {
+                *v = v.mul(&a);
+            }
+        } else {
+            *v = R::mul_sub(&a, v, &b, p);
+        }
     }
     let g = divide_out_content(tail);
     if g.is_zero() {

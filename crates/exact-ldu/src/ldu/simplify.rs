@@ -84,7 +84,7 @@ pub(super) fn simplify_u_row_gcd<R: Ring>(tail: &mut [R], l_tt: &mut R) -> bool 
 pub(super) fn divide_out_content<R: Ring>(values: &mut [R]) -> R {
     let g = gcd_all(values);
     if !g.is_zero() && !g.is_one() {
-        for v in values.iter_mut() {
+        for v in values.iter_mut().filter(|v| !v.is_zero()) {
             *v = v.div_exact(&g);
         }
     }
