@@ -157,11 +157,20 @@ impl fmt::Display for Int {
 }
 
 impl Int {
+    #[inline]
     fn from_i128(v: i128) -> Int {
         match i64::try_from(v) {
             Ok(s) => Int::Small(s),
-            Err(_) => Int::Big(Box::new(BigInt::from(v))),
+            Err(_) => Int::boxed_i128(v),
         }
+    }
+
+    /// The rare overflow of [`Int::from_i128`], kept out of line so that the machine-word path
+    /// of every operation inlines into the elimination loops.
+    #[cold]
+    #[inline(never)]
+    fn boxed_i128(v: i128) -> Int {
+        Int::Big(Box::new(BigInt::from(v)))
     }
 
     fn from_big(v: BigInt) -> Int {
@@ -260,29 +269,28 @@ impl Ring for Int {
             Int::Big(b) => b.sign() == Sign::Minus,
         }
     }
+    #[inline]
     fn add(&self, other: &Self) -> Self {
-        match (self, other) {
-            (Int::Small(a), Int::Small(b)) => Int::from_i128(*a as i128 + *b as i128),
-            (Int::Small(a), Int::Big(b)) | (Int::Big(b), Int::Small(a)) => Int::from_big(&**b + *a),
-            (Int::Big(a), Int::Big(b)) => Int::from_big(&**a + &**b),
+        if let (Int::Small(a), Int::Small(b)) = (self, other) {
+            return Int::from_i128(*a as i128 + *b as i128);
         }
+        big_sum(self, other)
     }
+    #[inline]
     fn sub(&self, other: &Self) -> Self {
-        match (self, other) {
-            (Int::Small(a), Int::Small(b)) => Int::from_i128(*a as i128 - *b as i128),
-            (Int::Small(a), Int::Big(b)) => Int::from_big(*a - &**b),
-            (Int::Big(a), Int::Small(b)) => Int::from_big(&**a - *b),
-            (Int::Big(a), Int::Big(b)) => Int::from_big(&**a - &**b),
+        if let (Int::Small(a), Int::Small(b)) = (self, other) {
+            return Int::from_i128(*a as i128 - *b as i128);
         }
+        big_difference(self, other)
     }
+    #[inline]
     fn mul(&self, other: &Self) -> Self {
-        match (self, other) {
-            (Int::Small(a), Int::Small(b)) => Int::from_i128(*a as i128 * *b as i128),
-            (Int::Small(0), _) | (_, Int::Small(0)) => Int::Small(0),
-            (Int::Small(a), Int::Big(b)) | (Int::Big(b), Int::Small(a)) => Int::from_big(&**b * *a),
-            (Int::Big(a), Int::Big(b)) => Int::from_big(&**a * &**b),
+        if let (Int::Small(a), Int::Small(b)) = (self, other) {
+            return Int::from_i128(*a as i128 * *b as i128);
         }
+        big_product(self, other)
     }
+    #[inline]
     fn neg(&self) -> Self {
         match self {
             Int::Small(v) => Int::from_i128(-(*v as i128)),
@@ -312,68 +320,42 @@ impl Ring for Int {
             _ => *self = self.add(&a.mul(b)),
         }
     }
+    #[inline]
     fn mul_sub(a: &Self, b: &Self, c: &Self, d: &Self) -> Self {
         if let (Int::Small(a), Int::Small(b), Int::Small(c), Int::Small(d)) = (a, b, c, d) {
             // |a·b|, |c·d| ≤ 2^126, so the difference fits an i128.
             return Int::from_i128(*a as i128 * *b as i128 - *c as i128 * *d as i128);
         }
-        Int::from_big(product(a, b) - product(c, d))
+        big_cross_difference(a, b, c, d)
     }
+    #[inline]
     fn div_exact(&self, other: &Self) -> Self {
-        match (self, other) {
-            (Int::Small(a), Int::Small(b)) => {
-                debug_assert!(*b != 0 && a % b == 0, "inexact division");
-                // The processor's 64-bit division (a 128-bit one is a library call several
-                // times slower); only a / −1 can leave the i64 range (for i64::MIN).
-                if *b == -1 {
-                    Int::from_i128(-(*a as i128))
-                } else {
-                    Int::Small(a / b)
-                }
-            }
-            (Int::Big(a), Int::Small(b)) => {
-                debug_assert!(Zero::is_zero(&(&**a % *b)), "inexact division");
-                Int::from_big(&**a / *b)
-            }
-            (Int::Big(a), Int::Big(b)) => {
-                debug_assert!(Zero::is_zero(&(&**a % &**b)), "inexact division");
-                Int::from_big(&**a / &**b)
-            }
-            // |a| ≤ 2^63 ≤ |b|: the exact quotient is 0, or ±1 for a = i64::MIN, |b| = 2^63.
-            (Int::Small(a), Int::Big(b)) => {
-                debug_assert!(
-                    Zero::is_zero(&(BigInt::from(*a) % &**b)),
-                    "inexact division"
-                );
-                Int::from_big(BigInt::from(*a) / &**b)
-            }
+        if let (Int::Small(a), Int::Small(b)) = (self, other) {
+            debug_assert!(*b != 0 && a % b == 0, "inexact division");
+            // The processor's 64-bit division (a 128-bit one is a library call several times
+            // slower); only a / −1 can leave the i64 range (for i64::MIN).
+            return if *b == -1 {
+                Int::from_i128(-(*a as i128))
+            } else {
+                Int::Small(a / b)
+            };
         }
+        big_quotient(self, other)
     }
+    #[inline]
     fn gcd(&self, other: &Self) -> Self {
-        match (self, other) {
-            (Int::Small(a), Int::Small(b)) => {
-                let g = binary_gcd(a.unsigned_abs(), b.unsigned_abs());
-                Int::from_i128(g as i128)
-            }
-            (Int::Small(a), Int::Big(b)) | (Int::Big(b), Int::Small(a)) if *a != 0 => {
-                // gcd(big, small) = gcd(small, big mod small): one bignum division.
-                let rem = ToPrimitive::to_i64(&(&**b % BigInt::from(*a))).unwrap_or(0);
-                Int::from_i128(binary_gcd(a.unsigned_abs(), rem.unsigned_abs()) as i128)
-            }
-            (Int::Big(a), Int::Big(b)) => Int::from_big(crate::gcd::gcd_bigint(a, b)),
-            (Int::Small(_), Int::Big(b)) | (Int::Big(b), Int::Small(_)) => {
-                Int::from_big(Signed::abs(&**b))
-            }
+        if let (Int::Small(a), Int::Small(b)) = (self, other) {
+            let g = binary_gcd(a.unsigned_abs(), b.unsigned_abs());
+            return Int::from_i128(g as i128);
         }
+        big_gcd(self, other)
     }
+    #[inline]
     fn abs_cmp(&self, other: &Self) -> Ordering {
-        match (self, other) {
-            (Int::Small(a), Int::Small(b)) => a.unsigned_abs().cmp(&b.unsigned_abs()),
-            // A big value has |b| ≥ 2^63 ≥ |a|, equal only for a = i64::MIN.
-            (Int::Small(a), Int::Big(b)) => BigUint::from(a.unsigned_abs()).cmp(b.magnitude()),
-            (Int::Big(b), Int::Small(a)) => b.magnitude().cmp(&BigUint::from(a.unsigned_abs())),
-            (Int::Big(a), Int::Big(b)) => a.magnitude().cmp(b.magnitude()),
+        if let (Int::Small(a), Int::Small(b)) = (self, other) {
+            return a.unsigned_abs().cmp(&b.unsigned_abs());
         }
+        big_abs_cmp(self, other)
     }
     fn cmp_value(&self, other: &Self) -> Ordering {
         match (self, other) {
@@ -400,6 +382,102 @@ impl Ring for Int {
             Int::Small(v) => 64 - v.unsigned_abs().leading_zeros() as u64,
             Int::Big(b) => b.bits(),
         }
+    }
+}
+
+// The operations of `Int` with a big operand, out of line (see `Int::boxed_i128`).
+
+#[inline(never)]
+fn big_sum(a: &Int, b: &Int) -> Int {
+    match (a, b) {
+        (Int::Small(a), Int::Small(b)) => Int::from_i128(*a as i128 + *b as i128),
+        (Int::Small(a), Int::Big(b)) | (Int::Big(b), Int::Small(a)) => Int::from_big(&**b + *a),
+        (Int::Big(a), Int::Big(b)) => Int::from_big(&**a + &**b),
+    }
+}
+
+#[inline(never)]
+fn big_difference(a: &Int, b: &Int) -> Int {
+    match (a, b) {
+        (Int::Small(a), Int::Small(b)) => Int::from_i128(*a as i128 - *b as i128),
+        (Int::Small(a), Int::Big(b)) => Int::from_big(*a - &**b),
+        (Int::Big(a), Int::Small(b)) => Int::from_big(&**a - *b),
+        (Int::Big(a), Int::Big(b)) => Int::from_big(&**a - &**b),
+    }
+}
+
+#[inline(never)]
+fn big_product(a: &Int, b: &Int) -> Int {
+    match (a, b) {
+        (Int::Small(a), Int::Small(b)) => Int::from_i128(*a as i128 * *b as i128),
+        (Int::Small(0), _) | (_, Int::Small(0)) => Int::Small(0),
+        (Int::Small(a), Int::Big(b)) | (Int::Big(b), Int::Small(a)) => Int::from_big(&**b * *a),
+        (Int::Big(a), Int::Big(b)) => Int::from_big(&**a * &**b),
+    }
+}
+
+#[inline(never)]
+fn big_cross_difference(a: &Int, b: &Int, c: &Int, d: &Int) -> Int {
+    Int::from_big(product(a, b) - product(c, d))
+}
+
+#[inline(never)]
+fn big_quotient(a: &Int, b: &Int) -> Int {
+    match (a, b) {
+        (Int::Small(a), Int::Small(b)) => {
+            debug_assert!(*b != 0 && a % b == 0, "inexact division");
+            if *b == -1 {
+                Int::from_i128(-(*a as i128))
+            } else {
+                Int::Small(a / b)
+            }
+        }
+        (Int::Big(a), Int::Small(b)) => {
+            debug_assert!(Zero::is_zero(&(&**a % *b)), "inexact division");
+            Int::from_big(&**a / *b)
+        }
+        (Int::Big(a), Int::Big(b)) => {
+            debug_assert!(Zero::is_zero(&(&**a % &**b)), "inexact division");
+            Int::from_big(&**a / &**b)
+        }
+        // |a| ≤ 2^63 ≤ |b|: the exact quotient is 0, or ±1 for a = i64::MIN, |b| = 2^63.
+        (Int::Small(a), Int::Big(b)) => {
+            debug_assert!(
+                Zero::is_zero(&(BigInt::from(*a) % &**b)),
+                "inexact division"
+            );
+            Int::from_big(BigInt::from(*a) / &**b)
+        }
+    }
+}
+
+#[inline(never)]
+fn big_gcd(a: &Int, b: &Int) -> Int {
+    match (a, b) {
+        (Int::Small(a), Int::Small(b)) => {
+            let g = binary_gcd(a.unsigned_abs(), b.unsigned_abs());
+            Int::from_i128(g as i128)
+        }
+        (Int::Small(a), Int::Big(b)) | (Int::Big(b), Int::Small(a)) if *a != 0 => {
+            // gcd(big, small) = gcd(small, big mod small): one bignum division.
+            let rem = ToPrimitive::to_i64(&(&**b % BigInt::from(*a))).unwrap_or(0);
+            Int::from_i128(binary_gcd(a.unsigned_abs(), rem.unsigned_abs()) as i128)
+        }
+        (Int::Big(a), Int::Big(b)) => Int::from_big(crate::gcd::gcd_bigint(a, b)),
+        (Int::Small(_), Int::Big(b)) | (Int::Big(b), Int::Small(_)) => {
+            Int::from_big(Signed::abs(&**b))
+        }
+    }
+}
+
+#[inline(never)]
+fn big_abs_cmp(a: &Int, b: &Int) -> Ordering {
+    match (a, b) {
+        (Int::Small(a), Int::Small(b)) => a.unsigned_abs().cmp(&b.unsigned_abs()),
+        // A big value has |b| ≥ 2^63 ≥ |a|, equal only for a = i64::MIN.
+        (Int::Small(a), Int::Big(b)) => BigUint::from(a.unsigned_abs()).cmp(b.magnitude()),
+        (Int::Big(b), Int::Small(a)) => b.magnitude().cmp(&BigUint::from(a.unsigned_abs())),
+        (Int::Big(a), Int::Big(b)) => a.magnitude().cmp(b.magnitude()),
     }
 }
 
