@@ -266,6 +266,14 @@ pub trait Factorization {
     }
 }
 
+/// A factorization whose null space is made of integer vectors (the exact backends): the basis
+/// of [`Factorization::null_space`] without making every entry a rational, for callers that
+/// read only spans and zeros (the propagation analysis projects it on every parameter).
+pub trait IntegerNullSpace {
+    /// The vectors of [`Factorization::null_space`], in the same order, as integers.
+    fn integer_null_space(&self) -> Vec<Vec<Integer>>;
+}
+
 /// Weighted least squares with constraints `A x = c_j − K α`, prepared by
 /// [`Factorization::prepare_least_squares`].
 pub trait PreparedLeastSquares: Send + Sync {

@@ -26,8 +26,9 @@ pub mod system;
 pub mod view;
 
 pub use backend::{
-    BackendError, Factorization, Fraction, Inconsistency, LinearBackend, PreparedLeastSquares,
-    RankMargin, Redundancy, RhsFamily, Snapped, SolveError, StrongFailure, Value,
+    BackendError, Factorization, Fraction, Inconsistency, IntegerNullSpace, LinearBackend,
+    PreparedLeastSquares, RankMargin, Redundancy, RhsFamily, Snapped, SolveError, StrongFailure,
+    Value,
 };
 pub use exact::{
     coprime_integers, format_rational, identical_rationals, parse_rational, rational_difference,

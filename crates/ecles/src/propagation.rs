@@ -35,8 +35,8 @@
 //! its null space is formed.
 
 use api::{
-    ConstraintSystem, Factorization, IntMatrix, Integer, LinearBackend, ParamId, Rational, RowId,
-    ScalarEquation, SolveError,
+    ConstraintSystem, Factorization, IntMatrix, Integer, IntegerNullSpace, LinearBackend, ParamId,
+    Rational, RowId, ScalarEquation, SolveError,
 };
 use num_traits::{One, Signed, Zero};
 use std::collections::BTreeMap;
@@ -160,7 +160,7 @@ pub fn analyze_propagation<B>(
 ) -> Result<Propagation, PropagationError>
 where
     B: LinearBackend,
-    B::Factorization: Factorization<Scalar = Rational>,
+    B::Factorization: Factorization<Scalar = Rational> + IntegerNullSpace,
 {
     analyze(backend, system, picked, requested, budget, true)
 }
@@ -177,7 +177,7 @@ fn analyze<B>(
 ) -> Result<Propagation, PropagationError>
 where
     B: LinearBackend,
-    B::Factorization: Factorization<Scalar = Rational>,
+    B::Factorization: Factorization<Scalar = Rational> + IntegerNullSpace,
 {
     let params = system.params();
     if picked.is_empty() {
@@ -328,9 +328,13 @@ where
                 let (particular, free) = match &equalities {
                     Some(e) => (
                         e.expand(&particular),
-                        factored.null_space().iter().map(|v| e.expand(v)).collect(),
+                        factored
+                            .integer_null_space()
+                            .iter()
+                            .map(|v| e.expand(v))
+                            .collect(),
                     ),
-                    None => (particular, factored.null_space()),
+                    None => (particular, factored.integer_null_space()),
                 };
                 MoveOutcome::Moves(follows(
                     columns.len(),
@@ -449,13 +453,13 @@ where
 }
 
 /// The move's consequences per parameter of a component of `n` coordinates: the affine set
-/// `{δ : A δ = 0, δ_P = m}` is `particular` plus the span of `free` (each over the component's
-/// columns).
+/// `{δ : A δ = 0, δ_P = m}` is `particular` plus the span of `free` (integer vectors over the
+/// component's columns).
 fn follows(
     n: usize,
     picked: &[usize],
     particular: &[Rational],
-    free: &[Vec<Rational>],
+    free: &[Vec<Integer>],
     coordinate_of: impl Fn(usize) -> (ParamId, usize),
 ) -> Vec<(ParamId, Follows)> {
     // Per parameter: its coordinates in the component.
@@ -490,12 +494,7 @@ fn follows(
                     unit[j] = Integer::one();
                     span.insert(unit);
                 }
-                // A projection scaled to integers spans what it does.
-                _ => {
-                    let projected: Vec<Rational> =
-                        coordinates.iter().map(|&c| v[c].clone()).collect();
-                    span.insert(integer_multiple(&projected));
-                }
+                _ => span.insert(coordinates.iter().map(|&c| v[c].clone()).collect()),
             }
         }
         let freedom = span.dimension();

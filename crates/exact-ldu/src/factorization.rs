@@ -9,8 +9,8 @@ use crate::qvec::QVec;
 use crate::ring::{gcd_all, Int, Ring};
 use api::backend::{check_len, validate_family};
 use api::{
-    BackendError, Factorization, Inconsistency, IntMatrix, Rational, Redundancy, RhsFamily,
-    SolveError, StrongFailure,
+    BackendError, Factorization, Inconsistency, IntMatrix, IntegerNullSpace, Rational, Redundancy,
+    RhsFamily, SolveError, StrongFailure,
 };
 use num_bigint::BigInt;
 use num_traits::Zero;
@@ -484,6 +484,12 @@ fn null_space_fraction_free<R: Ring>(ldu: &Ldu<R>) -> Vec<Vec<BigInt>> {
         .collect()
 }
 
+impl<R: Ring> IntegerNullSpace for ExactFactorization<R> {
+    fn integer_null_space(&self) -> Vec<Vec<BigInt>> {
+        self.null_space_integers()
+    }
+}
+
 impl<R: Ring> Factorization for ExactFactorization<R> {
     type Scalar = Rational;
     type LeastSquares = ExactLeastSquares<R>;
@@ -669,6 +675,22 @@ mod tests {
                 prop_assert_eq!(now.rank(), f.rank());
                 prop_assert_eq!(now.independent_rows(), ldu.row_perm()[..ldu.rank()].to_vec());
                 prop_assert_eq!(now.null_space_integers(), null_space_fraction_free(&ldu));
+                // The integer null space is the rational one's vectors: primitive, in the kernel.
+                let integers = now.integer_null_space();
+                prop_assert_eq!(integers.len(), cols - ldu.rank());
+                for (v, q) in integers.iter().zip(now.null_space()) {
+                    let as_rationals: Vec<Rational> =
+                        v.iter().cloned().map(Rational::from_integer).collect();
+                    prop_assert_eq!(&as_rationals, &q);
+                    let content = v
+                        .iter()
+                        .fold(BigInt::from(0), |g, x| num_integer::Integer::gcd(&g, x));
+                    prop_assert_eq!(content, BigInt::from(1));
+                    for row in &rows {
+                        let dot: BigInt = row.iter().zip(v).map(|(a, x)| x * BigInt::from(*a)).sum();
+                        prop_assert_eq!(dot, BigInt::from(0));
+                    }
+                }
                 // Consistency without substitution when the rows are independent: the same
                 // verdict as the solve's own check, at every rank.
                 let any_rhs: Vec<Rational> =

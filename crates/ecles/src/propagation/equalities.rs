@@ -14,7 +14,7 @@
 //! analysis. What names rows of `A` (the rows removing a lost direction, the rows in the way of
 //! a blocked move) is still taken from `A` itself.
 
-use api::{IntMatrix, Integer, Rational};
+use api::{IntMatrix, Integer};
 use num_traits::{One, Signed};
 
 /// The classes of a component's coordinates and the rows left over them.
@@ -96,7 +96,11 @@ impl Equalities {
     }
 
     /// A vector over the classes as the vector over `A`'s columns it stands for.
-    pub(super) fn expand(&self, v: &[Rational]) -> Vec<Rational> {
+    pub(super) fn expand<T>(&self, v: &[T]) -> Vec<T>
+    where
+        T: Clone,
+        for<'a> &'a T: std::ops::Neg<Output = T>,
+    {
         self.class_of
             .iter()
             .map(|&(class, negated)| {
@@ -197,6 +201,7 @@ impl SignedUnionFind {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use api::Rational;
 
     fn matrix(rows: &[Vec<i64>]) -> IntMatrix {
         IntMatrix::from_dense(rows[0].len(), rows).expect("rows of one length")
