@@ -331,22 +331,14 @@ impl Ring for Int {
     #[inline]
     fn div_exact(&self, other: &Self) -> Self {
         if let (Int::Small(a), Int::Small(b)) = (self, other) {
-            debug_assert!(*b != 0 && a % b == 0, "inexact division");
-            // The processor's 64-bit division (a 128-bit one is a library call several times
-            // slower); only a / −1 can leave the i64 range (for i64::MIN).
-            return if *b == -1 {
-                Int::from_i128(-(*a as i128))
-            } else {
-                Int::Small(a / b)
-            };
+            return word_quotient(*a, *b);
         }
         big_quotient(self, other)
     }
     #[inline]
     fn gcd(&self, other: &Self) -> Self {
         if let (Int::Small(a), Int::Small(b)) = (self, other) {
-            let g = binary_gcd(a.unsigned_abs(), b.unsigned_abs());
-            return Int::from_i128(g as i128);
+            return word_gcd(*a, *b);
         }
         big_gcd(self, other)
     }
@@ -385,7 +377,27 @@ impl Ring for Int {
     }
 }
 
-// The operations of `Int` with a big operand, out of line (see `Int::boxed_i128`).
+/// `a / b` in machine words, for a division known to be exact.
+#[inline]
+fn word_quotient(a: i64, b: i64) -> Int {
+    debug_assert!(b != 0 && a % b == 0, "inexact division");
+    // The processor's 64-bit division (a 128-bit one is a library call several times slower);
+    // only a / −1 can leave the i64 range (for i64::MIN).
+    if b == -1 {
+        Int::from_i128(-(a as i128))
+    } else {
+        Int::Small(a / b)
+    }
+}
+
+/// `gcd(a, b)` of two machine words (`2^63` for `gcd(i64::MIN, i64::MIN)` leaves the range).
+#[inline]
+fn word_gcd(a: i64, b: i64) -> Int {
+    Int::from_i128(binary_gcd(a.unsigned_abs(), b.unsigned_abs()) as i128)
+}
+
+// The operations of `Int` with a big operand, out of line (see `Int::boxed_i128`). Each also
+// takes two machine words (the quotient and the GCD through the word functions above).
 
 #[inline(never)]
 fn big_sum(a: &Int, b: &Int) -> Int {
@@ -424,14 +436,7 @@ fn big_cross_difference(a: &Int, b: &Int, c: &Int, d: &Int) -> Int {
 #[inline(never)]
 fn big_quotient(a: &Int, b: &Int) -> Int {
     match (a, b) {
-        (Int::Small(a), Int::Small(b)) => {
-            debug_assert!(*b != 0 && a % b == 0, "inexact division");
-            if *b == -1 {
-                Int::from_i128(-(*a as i128))
-            } else {
-                Int::Small(a / b)
-            }
-        }
+        (Int::Small(a), Int::Small(b)) => word_quotient(*a, *b),
         (Int::Big(a), Int::Small(b)) => {
             debug_assert!(Zero::is_zero(&(&**a % *b)), "inexact division");
             Int::from_big(&**a / *b)
@@ -454,10 +459,7 @@ fn big_quotient(a: &Int, b: &Int) -> Int {
 #[inline(never)]
 fn big_gcd(a: &Int, b: &Int) -> Int {
     match (a, b) {
-        (Int::Small(a), Int::Small(b)) => {
-            let g = binary_gcd(a.unsigned_abs(), b.unsigned_abs());
-            Int::from_i128(g as i128)
-        }
+        (Int::Small(a), Int::Small(b)) => word_gcd(*a, *b),
         (Int::Small(a), Int::Big(b)) | (Int::Big(b), Int::Small(a)) if *a != 0 => {
             // gcd(big, small) = gcd(small, big mod small): one bignum division.
             let rem = ToPrimitive::to_i64(&(&**b % BigInt::from(*a))).unwrap_or(0);
