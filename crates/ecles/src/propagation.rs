@@ -28,6 +28,12 @@
 //! * the rows removing each lost direction by a factorization of `Aᵀ`, only when a direction
 //!   is lost.
 //!
+//! A small `M` (at most [`words::MAX_COLUMNS`] columns) whose values stay in an `i64` is not
+//! factored by the backend at all: one fraction-free Gauss–Jordan elimination in machine words
+//! gives the directions, the particular solution and the null space at once (module `words`;
+//! what the report reads off them is the same for every exact method). A blocked move, or a
+//! value outside an `i64`, takes the backend's factorization as above.
+//!
 //! (The null space of `A` itself, `|P|` vectors more than that of `M` at most, is not formed:
 //! its lifted solves were half of every edit's analysis.) The caller gives the most null-space
 //! values it accepts ([`EXPLAIN_NULL_SPACE_BUDGET`] for `ecles explain`,
@@ -42,7 +48,9 @@ use num_traits::{One, Signed, Zero};
 use std::collections::BTreeMap;
 
 mod equalities;
+mod words;
 use equalities::Equalities;
+use words::WordElimination;
 
 /// Most null-space values (`(n − r)·n`) an explicit analysis forms: about 2·10⁶ (a component
 /// of 1 400 free coordinates; seconds and hundreds of MB).
@@ -162,18 +170,36 @@ where
     B: LinearBackend,
     B::Factorization: Factorization<Scalar = Rational> + IntegerNullSpace,
 {
-    analyze(backend, system, picked, requested, budget, true)
+    analyze(
+        backend,
+        system,
+        picked,
+        requested,
+        budget,
+        Solving {
+            merge_equalities: true,
+            in_words: true,
+        },
+    )
 }
 
-/// [`analyze_propagation`], its solves on coordinates merged by equalities when
-/// `merge_equalities` (the answers are the same either way; tests compare them).
+/// How [`analyze`] solves; the answers are the same either way (tests compare them).
+#[derive(Debug, Clone, Copy)]
+struct Solving {
+    /// On coordinates merged by equalities (module `equalities`).
+    merge_equalities: bool,
+    /// A small `M` in machine words (module `words`).
+    in_words: bool,
+}
+
+/// [`analyze_propagation`], solving as `solving` says.
 fn analyze<B>(
     backend: &B,
     system: &ConstraintSystem,
     picked: &[ParamId],
     requested: Option<&[Rational]>,
     budget: usize,
-    merge_equalities: bool,
+    solving: Solving,
 ) -> Result<Propagation, PropagationError>
 where
     B: LinearBackend,
@@ -255,30 +281,55 @@ where
     };
     // M = [A; E_P]: its solves give the directions P can move in (ker A projected on P) and
     // the move's particular solution, its null space the move's freedom.
-    let with_picked = |a: &IntMatrix, picked_row: &dyn Fn(usize) -> Vec<(usize, Integer)>| {
+    let with_picked = |a: &IntMatrix, picked_rows: &[Vec<(usize, Integer)>]| {
         let mut m = a.clone();
-        for &c in &picked_local {
-            m.push_row(picked_row(c))
+        for row in picked_rows {
+            m.push_row(row.clone())
                 .map_err(|e| PropagationError::Backend(e.to_string()))?;
         }
         factor(&m)
     };
-    let whole_picked_row = |c: usize| vec![(c, Integer::one())];
+    let whole_picked_rows: Vec<Vec<(usize, Integer)>> = picked_local
+        .iter()
+        .map(|&c| vec![(c, Integer::one())])
+        .collect();
     // The solves run on the coordinates merged by equalities when rows merge any (the same
     // directions and moves; see `equalities`), else on `M` itself.
-    let equalities = if merge_equalities {
+    let equalities = if solving.merge_equalities {
         Equalities::merge(&a)
     } else {
         None
     };
-    let (factored, rows_of_factored) = match &equalities {
-        Some(e) => (
-            with_picked(e.reduced(), &|c| e.picked_row(c))?,
-            e.reduced().rows(),
-        ),
-        None => (with_picked(&a, &whole_picked_row)?, a.rows()),
+    let merged_picked_rows: Vec<Vec<(usize, Integer)>>;
+    let (m_a, picked_rows) = match &equalities {
+        Some(e) => {
+            merged_picked_rows = picked_local.iter().map(|&c| e.picked_row(c)).collect();
+            (e.reduced(), &merged_picked_rows)
+        }
+        None => (&a, &whole_picked_rows),
     };
-    let directions = reachable_directions(&factored, rows_of_factored, picked_local.len())?;
+    // A small `M` is eliminated in machine words (the same answers, see `words`), unless the
+    // move is blocked: the rows in its way are the backend's certificate.
+    let in_words = solving
+        .in_words
+        .then(|| WordElimination::of(m_a, picked_rows, requested))
+        .flatten();
+    let solves = match in_words {
+        Some(words) if !words.blocked() => Solves::Words(words),
+        _ => Solves::Backend(with_picked(m_a, picked_rows)?),
+    };
+    let directions = match &solves {
+        Solves::Words(words) => {
+            let lost = row_basis(picked_local.len(), words.lost_normals());
+            row_basis(
+                picked_local.len(),
+                orthogonal_complement(&lost, picked_local.len()),
+            )
+        }
+        Solves::Backend(factored) => {
+            reachable_directions(factored, m_a.rows(), picked_local.len())?
+        }
+    };
     let case = match directions.len() {
         0 => Case::FullyConstrained,
         n if n == picked_local.len() => Case::Free,
@@ -312,54 +363,66 @@ where
         }
     }
 
-    let outcome = match requested {
-        None => None,
-        Some(moves) => Some(match move_solution(&factored, rows_of_factored, moves)? {
-            MoveSolution::Reached(particular) => {
-                let nullity = factored.cols() - factored.rank();
-                let values = columns.len().saturating_mul(nullity);
-                if values > budget {
-                    return Err(PropagationError::TooLarge {
-                        coordinates: columns.len(),
-                        values,
-                        budget,
-                    });
+    // The move reached: `particular` plus the null space of `M` (of the given nullity, formed
+    // by `free` only within the budget), per parameter of the component.
+    let reached = |nullity: usize,
+                   particular: Vec<Rational>,
+                   free: &dyn Fn() -> Vec<Vec<Integer>>|
+     -> Result<MoveOutcome, PropagationError> {
+        let values = columns.len().saturating_mul(nullity);
+        if values > budget {
+            return Err(PropagationError::TooLarge {
+                coordinates: columns.len(),
+                values,
+                budget,
+            });
+        }
+        let (particular, free) = match &equalities {
+            Some(e) => (
+                e.expand(&particular),
+                free().iter().map(|v| e.expand(v)).collect(),
+            ),
+            None => (particular, free()),
+        };
+        Ok(MoveOutcome::Moves(follows(
+            columns.len(),
+            &picked_local,
+            &particular,
+            &free,
+            coordinate_of,
+        )))
+    };
+    let outcome = match (requested, &solves) {
+        (None, _) => None,
+        (Some(_), Solves::Words(words)) => Some(reached(
+            m_a.cols() - words.rank(),
+            words.particular(),
+            &|| words.null_space(),
+        )?),
+        (Some(moves), Solves::Backend(factored)) => {
+            Some(match move_solution(factored, m_a.rows(), moves)? {
+                MoveSolution::Reached(particular) => {
+                    reached(factored.cols() - factored.rank(), particular, &|| {
+                        factored.integer_null_space()
+                    })?
                 }
-                let (particular, free) = match &equalities {
-                    Some(e) => (
-                        e.expand(&particular),
-                        factored
-                            .integer_null_space()
-                            .iter()
-                            .map(|v| e.expand(v))
-                            .collect(),
-                    ),
-                    None => (particular, factored.integer_null_space()),
-                };
-                MoveOutcome::Moves(follows(
-                    columns.len(),
-                    &picked_local,
-                    &particular,
-                    &free,
-                    coordinate_of,
-                ))
-            }
-            // The rows in the way are named by the certificate of `M` itself.
-            MoveSolution::Blocked(rows) if equalities.is_none() => {
-                MoveOutcome::Blocked(combination(rows))
-            }
-            MoveSolution::Blocked(_) => {
-                let whole = with_picked(&a, &whole_picked_row)?;
-                match move_solution(&whole, a.rows(), moves)? {
-                    MoveSolution::Blocked(rows) => MoveOutcome::Blocked(combination(rows)),
-                    MoveSolution::Reached(_) => {
-                        return Err(PropagationError::Backend(
-                            "a move blocked on merged coordinates is not blocked on all".into(),
-                        ))
+                // The rows in the way are named by the certificate of `M` itself.
+                MoveSolution::Blocked(rows) if equalities.is_none() => {
+                    MoveOutcome::Blocked(combination(rows))
+                }
+                MoveSolution::Blocked(_) => {
+                    let whole = with_picked(&a, &whole_picked_rows)?;
+                    match move_solution(&whole, a.rows(), moves)? {
+                        MoveSolution::Blocked(rows) => MoveOutcome::Blocked(combination(rows)),
+                        MoveSolution::Reached(_) => {
+                            return Err(PropagationError::Backend(
+                                "a move blocked on merged coordinates is not blocked on all".into(),
+                            ))
+                        }
                     }
                 }
-            }
-        }),
+            })
+        }
     };
     Ok(Propagation {
         picked: picked_coordinates,
@@ -369,6 +432,13 @@ where
         component: columns.len(),
         outcome,
     })
+}
+
+/// What the directions and the move are read off: `M` eliminated in machine words, or
+/// factored by the backend.
+enum Solves<F> {
+    Words(WordElimination),
+    Backend(F),
 }
 
 /// A basis of the moves `m` of the picked coordinates that some `δ` with `A δ = 0` and
@@ -1083,14 +1153,17 @@ mod tests {
         Result<Propagation, PropagationError>,
         Result<Propagation, PropagationError>,
     ) {
-        let run = |merge| {
+        let run = |merge_equalities| {
             analyze(
                 &ExactLdu::default(),
                 &f.system,
                 picked,
                 Some(requested),
                 budget,
-                merge,
+                Solving {
+                    merge_equalities,
+                    in_words: true,
+                },
             )
         };
         (run(true), run(false))
@@ -1189,6 +1262,166 @@ mod tests {
             let budget = if small_budget { 12 } else { EXPLAIN_NULL_SPACE_BUDGET };
             let (with, without) = merged_and_whole(&f, &picked, &requested, budget);
             proptest::prop_assert_eq!(with, without);
+        }
+    }
+
+    /// The analysis with `M` eliminated in machine words and factored by the backend, both
+    /// with and without merging equalities.
+    fn in_words_and_by_the_backend(
+        f: &Fixture,
+        picked: &[ParamId],
+        requested: Option<&[Rational]>,
+        budget: usize,
+    ) -> Vec<(
+        Result<Propagation, PropagationError>,
+        Result<Propagation, PropagationError>,
+    )> {
+        let run = |merge_equalities, in_words| {
+            analyze(
+                &ExactLdu::default(),
+                &f.system,
+                picked,
+                requested,
+                budget,
+                Solving {
+                    merge_equalities,
+                    in_words,
+                },
+            )
+        };
+        [true, false]
+            .into_iter()
+            .map(|merge| (run(merge, true), run(merge, false)))
+            .collect()
+    }
+
+    #[test]
+    fn small_components_are_eliminated_in_words_and_large_values_fall_back() {
+        // p0 = p1 + p2 (vector), x of p2 tied to p3's with a coefficient: reached moves.
+        let mut f = Fixture::new(&[("p0", 2), ("p1", 2), ("p2", 2), ("p3", 1)]);
+        f.vector("sum", &[("p0", 1), ("p1", -1), ("p2", -1)], 2);
+        f.scalar("tie", &[("p2", 0, 3), ("p3", 0, -2)], 0);
+        let offsets = f.system.coordinate_offsets();
+        let start = std::iter::once((f.id("p0"), 0)).chain([(f.id("p0"), 1)]);
+        let component = Component::of(&f.system, &offsets, start).expect("a component");
+        let picked_rows = vec![vec![(0, Integer::one())], vec![(1, Integer::one())]];
+        let m = [q(3), Rational::new(Integer::from(-2), Integer::from(7))];
+        let words = WordElimination::of(&component.a, &picked_rows, Some(&m))
+            .expect("small values stay in words");
+        assert!(!words.blocked());
+        // The particular solution solves M x = [0; m], each null vector M v = 0.
+        let mut with_picked = component.a.clone();
+        for row in &picked_rows {
+            with_picked.push_row(row.clone()).expect("row");
+        }
+        let mut rhs = vec![Rational::zero(); component.a.rows()];
+        rhs.extend(m.iter().cloned());
+        let x = words.particular();
+        for (i, row) in with_picked.row_iter().enumerate() {
+            let value: Rational = row
+                .iter()
+                .map(|(c, v)| &x[*c] * Rational::from_integer(v.clone()))
+                .sum();
+            assert_eq!(value, rhs[i], "row {i}");
+        }
+        let free = words.null_space();
+        assert_eq!(free.len(), with_picked.cols() - words.rank());
+        for v in &free {
+            for row in with_picked.row_iter() {
+                let value: Integer = row.iter().map(|(c, a)| a * &v[*c]).sum();
+                assert!(value.is_zero());
+            }
+        }
+        for (with, without) in
+            in_words_and_by_the_backend(&f, &[f.id("p0")], Some(&m), EXPLAIN_NULL_SPACE_BUDGET)
+        {
+            assert_eq!(with, without);
+        }
+        // A coefficient near 2^62: its products leave an `i64`, and the backend answers.
+        let mut big = Fixture::new(&[("p0", 1), ("p1", 1), ("p2", 1)]);
+        big.scalar("a", &[("p0", 0, 1 << 62), ("p1", 0, 3), ("p2", 0, 5)], 0);
+        big.scalar("b", &[("p1", 0, 1 << 62), ("p2", 0, 7)], 0);
+        let offsets = big.system.coordinate_offsets();
+        let start = std::iter::once((big.id("p0"), 0));
+        let component = Component::of(&big.system, &offsets, start).expect("a component");
+        assert!(
+            WordElimination::of(&component.a, &[vec![(0, Integer::one())]], Some(&[q(1)]))
+                .is_none()
+        );
+        for (with, without) in
+            in_words_and_by_the_backend(&big, &[big.id("p0")], Some(&[q(1)]), 1_000)
+        {
+            assert_eq!(with, without);
+        }
+    }
+
+    proptest::proptest! {
+        /// Eliminating a small `M` in machine words changes no answer: on random systems of
+        /// parameters of dimension 2 and 1 (vector and scalar rows, equalities among them,
+        /// coefficients up to ±3 and sometimes near 2^31 so that products leave an `i64`),
+        /// picks, moves with denominators or none, and budgets, the analysis in words equals
+        /// the backend's — case, directions, lost directions with their rows, blocked moves
+        /// with theirs, forced moves, freedoms and refusals.
+        #[test]
+        fn eliminating_in_words_changes_no_answer(
+            rows in proptest::collection::vec(
+                (
+                    proptest::bool::ANY,
+                    proptest::collection::vec((0usize..6, 0usize..2, -3i64..=3), 1..4),
+                ),
+                1..9,
+            ),
+            large in proptest::option::of((0usize..9, 0usize..4)),
+            picked in proptest::collection::btree_set(0usize..6, 1..3),
+            moves in proptest::collection::vec((-4i64..=4, 1i64..=3), 4),
+            requested in proptest::bool::ANY,
+            small_budget in proptest::bool::ANY,
+        ) {
+            let dims = [2, 1, 2, 2, 1, 2];
+            let names = ["a", "b", "c", "d", "e", "f"];
+            let mut f = Fixture::new(&names.iter().zip(dims).map(|(n, d)| (*n, d)).collect::<Vec<_>>());
+            for (i, (vector, terms)) in rows.iter().enumerate() {
+                let label = format!("row {i}");
+                let coefficient = |j: usize, c: i64| match large {
+                    Some((row, term)) if row == i && term == j => c * ((1 << 31) + 11),
+                    _ => c,
+                };
+                if *vector {
+                    let mut vector_terms: Vec<(&str, i64)> = Vec::new();
+                    for (j, &(p, _, c)) in terms.iter().enumerate() {
+                        let p = if dims[p] == 2 { p } else { p + 1 };
+                        if c != 0 && !vector_terms.iter().any(|(q, _)| *q == names[p]) {
+                            vector_terms.push((names[p], coefficient(j, c)));
+                        }
+                    }
+                    if !vector_terms.is_empty() {
+                        f.vector(&label, &vector_terms, 2);
+                    }
+                } else {
+                    let mut scalar_terms: Vec<(&str, usize, i64)> = Vec::new();
+                    for (j, &(p, k, c)) in terms.iter().enumerate() {
+                        let k = k % dims[p];
+                        if c != 0 && !scalar_terms.iter().any(|(q, l, _)| *q == names[p] && *l == k) {
+                            scalar_terms.push((names[p], k, coefficient(j, c)));
+                        }
+                    }
+                    if !scalar_terms.is_empty() {
+                        f.scalar(&label, &scalar_terms, 0);
+                    }
+                }
+            }
+            let picked: Vec<ParamId> = picked.iter().map(|&p| f.id(names[p])).collect();
+            let coordinates: usize = picked.iter().map(|p| f.system.params()[p.index()].dim).sum();
+            let m: Vec<Rational> = moves[..coordinates]
+                .iter()
+                .map(|&(n, d)| Rational::new(Integer::from(n), Integer::from(d)))
+                .collect();
+            let budget = if small_budget { 12 } else { EXPLAIN_NULL_SPACE_BUDGET };
+            for (with, without) in
+                in_words_and_by_the_backend(&f, &picked, requested.then_some(&m[..]), budget)
+            {
+                proptest::prop_assert_eq!(with, without);
+            }
         }
     }
 
