@@ -367,7 +367,7 @@ where
     // by `free` only within the budget), per parameter of the component.
     let reached = |nullity: usize,
                    particular: Vec<Rational>,
-                   free: &dyn Fn() -> Vec<Vec<Integer>>|
+                   free: &dyn Fn() -> Result<Vec<Vec<Integer>>, PropagationError>|
      -> Result<MoveOutcome, PropagationError> {
         let values = columns.len().saturating_mul(nullity);
         if values > budget {
@@ -380,9 +380,9 @@ where
         let (particular, free) = match &equalities {
             Some(e) => (
                 e.expand(&particular),
-                free().iter().map(|v| e.expand(v)).collect(),
+                free()?.iter().map(|v| e.expand(v)).collect(),
             ),
-            None => (particular, free()),
+            None => (particular, free()?),
         };
         Ok(MoveOutcome::Moves(follows(
             columns.len(),
@@ -397,13 +397,17 @@ where
         (Some(_), Solves::Words(words)) => Some(reached(
             m_a.cols() - words.rank(),
             words.particular(),
-            &|| words.null_space(),
+            &|| match words.null_space() {
+                Some(free) => Ok(free),
+                // A null vector outside an `i64`: the backend's, for the same span.
+                None => Ok(with_picked(m_a, picked_rows)?.integer_null_space()),
+            },
         )?),
         (Some(moves), Solves::Backend(factored)) => {
             Some(match move_solution(factored, m_a.rows(), moves)? {
                 MoveSolution::Reached(particular) => {
                     reached(factored.cols() - factored.rank(), particular, &|| {
-                        factored.integer_null_space()
+                        Ok(factored.integer_null_space())
                     })?
                 }
                 // The rows in the way are named by the certificate of `M` itself.
@@ -1324,7 +1328,7 @@ mod tests {
                 .sum();
             assert_eq!(value, rhs[i], "row {i}");
         }
-        let free = words.null_space();
+        let free = words.null_space().expect("small null vectors");
         assert_eq!(free.len(), with_picked.cols() - words.rank());
         for v in &free {
             for row in with_picked.row_iter() {
@@ -1352,6 +1356,25 @@ mod tests {
             in_words_and_by_the_backend(&big, &[big.id("p0")], Some(&[q(1)]), 1_000)
         {
             assert_eq!(with, without);
+        }
+        // Three pivots near 2^62, pairwise coprime, over one free column: the elimination fits
+        // an `i64`, the free column's null vector (their least common multiple) does not,
+        // and the backend's null space is taken.
+        let mut wide = Fixture::new(&[("a", 1), ("b", 1), ("c", 1), ("d", 1), ("e", 1)]);
+        for (label, p, k) in [("r1", "a", 1), ("r2", "b", 3), ("r3", "c", 5)] {
+            wide.scalar(label, &[(p, 0, (1 << 62) + k), ("d", 0, 1), ("e", 0, 1)], 0);
+        }
+        let offsets = wide.system.coordinate_offsets();
+        let start = std::iter::once((wide.id("e"), 0));
+        let component = Component::of(&wide.system, &offsets, start).expect("a component");
+        let words = WordElimination::of(&component.a, &[vec![(4, Integer::one())]], Some(&[q(1)]))
+            .expect("the elimination fits");
+        assert!(words.null_space().is_none());
+        let analysed = in_words_and_by_the_backend(&wide, &[wide.id("e")], Some(&[q(1)]), 1_000);
+        for (with, without) in analysed {
+            let with = with.expect("analysed");
+            assert!(matches!(with.outcome, Some(MoveOutcome::Moves(ref m)) if !m.is_empty()));
+            assert_eq!(Ok(with), without);
         }
     }
 

@@ -9,24 +9,23 @@
 //! backend's factorization, without its big integers (on a 10-point edit the backend's
 //! factoring, solves and null vectors of `M` were a third of the whole edit).
 //!
-//! The elimination is fraction-free Gauss–Jordan (Bareiss' exact division by the previous
-//! pivot, applied to the rows above the pivot as well) of `W = [M | s·m | E]`: `s·m` is the move
+//! The elimination is Gauss–Jordan, fraction-free, of `W = [M | s·m | E]`: `s·m` is the move
 //! over the picked rows scaled to integers (zero on `A`'s rows), and `E` holds a unit column per
-//! picked row, so every row of `W` stays `yᵀ [M | s·m | E]` for some `y`. Every entry is then a
-//! minor of `W` and each division is exact; after the last pivot every pivot entry is the same
-//! `d ≠ 0`. Then:
+//! picked row, so every row of `W` stays `yᵀ [M | s·m | E]` for some `y`. Each row with a
+//! nonzero entry in the pivot column becomes an integer combination of itself and the pivot
+//! row, zero there, divided by its content (rows stay primitive, so values stay small). Then:
 //!
 //! - a row of `M` reduced to zero is `yᵀ M = 0`: its `E` part is `y_P`, and its move entry
 //!   `s·y_P·m`. The reachable moves are the vectors orthogonal to every such `y_P` (a move
 //!   `[0; m]` is in `M`'s column space exactly when every left null vector is orthogonal to
 //!   it), and a nonzero move entry means the move is blocked;
-//! - pivot row `r` (pivot column `c_r`) reads `d x_{c_r} + Σ_free W_{r,f} x_f = W_{r,move}`: the
-//!   particular solution with free coordinates zero is `x_{c_r} = W_{r,move} / (d s)`, and free
-//!   column `f`'s null vector is `d e_f − Σ_r W_{r,f} e_{c_r}`.
+//! - pivot row `r` (pivot column `c_r`) reads `W_{r,c_r} x_{c_r} + Σ_free W_{r,f} x_f =
+//!   W_{r,move}`: the particular solution with free coordinates zero, and one null vector per
+//!   free column.
 //!
-//! Products are checked: a value outside `i64` (or a division that is not exact, which the
-//! minors rule out) abandons the elimination, and the caller factors `M` with the backend. So
-//! does a blocked move: the rows in its way are the backend's certificate, as before.
+//! Products are checked: a value outside `i64` abandons the elimination, and the caller factors
+//! `M` with the backend. So does a blocked move: the rows in its way are the backend's
+//! certificate, as before.
 
 use api::{IntMatrix, Integer, Rational};
 use num_integer::Integer as _;
@@ -40,15 +39,11 @@ pub(super) const MAX_COLUMNS: usize = 48;
 pub(super) struct WordElimination {
     /// Columns of `M`.
     columns: usize,
-    /// Picked rows (the last rows of `M`, and the width of `E`).
-    picked: usize,
     /// The rows of `W`, pivot rows first (in pivot order), each `columns + 1 + picked` wide
     /// (the move column is zero when no move was requested).
     rows: Vec<Vec<i64>>,
     /// The pivot column of each pivot row.
     pivot_columns: Vec<usize>,
-    /// The common pivot entry `d` (1 when `M` is zero).
-    pivot: i64,
     /// The move's scale `s` (the least common multiple of its denominators).
     scale: i64,
 }
@@ -90,23 +85,23 @@ impl WordElimination {
         }
         let mut elimination = WordElimination {
             columns,
-            picked,
             rows,
             pivot_columns: Vec::new(),
-            pivot: 1,
             scale,
         };
         elimination.eliminate()?;
         Some(elimination)
     }
 
-    /// Fraction-free Gauss–Jordan over `M`'s columns: `None` on a value outside `i64`.
+    /// Gauss–Jordan over `M`'s columns, fraction-free: a row with a nonzero entry `a` in the
+    /// pivot column becomes `(p·row − a·pivot row) / gcd(p, a)`, divided by its content. Rows
+    /// with a zero there are not touched (most of them, in the sparse rows of a component),
+    /// where Bareiss' division by the previous pivot would have to scale every row at every
+    /// step. `None` on a value outside `i64`.
     fn eliminate(&mut self) -> Option<()> {
-        let width = self.columns + 1 + self.picked;
-        let mut previous = 1i64;
         for c in 0..self.columns {
             let next = self.pivot_columns.len();
-            // The candidate of least magnitude keeps the minors small.
+            // The candidate of least magnitude keeps the values small.
             let Some(chosen) = (next..self.rows.len())
                 .filter(|&i| self.rows[i][c] != 0)
                 .min_by_key(|&i| self.rows[i][c].unsigned_abs())
@@ -119,20 +114,19 @@ impl WordElimination {
             let p = pivot_row[c];
             for row in before.iter_mut().chain(after.iter_mut()) {
                 let a = row[c];
-                if a == 0 && p == previous {
+                if a == 0 {
                     continue;
                 }
-                for j in 0..width {
-                    let value = p
-                        .checked_mul(row[j])?
-                        .checked_sub(a.checked_mul(pivot_row[j])?)?;
-                    row[j] = exact_quotient(value, previous)?;
+                // `g` is at most `|p|`, an `i64`'s magnitude: the quotients fit.
+                let g = word_gcd(p.checked_abs()?, a.checked_abs()?);
+                let (p, a) = (p / g, a / g);
+                for (x, &y) in row.iter_mut().zip(pivot_row.iter()) {
+                    *x = p.checked_mul(*x)?.checked_sub(a.checked_mul(y)?)?;
                 }
+                divide_by_content(row);
             }
             self.pivot_columns.push(c);
-            previous = p;
         }
-        self.pivot = previous;
         Some(())
     }
 
@@ -165,45 +159,64 @@ impl WordElimination {
             .collect()
     }
 
-    /// The requested move's particular solution with every free coordinate zero.
+    /// The requested move's particular solution with every free coordinate zero: pivot row
+    /// `r` reads `W_{r,c_r} x_{c_r} + Σ_free W_{r,f} x_f = W_{r,move}`.
     pub(super) fn particular(&self) -> Vec<Rational> {
         let mut x = vec![Rational::zero(); self.columns];
-        let den = i128::from(self.pivot) * i128::from(self.scale);
         for (row, &c) in self.rows.iter().zip(&self.pivot_columns) {
+            let den = i128::from(row[c]) * i128::from(self.scale);
             x[c] = word_ratio(i128::from(row[self.columns]), den);
         }
         x
     }
 
-    /// One null vector of `M` per free column, primitive.
-    pub(super) fn null_space(&self) -> Vec<Vec<Integer>> {
+    /// One null vector of `M` per free column `f`, primitive: `L e_f − Σ_r (L W_{r,f} /
+    /// W_{r,c_r}) e_{c_r}` with `L` the least common multiple of the pivots involved; `None`
+    /// when a value leaves an `i64`.
+    pub(super) fn null_space(&self) -> Option<Vec<Vec<Integer>>> {
         let mut is_pivot = vec![false; self.columns];
         for &c in &self.pivot_columns {
             is_pivot[c] = true;
         }
+        let pivot_rows = || self.rows.iter().zip(&self.pivot_columns);
         (0..self.columns)
             .filter(|&f| !is_pivot[f])
             .map(|f| {
-                let mut v = vec![0i128; self.columns];
-                v[f] = i128::from(self.pivot);
-                for (row, &c) in self.rows.iter().zip(&self.pivot_columns) {
-                    v[c] = -i128::from(row[f]);
+                let mut lcm = 1i64;
+                for (row, &c) in pivot_rows().filter(|(row, _)| row[f] != 0) {
+                    let p = row[c].checked_abs()?;
+                    lcm = lcm.checked_mul(p / word_gcd(lcm, p))?;
                 }
-                let content = v.iter().fold(0i128, |g, &x| g.gcd(&x));
-                v.into_iter()
-                    .map(|x| Integer::from(if content > 1 { x / content } else { x }))
-                    .collect()
+                let mut v = vec![0i64; self.columns];
+                v[f] = lcm;
+                for (row, &c) in pivot_rows().filter(|(row, _)| row[f] != 0) {
+                    v[c] = (lcm / row[c]).checked_mul(row[f])?.checked_neg()?;
+                }
+                divide_by_content(&mut v);
+                Some(v.into_iter().map(Integer::from).collect())
             })
             .collect()
     }
 }
 
-/// `value / divisor` when it is exact and fits.
-fn exact_quotient(value: i64, divisor: i64) -> Option<i64> {
-    match divisor {
-        1 => Some(value),
-        -1 => value.checked_neg(),
-        _ => (value.checked_rem(divisor)? == 0).then(|| value / divisor),
+/// `row` divided by the GCD of its entries (unchanged when that is 0 or 1).
+fn divide_by_content(row: &mut [i64]) {
+    let mut content = 0u64;
+    for &x in row.iter() {
+        if x != 0 {
+            content = content.gcd(&x.unsigned_abs());
+            if content == 1 {
+                return;
+            }
+        }
+    }
+    // A content of 2^63 (every entry 0 or `i64::MIN`) is left: it only costs primitivity.
+    if let Ok(content) = i64::try_from(content) {
+        if content > 1 {
+            for x in row.iter_mut() {
+                *x /= content;
+            }
+        }
     }
 }
 
@@ -212,7 +225,7 @@ fn scaled_to_integers(moves: &[Rational]) -> Option<(i64, Vec<i64>)> {
     let mut scale = 1i64;
     for m in moves {
         let d = m.denom().to_i64()?;
-        scale = scale.checked_mul(d / scale.gcd(&d))?;
+        scale = scale.checked_mul(d / word_gcd(scale, d))?;
     }
     let scaled = moves
         .iter()
@@ -222,6 +235,11 @@ fn scaled_to_integers(moves: &[Rational]) -> Option<(i64, Vec<i64>)> {
         })
         .collect::<Option<Vec<i64>>>()?;
     Some((scale, scaled))
+}
+
+/// The GCD of two nonnegative words, at least 1 unless both are 0.
+fn word_gcd(a: i64, b: i64) -> i64 {
+    (a.unsigned_abs().gcd(&b.unsigned_abs())) as i64
 }
 
 /// `n / d` in lowest terms (`d ≠ 0`).
