@@ -45,7 +45,6 @@ use api::{
     Rational, RowId, ScalarEquation, SolveError,
 };
 use num_traits::{One, Signed, Zero};
-use std::collections::BTreeMap;
 
 mod equalities;
 mod words;
@@ -367,7 +366,7 @@ where
     // by `free` only within the budget), per parameter of the component.
     let reached = |nullity: usize,
                    particular: Vec<Rational>,
-                   free: &dyn Fn() -> Result<Vec<Vec<Integer>>, PropagationError>|
+                   free: &dyn Fn() -> Result<NullVectors, PropagationError>|
      -> Result<MoveOutcome, PropagationError> {
         let values = columns.len().saturating_mul(nullity);
         if values > budget {
@@ -377,20 +376,20 @@ where
                 budget,
             });
         }
-        let (particular, free) = match &equalities {
-            Some(e) => (
-                e.expand(&particular),
-                free()?.iter().map(|v| e.expand(v)).collect(),
-            ),
-            None => (particular, free()?),
+        let particular = match &equalities {
+            Some(e) => e.expand(&particular),
+            None => particular,
         };
-        Ok(MoveOutcome::Moves(follows(
-            columns.len(),
-            &picked_local,
-            &particular,
-            &free,
-            coordinate_of,
-        )))
+        let (n, picked) = (columns.len(), &picked_local);
+        let e = equalities.as_ref();
+        Ok(MoveOutcome::Moves(match free()? {
+            NullVectors::Words(free) => {
+                follows(n, picked, &particular, &expanded(e, free), coordinate_of)
+            }
+            NullVectors::Integers(free) => {
+                follows(n, picked, &particular, &expanded(e, free), coordinate_of)
+            }
+        }))
     };
     let outcome = match (requested, &solves) {
         (None, _) => None,
@@ -398,16 +397,18 @@ where
             m_a.cols() - words.rank(),
             words.particular(),
             &|| match words.null_space() {
-                Some(free) => Ok(free),
+                Some(free) => Ok(NullVectors::Words(free)),
                 // A null vector outside an `i64`: the backend's, for the same span.
-                None => Ok(with_picked(m_a, picked_rows)?.integer_null_space()),
+                None => Ok(NullVectors::Integers(
+                    with_picked(m_a, picked_rows)?.integer_null_space(),
+                )),
             },
         )?),
         (Some(moves), Solves::Backend(factored)) => {
             Some(match move_solution(factored, m_a.rows(), moves)? {
                 MoveSolution::Reached(particular) => {
                     reached(factored.cols() - factored.rank(), particular, &|| {
-                        Ok(factored.integer_null_space())
+                        Ok(NullVectors::Integers(factored.integer_null_space()))
                     })?
                 }
                 // The rows in the way are named by the certificate of `M` itself.
@@ -443,6 +444,26 @@ where
 enum Solves<F> {
     Words(WordElimination),
     Backend(F),
+}
+
+/// A basis of the null space of `M`, in machine words (from [`WordElimination`]) or big
+/// integers (from the backend).
+enum NullVectors {
+    Words(Vec<Vec<i64>>),
+    Integers(Vec<Vec<Integer>>),
+}
+
+/// `vectors` over the merged classes of `equalities` as vectors over the component's columns
+/// (themselves when nothing was merged).
+fn expanded<T>(equalities: Option<&Equalities>, vectors: Vec<Vec<T>>) -> Vec<Vec<T>>
+where
+    T: Clone,
+    for<'a> &'a T: std::ops::Neg<Output = T>,
+{
+    match equalities {
+        Some(e) => vectors.iter().map(|v| e.expand(v)).collect(),
+        None => vectors,
+    }
 }
 
 /// A basis of the moves `m` of the picked coordinates that some `δ` with `A δ = 0` and
@@ -528,25 +549,32 @@ where
 
 /// The move's consequences per parameter of a component of `n` coordinates: the affine set
 /// `{δ : A δ = 0, δ_P = m}` is `particular` plus the span of `free` (integer vectors over the
-/// component's columns).
-fn follows(
+/// component's columns: machine words from the elimination in words, big integers from the
+/// backend). `coordinate_of` is nondecreasing in the parameter (the component's columns are
+/// sorted), so each parameter's coordinates are one run of columns.
+fn follows<T>(
     n: usize,
     picked: &[usize],
     particular: &[Rational],
-    free: &[Vec<Integer>],
+    free: &[Vec<T>],
     coordinate_of: impl Fn(usize) -> (ParamId, usize),
-) -> Vec<(ParamId, Follows)> {
-    // Per parameter: its coordinates in the component.
-    let mut groups: BTreeMap<ParamId, Vec<usize>> = BTreeMap::new();
-    for c in 0..n {
-        groups.entry(coordinate_of(c).0).or_default().push(c);
-    }
+) -> Vec<(ParamId, Follows)>
+where
+    T: Clone + Zero + Into<Integer>,
+{
     let mut follows = Vec::new();
-    for (param, coordinates) in groups {
-        if coordinates.iter().any(|c| picked.contains(c)) {
+    let mut start = 0;
+    while start < n {
+        let param = coordinate_of(start).0;
+        let end = (start + 1..n)
+            .find(|&c| coordinate_of(c).0 != param)
+            .unwrap_or(n);
+        let coordinates = start..end;
+        start = end;
+        if coordinates.clone().any(|c| picked.contains(&c)) {
             continue;
         }
-        let value: Vec<Rational> = coordinates.iter().map(|&c| particular[c].clone()).collect();
+        let value: Vec<Rational> = coordinates.clone().map(|c| particular[c].clone()).collect();
         // The span of the freedom projected on the parameter, formed only while it can still
         // grow and from projections that are not zero (most are, for a parameter far from the
         // move: every edit's analysis projects its whole null space once per parameter).
@@ -555,20 +583,17 @@ fn follows(
             if span.is_whole_space() {
                 break;
             }
-            let mut nonzero = coordinates
-                .iter()
-                .enumerate()
-                .filter(|(_, &c)| !v[c].is_zero());
+            let mut nonzero = coordinates.clone().filter(|&c| !v[c].is_zero());
             match (nonzero.next(), nonzero.next()) {
                 (None, _) => {}
                 // One nonzero entry spans the line of its unit vector (a scalar parameter's
                 // projection always does): no rationals scaled.
-                (Some((j, _)), None) => {
+                (Some(c), None) => {
                     let mut unit = vec![Integer::zero(); coordinates.len()];
-                    unit[j] = Integer::one();
+                    unit[c - coordinates.start] = Integer::one();
                     span.insert(unit);
                 }
-                _ => span.insert(coordinates.iter().map(|&c| v[c].clone()).collect()),
+                _ => span.insert(coordinates.clone().map(|c| v[c].clone().into()).collect()),
             }
         }
         let freedom = span.dimension();
@@ -1332,7 +1357,7 @@ mod tests {
         assert_eq!(free.len(), with_picked.cols() - words.rank());
         for v in &free {
             for row in with_picked.row_iter() {
-                let value: Integer = row.iter().map(|(c, a)| a * &v[*c]).sum();
+                let value: Integer = row.iter().map(|(c, a)| a * v[*c]).sum();
                 assert!(value.is_zero());
             }
         }

@@ -111,17 +111,33 @@ impl WordElimination {
             self.rows.swap(next, chosen);
             let (before, rest) = self.rows.split_at_mut(next);
             let (pivot_row, after) = rest.split_first_mut()?;
+            // A positive pivot: where it divides a row's entry, that row only takes a multiple
+            // of the pivot row's nonzero entries.
+            if pivot_row[c] < 0 {
+                for x in pivot_row.iter_mut() {
+                    *x = x.checked_neg()?;
+                }
+            }
             let p = pivot_row[c];
+            let support: Vec<usize> = (0..pivot_row.len())
+                .filter(|&j| pivot_row[j] != 0)
+                .collect();
             for row in before.iter_mut().chain(after.iter_mut()) {
                 let a = row[c];
                 if a == 0 {
                     continue;
                 }
-                // `g` is at most `|p|`, an `i64`'s magnitude: the quotients fit.
-                let g = word_gcd(p.checked_abs()?, a.checked_abs()?);
+                // `g` is at most `p`, an `i64`'s magnitude: the quotients fit.
+                let g = word_gcd(p, a.checked_abs()?);
                 let (p, a) = (p / g, a / g);
-                for (x, &y) in row.iter_mut().zip(pivot_row.iter()) {
-                    *x = p.checked_mul(*x)?.checked_sub(a.checked_mul(y)?)?;
+                if p == 1 {
+                    for &j in &support {
+                        row[j] = row[j].checked_sub(a.checked_mul(pivot_row[j])?)?;
+                    }
+                } else {
+                    for (x, &y) in row.iter_mut().zip(pivot_row.iter()) {
+                        *x = p.checked_mul(*x)?.checked_sub(a.checked_mul(y)?)?;
+                    }
                 }
                 divide_by_content(row);
             }
@@ -164,8 +180,9 @@ impl WordElimination {
     pub(super) fn particular(&self) -> Vec<Rational> {
         let mut x = vec![Rational::zero(); self.columns];
         for (row, &c) in self.rows.iter().zip(&self.pivot_columns) {
+            // Pivots are positive, and so is the scale.
             let den = i128::from(row[c]) * i128::from(self.scale);
-            x[c] = word_ratio(i128::from(row[self.columns]), den);
+            x[c] = word_ratio(row[self.columns], den);
         }
         x
     }
@@ -173,7 +190,7 @@ impl WordElimination {
     /// One null vector of `M` per free column `f`, primitive: `L e_f − Σ_r (L W_{r,f} /
     /// W_{r,c_r}) e_{c_r}` with `L` the least common multiple of the pivots involved; `None`
     /// when a value leaves an `i64`.
-    pub(super) fn null_space(&self) -> Option<Vec<Vec<Integer>>> {
+    pub(super) fn null_space(&self) -> Option<Vec<Vec<i64>>> {
         let mut is_pivot = vec![false; self.columns];
         for &c in &self.pivot_columns {
             is_pivot[c] = true;
@@ -193,7 +210,7 @@ impl WordElimination {
                     v[c] = (lcm / row[c]).checked_mul(row[f])?.checked_neg()?;
                 }
                 divide_by_content(&mut v);
-                Some(v.into_iter().map(Integer::from).collect())
+                Some(v)
             })
             .collect()
     }
@@ -242,13 +259,22 @@ fn word_gcd(a: i64, b: i64) -> i64 {
     (a.unsigned_abs().gcd(&b.unsigned_abs())) as i64
 }
 
-/// `n / d` in lowest terms (`d ≠ 0`).
-fn word_ratio(n: i128, d: i128) -> Rational {
-    let g = n.gcd(&d);
-    let (n, d) = if d < 0 {
-        (-n / g, -d / g)
-    } else {
-        (n / g, d / g)
-    };
-    Rational::new_raw(Integer::from(n), Integer::from(d))
+/// `n / d` in lowest terms (`d > 0`), by a GCD of words when `d` fits one.
+fn word_ratio(n: i64, d: i128) -> Rational {
+    if n == 0 {
+        return Rational::zero();
+    }
+    match u64::try_from(d) {
+        Ok(d) => {
+            let g = n.unsigned_abs().gcd(&d);
+            // `g ≥ 1` divides `|n| ≤ 2^63`: the quotient keeps `n`'s sign and fits.
+            let n = i128::from(n) / i128::from(g);
+            Rational::new_raw(Integer::from(n), Integer::from(d / g))
+        }
+        Err(_) => {
+            let n = i128::from(n);
+            let g = n.gcd(&d);
+            Rational::new_raw(Integer::from(n / g), Integer::from(d / g))
+        }
+    }
 }
