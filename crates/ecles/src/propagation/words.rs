@@ -94,11 +94,14 @@ impl WordElimination {
     }
 
     /// Gauss–Jordan over `M`'s columns, fraction-free: a row with a nonzero entry `a` in the
-    /// pivot column becomes `(p·row − a·pivot row) / gcd(p, a)`, divided by its content. Rows
+    /// pivot column becomes `(p·row − a·pivot row) / gcd(p, a)`, divided by its content (or
+    /// `row − a·pivot row` when `p` divides `a`, over the pivot row's nonzero entries). Rows
     /// with a zero there are not touched (most of them, in the sparse rows of a component),
     /// where Bareiss' division by the previous pivot would have to scale every row at every
     /// step. `None` on a value outside `i64`.
     fn eliminate(&mut self) -> Option<()> {
+        // The pivot row's nonzero columns (one buffer for every pivot).
+        let mut support = Vec::new();
         for c in 0..self.columns {
             let next = self.pivot_columns.len();
             // The candidate of least magnitude keeps the values small.
@@ -119,18 +122,23 @@ impl WordElimination {
                 }
             }
             let p = pivot_row[c];
-            let support: Vec<usize> = (0..pivot_row.len())
-                .filter(|&j| pivot_row[j] != 0)
-                .collect();
+            support.clear();
+            support.extend((0..pivot_row.len()).filter(|&j| pivot_row[j] != 0));
             for row in before.iter_mut().chain(after.iter_mut()) {
                 let a = row[c];
                 if a == 0 {
                     continue;
                 }
                 // `g` is at most `p`, an `i64`'s magnitude: the quotients fit.
-                let g = word_gcd(p, a.checked_abs()?);
-                let (p, a) = (p / g, a / g);
+                let (p, a) = if p == 1 {
+                    (1, a)
+                } else {
+                    let g = word_gcd(p, a.checked_abs()?);
+                    (p / g, a / g)
+                };
                 if p == 1 {
+                    // `row − a·pivot row`: the values grow by a sum, not a product, and the
+                    // row keeps its content.
                     for &j in &support {
                         row[j] = row[j].checked_sub(a.checked_mul(pivot_row[j])?)?;
                     }
@@ -138,8 +146,8 @@ impl WordElimination {
                     for (x, &y) in row.iter_mut().zip(pivot_row.iter()) {
                         *x = p.checked_mul(*x)?.checked_sub(a.checked_mul(y)?)?;
                     }
+                    divide_by_content(row);
                 }
-                divide_by_content(row);
             }
             self.pivot_columns.push(c);
         }
