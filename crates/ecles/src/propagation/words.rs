@@ -13,7 +13,10 @@
 //! over the picked rows scaled to integers (zero on `A`'s rows), and `E` holds a unit column per
 //! picked row, so every row of `W` stays `yᵀ [M | s·m | E]` for some `y`. Each row with a
 //! nonzero entry in the pivot column becomes an integer combination of itself and the pivot
-//! row, zero there, divided by its content (rows stay primitive, so values stay small). Then:
+//! row, zero there: `row − (a/p)·pivot row` when the pivot `p` divides its entry `a` (values
+//! grow by a sum), else `p·row − a·pivot row` over `gcd(p, a)`, divided by its content (values
+//! stay small). Every step is invertible, so the rows end as a basis of the same row space and
+//! the rows reduced to zero span `M`'s whole left null space. Then:
 //!
 //! - a row of `M` reduced to zero is `yᵀ M = 0`: its `E` part is `y_P`, and its move entry
 //!   `s·y_P·m`. The reachable moves are the vectors orthogonal to every such `y_P` (a move
