@@ -46,8 +46,8 @@ fn cross(a: i64, b: i64, c: i64, d: i64) -> i128 {
 }
 
 /// `A` after Bareiss' elimination: on and above the diagonal the rows of the last step that
-/// changed them (`U`, with `U_{n−1,n−1} = det A`), below it the column entries each step
-/// eliminated (the multipliers the right-hand side needs).
+/// changed them (`U`, with `U_{n−1,n−1} = det A`; `U_{k,i}` is also the multiplier of row `i`
+/// at step `k`, by symmetry); below it `A`'s own entries, not read.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub(crate) struct SmallBareiss {
     n: usize,
@@ -67,6 +67,13 @@ impl SmallBareiss {
                 m[i * n + j] = word(i128::from(v))?;
             }
         }
+        // Symmetric (else the caller lifts): then every step keeps the trailing block
+        // symmetric (an entry is the minor of the leading rows and columns with row `i` and
+        // column `j` added), so only the upper triangle is eliminated, and the multiplier
+        // `M⁽ᵏ⁻¹⁾ᵢₖ` of row `i` is read as `M⁽ᵏ⁻¹⁾ₖᵢ`, row `k`'s entry, final since step `k − 1`.
+        if (0..n).any(|i| (i + 1..n).any(|j| m[i * n + j] != m[j * n + i])) {
+            return None;
+        }
         let mut previous = ExactDivisor::new(1);
         for k in 0..n {
             let pivot = m[k * n + k];
@@ -74,8 +81,8 @@ impl SmallBareiss {
                 return None;
             }
             for i in k + 1..n {
-                let below = m[i * n + k];
-                for j in k + 1..n {
+                let below = m[k * n + i];
+                for j in i..n {
                     let (own, across) = (m[i * n + j], m[k * n + j]);
                     // Zero stays zero (the matrices of edits are sparse).
                     if own == 0 && (below == 0 || across == 0) {
@@ -105,7 +112,8 @@ impl SmallBareiss {
         for k in 0..n {
             let pivot = at(k, k);
             for i in k + 1..n {
-                let below = at(i, k);
+                // The multiplier, by symmetry (see `factor`).
+                let below = at(k, i);
                 if c[i] == 0 && (below == 0 || c[k] == 0) {
                     continue;
                 }
@@ -216,6 +224,8 @@ mod tests {
 
     #[test]
     fn refuses_what_it_cannot_do_exactly() {
+        // A matrix that is not symmetric (its multipliers are read off the upper triangle).
+        assert!(SmallBareiss::factor(2, &dense_rows(&[vec![2, 1], vec![0, 2]])).is_none());
         // A zero pivot (not positive definite), too large an order.
         assert!(SmallBareiss::factor(2, &dense_rows(&[vec![0, 1], vec![1, 0]])).is_none());
         assert!(SmallBareiss::factor(MAX_ORDER + 1, &vec![Vec::new(); MAX_ORDER + 1]).is_none());
