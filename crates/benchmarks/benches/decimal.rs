@@ -9,6 +9,9 @@
 // `criterion_group!` generates an undocumented public function.
 #![allow(missing_docs)]
 
+/// The `benchmarks` library declares the `ecles` binary's allocator (mimalloc); a bench links
+/// it only when it uses the library, and would otherwise measure with the system's allocator.
+use benchmarks as _;
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use num_bigint::{BigInt, BigUint, Sign};
 use std::hint::black_box;

@@ -11,6 +11,9 @@
 #![allow(missing_docs)]
 
 use api::{ConstraintSystem, Factorization, LinearBackend, Rational, Values};
+/// The `benchmarks` library declares the `ecles` binary's allocator (mimalloc); a bench links
+/// it only when it uses the library, and would otherwise measure with the system's allocator.
+use benchmarks as _;
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use ecles::Edit;
 use exact_ldu::ExactLdu;
