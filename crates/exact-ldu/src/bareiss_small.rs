@@ -101,11 +101,24 @@ impl SmallBareiss {
     /// positive common denominator (what lifting with rational reconstruction gives); `None`
     /// when `b` or a value on the way reaches `2^62`.
     pub(crate) fn solve(&self, b: &[BigInt]) -> Option<(Vec<BigInt>, BigInt)> {
+        let b: Vec<i64> = b
+            .iter()
+            .map(|v| word(ToPrimitive::to_i128(v)?))
+            .collect::<Option<_>>()?;
+        let (numerators, denominator) = self.solve_words(&b)?;
+        Some((
+            numerators.into_iter().map(BigInt::from).collect(),
+            BigInt::from(denominator),
+        ))
+    }
+
+    /// [`SmallBareiss::solve`] for a right-hand side of machine words, answering in words.
+    pub(crate) fn solve_words(&self, b: &[i64]) -> Option<(Vec<i64>, i64)> {
         let n = self.n;
         let at = |i: usize, j: usize| self.m[i * n + j];
         let mut c: Vec<i64> = b
             .iter()
-            .map(|v| word(ToPrimitive::to_i128(v)?))
+            .map(|&v| word(i128::from(v)))
             .collect::<Option<_>>()?;
         // The right-hand side through the same steps.
         let mut previous = ExactDivisor::new(1);
@@ -140,10 +153,8 @@ impl SmallBareiss {
         let sign: i64 = if det < 0 { -1 } else { 1 };
         let g = i64::try_from(g).ok()?;
         Some((
-            y.into_iter()
-                .map(|v| BigInt::from(sign * (v / g)))
-                .collect(),
-            BigInt::from(sign * (det / g)),
+            y.into_iter().map(|v| sign * (v / g)).collect(),
+            sign * (det / g),
         ))
     }
 }

@@ -342,6 +342,13 @@ impl LiftingSolver {
         })
     }
 
+    /// [`LiftingSolver::solve`] of a right-hand side of machine words, when `A` was prepared
+    /// by fraction-free elimination in words and every value on the way fits one; `None`
+    /// otherwise (then [`LiftingSolver::solve`] answers).
+    pub(crate) fn solve_in_words(&self, b: &[i64]) -> Option<(Vec<i64>, i64)> {
+        self.small.as_ref()?.solve_words(b)
+    }
+
     /// The exact solution of `A x = b` as `(numerators, denominator)`, denominator positive.
     ///
     /// Two phases. Lifting `b`, attempts reconstruct only three combinations of the entries

@@ -238,8 +238,21 @@ impl PartialEq for AffineMemo {
 impl Eq for AffineMemo {}
 
 impl<R: Ring> ExactLeastSquares<R> {
-    /// `V Âᵀ G⁻¹ ρ` for `ρ = rho / rho_den`, lifted exactly.
+    /// `V Âᵀ G⁻¹ ρ` for `ρ = rho / rho_den`, exactly: in machine words when everything fits,
+    /// else lifted in big integers.
     fn projected(&self, normal: &LiftingSolver, rho: &[BigInt], rho_den: &BigInt) -> Numerators {
+        self.projected_in_words(normal, rho, rho_den)
+            .unwrap_or_else(|| self.projected_in_big_integers(normal, rho, rho_den))
+    }
+
+    /// [`Self::projected`] with `G⁻¹ ρ` lifted ([`LiftingSolver::solve`]) and every product a
+    /// big integer.
+    fn projected_in_big_integers(
+        &self,
+        normal: &LiftingSolver,
+        rho: &[BigInt],
+        rho_den: &BigInt,
+    ) -> Numerators {
         let (lambda, lambda_den) = normal.solve(rho);
         let mut num: Vec<BigInt> = vec![<BigInt as Zero>::zero(); self.n];
         for (row, l) in self.a_hat.iter().zip(&lambda) {
@@ -257,6 +270,43 @@ impl<R: Ring> ExactLeastSquares<R> {
             num,
             den: lambda_den * rho_den,
         }
+    }
+
+    /// [`Self::projected`] in machine words: `ρ` and the entries of `Â` and `V` in an `i64`,
+    /// `λ = G⁻¹ ρ` solved fraction-free in words, and every sum of `Σ_r λ_r Â_rs` and its
+    /// product by `V_s` in an `i128` (checked). The same numerators and denominator, without a
+    /// big-integer product per entry of `Â` (on a 10-point chain these were half of each
+    /// response); `None` when anything does not fit.
+    fn projected_in_words(
+        &self,
+        normal: &LiftingSolver,
+        rho: &[BigInt],
+        rho_den: &BigInt,
+    ) -> Option<Numerators> {
+        let rho: Vec<i64> = rho.iter().map(ToPrimitive::to_i64).collect::<Option<_>>()?;
+        let (lambda, lambda_den) = normal.solve_in_words(&rho)?;
+        let mut sums = vec![0i128; self.n];
+        for (row, &l) in self.a_hat.iter().zip(&lambda) {
+            if l == 0 {
+                continue;
+            }
+            for (s, a) in row {
+                let term = i128::from(l) * i128::from(a.to_i64()?);
+                sums[*s] = sums[*s].checked_add(term)?;
+            }
+        }
+        let num = sums
+            .iter()
+            .zip(&self.v)
+            .map(|(x, v)| {
+                let scaled = x.checked_mul(i128::from(ToPrimitive::to_i64(v)?))?;
+                Some(crate::ring::bigint_from_i128(scaled))
+            })
+            .collect::<Option<Vec<BigInt>>>()?;
+        Some(Numerators {
+            num,
+            den: BigInt::from(lambda_den) * rho_den,
+        })
     }
 
     /// Whether [`Self::responses`] has been lifted already.
@@ -804,6 +854,56 @@ mod tests {
             fresh.solve(1, alpha_1, &other).expect("consistent")
         );
         assert_eq!(lifted(), 2);
+    }
+
+    /// A projection in machine words has the numerators and denominator of the one in big
+    /// integers (weights other than 1, so `V` enters); a `ρ` beyond a word is left to the big
+    /// integers, and `projected` takes them.
+    #[test]
+    fn projections_in_words_are_those_in_big_integers() {
+        use num_bigint::BigInt;
+        let rows = [
+            vec![1, -2, 1, 0, 0, 0],
+            vec![0, 1, -2, 1, 0, 0],
+            vec![0, 0, 1, -2, 1, 0],
+            vec![0, 0, 0, 1, -2, 1],
+        ];
+        let a = IntMatrix::from_dense(6, &rows).expect("matrix");
+        let family = RhsFamily {
+            constant: vec![vec![q(0, 1); 4]],
+            coefficients: IntMatrix::from_dense(1, &[vec![-1], vec![0], vec![0], vec![0]])
+                .expect("K"),
+        };
+        let weights = vec![q(1, 1), q(3, 1), q(1, 2), q(5, 1), q(1, 1), q(2, 3)];
+        let f = ExactFactorization::<Int>::new(&a, Simplification::Gcd);
+        let prepared = f.prepare_least_squares(&family, &weights).expect("prepare");
+        let normal = prepared.normal.as_ref().expect("a normal matrix");
+        let big = |v: &[i64]| v.iter().map(|&x| BigInt::from(x)).collect::<Vec<_>>();
+        for (rho, den) in [
+            (vec![1, 0, 0, 0], 1),
+            (vec![3, -7, 0, 11], 4),
+            (vec![0, 0, 5, -1], 9),
+        ] {
+            let (rho, den) = (big(&rho), BigInt::from(den));
+            let words = prepared
+                .projected_in_words(normal, &rho, &den)
+                .expect("a small system fits words");
+            let lifted = prepared.projected_in_big_integers(normal, &rho, &den);
+            assert!(words.num.iter().any(|x| !num_traits::Zero::is_zero(x)));
+            assert_eq!(words, lifted);
+        }
+        let wide = vec![
+            BigInt::from(1u8) << 70u32,
+            BigInt::from(1),
+            BigInt::from(0),
+            BigInt::from(-2),
+        ];
+        let one = BigInt::from(1);
+        assert!(prepared.projected_in_words(normal, &wide, &one).is_none());
+        assert_eq!(
+            prepared.projected(normal, &wide, &one),
+            prepared.projected_in_big_integers(normal, &wide, &one)
+        );
     }
 
     /// Updates answered from the memos (same hints, new anchor values) equal fresh solves, and
