@@ -101,10 +101,8 @@ impl SmallBareiss {
     /// positive common denominator (what lifting with rational reconstruction gives); `None`
     /// when `b` or a value on the way reaches `2^62`.
     pub(crate) fn solve(&self, b: &[BigInt]) -> Option<(Vec<BigInt>, BigInt)> {
-        let b: Vec<i64> = b
-            .iter()
-            .map(|v| word(ToPrimitive::to_i128(v)?))
-            .collect::<Option<_>>()?;
+        // `solve_words` checks the bound of every entry.
+        let b: Vec<i64> = b.iter().map(ToPrimitive::to_i64).collect::<Option<_>>()?;
         let (numerators, denominator) = self.solve_words(&b)?;
         Some((
             numerators.into_iter().map(BigInt::from).collect(),
