@@ -18,7 +18,7 @@
 //! backend, `f64` for a floating-point one. That makes the answers of two backends directly
 //! comparable.
 
-use crate::exact::{rational_to_f64, Integer, Rational};
+use crate::exact::{fraction_to_f64, rational_to_f64, Integer, Rational};
 use crate::matrix::IntMatrix;
 use num_traits::One;
 use std::fmt;
@@ -371,10 +371,7 @@ impl Fraction {
 
     /// The value rounded to `f64`.
     pub fn to_f64(&self) -> f64 {
-        rational_to_f64(&Rational::new_raw(
-            self.numerator.clone(),
-            self.denominator.clone(),
-        ))
+        fraction_to_f64(&self.numerator, &self.denominator)
     }
 }
 

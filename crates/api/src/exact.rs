@@ -184,20 +184,56 @@ impl fmt::Display for DisplayRational<'_> {
 /// Works for numerators and denominators far beyond the `f64` range by scaling both to 64
 /// significant bits first.
 pub fn rational_to_f64(value: &Rational) -> f64 {
-    fn scaled(x: &BigInt) -> (f64, i64) {
-        let bits = x.bits() as i64;
-        let shift = (bits - 64).max(0);
-        let top: BigInt = x >> (shift as usize);
-        (num_traits::ToPrimitive::to_f64(&top).unwrap_or(0.0), shift)
-    }
-    if value.is_zero() {
+    fraction_to_f64(value.numer(), value.denom())
+}
+
+/// [`rational_to_f64`] of `numerator / denominator` (`denominator ≠ 0`, the fraction need not be
+/// in lowest terms), without forming the rational: the values of an exact solution over their
+/// common denominator, drawn without a copy of that denominator per value.
+pub fn fraction_to_f64(numerator: &BigInt, denominator: &BigInt) -> f64 {
+    if numerator.is_zero() {
         return 0.0;
     }
-    let (n, ns) = scaled(value.numer());
-    let (d, ds) = scaled(value.denom());
+    let (n, ns) = top_bits(numerator);
+    let (d, ds) = top_bits(denominator);
     let exp = ns - ds;
     let exp = exp.clamp(i32::MIN as i64, i32::MAX as i64) as i32;
     (n / d) * 2f64.powi(exp)
+}
+
+/// `x >> s` as an `f64` and `s`, for the shift `s` that leaves 64 significant bits (0 for
+/// shorter `x`). The shift rounds towards −∞ as `BigInt`'s does, read off `x`'s limbs instead
+/// of shifting a copy.
+fn top_bits(x: &BigInt) -> (f64, i64) {
+    use num_traits::{Signed, ToPrimitive};
+    let bits = x.bits();
+    if bits <= 64 {
+        return (x.to_f64().unwrap_or(0.0), 0);
+    }
+    let shift = bits - 64;
+    let magnitude = x.magnitude();
+    let limb = |i: u64| {
+        usize::try_from(i)
+            .ok()
+            .and_then(|i| magnitude.iter_u64_digits().nth(i))
+            .unwrap_or(0)
+    };
+    let offset = shift % 64;
+    let low = limb(shift / 64);
+    let top = if offset == 0 {
+        low
+    } else {
+        (low >> offset) | (limb(shift / 64 + 1) << (64 - offset))
+    };
+    let value = if !x.is_negative() {
+        top as f64
+    } else if magnitude.trailing_zeros().unwrap_or(0) < shift {
+        // Ones below the shift: rounded towards −∞, one unit further from zero.
+        -((u128::from(top) + 1) as f64)
+    } else {
+        -(top as f64)
+    };
+    (value, shift as i64)
 }
 
 /// Converts a rational to the nearest `f64`, correctly rounded (ties to even), with gradual
@@ -617,6 +653,89 @@ mod tests {
         assert_eq!(ints(&[q(5, 7)]), i(&[1]));
         assert_eq!(ints(&[q(0, 1), q(0, 1)]), i(&[0, 0]));
         assert!(ints(&[]).is_empty());
+    }
+
+    /// What [`rational_to_f64`] computed before it read the top bits off the limbs: both parts
+    /// shifted as `BigInt`s (rounding towards −∞).
+    fn shifted_to_f64(n: &BigInt, d: &BigInt) -> f64 {
+        fn scaled(x: &BigInt) -> (f64, i64) {
+            let bits = x.bits() as i64;
+            let shift = (bits - 64).max(0);
+            let top: BigInt = x >> (shift as usize);
+            (num_traits::ToPrimitive::to_f64(&top).unwrap_or(0.0), shift)
+        }
+        if n.is_zero() {
+            return 0.0;
+        }
+        let (n, ns) = scaled(n);
+        let (d, ds) = scaled(d);
+        (n / d) * 2f64.powi((ns - ds) as i32)
+    }
+
+    /// A big integer from its limbs (least significant first) and sign.
+    fn from_limbs(limbs: &[u64], negative: bool) -> BigInt {
+        let magnitude = limbs
+            .iter()
+            .rev()
+            .fold(BigInt::zero(), |acc, l| (acc << 64u32) + BigInt::from(*l));
+        if negative {
+            -magnitude
+        } else {
+            magnitude
+        }
+    }
+
+    /// `2^63 + 2^11 + 2^10 − 1`: an `f64` rounds it down, and one more to the even `2^63 + 2^12`.
+    const BELOW_A_TIE: u64 = (1 << 63) + (1 << 11) + (1 << 10) - 1;
+
+    #[test]
+    fn top_bits_round_negative_values_down() {
+        // |x| = BELOW_A_TIE · 2^64 + 1: the ones below the shift make `x >> 64` one unit more
+        // negative, which moves the rounded value.
+        let x = from_limbs(&[1, BELOW_A_TIE], true);
+        let expected = -((1u64 << 63) as f64 + 4096.0);
+        assert_eq!(top_bits(&x), (expected, 64));
+        assert_eq!(
+            shifted_to_f64(&x, &BigInt::from(1)),
+            expected * 2f64.powi(64)
+        );
+        assert_eq!(
+            fraction_to_f64(&x, &BigInt::from(1)),
+            expected * 2f64.powi(64)
+        );
+        // Nothing below the shift: no rounding.
+        let exact = from_limbs(&[0, BELOW_A_TIE], true);
+        assert_eq!(top_bits(&exact), (-((1u64 << 63) as f64 + 2048.0), 64));
+        // |x| = 2^128 − 1: `x >> 64` is −2^64, beyond a `u64`.
+        let x = from_limbs(&[u64::MAX, u64::MAX], true);
+        assert_eq!(top_bits(&x), (-(2f64.powi(64)), 64));
+    }
+
+    proptest::proptest! {
+        /// The conversion read off the limbs is bit for bit the one by shifted copies, for any
+        /// lengths, signs and shifts (limbs of all ones and zeros included).
+        #[test]
+        fn fractions_convert_as_by_shifted_copies(
+            n in proptest::collection::vec(
+                proptest::prop_oneof![
+                    proptest::num::u64::ANY,
+                    proptest::strategy::Just(u64::MAX),
+                    proptest::strategy::Just(0u64),
+                    proptest::strategy::Just(BELOW_A_TIE),
+                ],
+                0..6,
+            ),
+            d in proptest::collection::vec(proptest::num::u64::ANY, 1..6),
+            n_negative in proptest::bool::ANY,
+            d_negative in proptest::bool::ANY,
+        ) {
+            let n = from_limbs(&n, n_negative);
+            let d = from_limbs(&d, d_negative);
+            proptest::prop_assume!(!d.is_zero());
+            let expected = shifted_to_f64(&n, &d);
+            let found = fraction_to_f64(&n, &d);
+            proptest::prop_assert!(found.to_bits() == expected.to_bits(), "{} against {}", found, expected);
+        }
     }
 
     proptest::proptest! {

@@ -439,8 +439,8 @@ impl<R: Ring> PreparedLeastSquares for ExactLeastSquares<R> {
         Ok(match self.numerators(column, alpha, hints)? {
             None => hints.iter().map(api::Value::to_f64).collect(),
             Some((numerators, den)) => numerators
-                .into_iter()
-                .map(|n| api::exact::rational_to_f64(&Rational::new_raw(n, den.clone())))
+                .iter()
+                .map(|n| api::exact::fraction_to_f64(n, &den))
                 .collect(),
         })
     }
