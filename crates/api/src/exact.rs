@@ -191,49 +191,98 @@ pub fn rational_to_f64(value: &Rational) -> f64 {
 /// in lowest terms), without forming the rational: the values of an exact solution over their
 /// common denominator, drawn without a copy of that denominator per value.
 pub fn fraction_to_f64(numerator: &BigInt, denominator: &BigInt) -> f64 {
-    if numerator.is_zero() {
-        return 0.0;
-    }
-    let (n, ns) = top_bits(numerator);
-    let (d, ds) = top_bits(denominator);
-    let exp = ns - ds;
-    let exp = exp.clamp(i32::MIN as i64, i32::MAX as i64) as i32;
-    (n / d) * 2f64.powi(exp)
+    top_bits(numerator).over(top_bits(denominator))
 }
 
-/// `x >> s` as an `f64` and `s`, for the shift `s` that leaves 64 significant bits (0 for
-/// shorter `x`). The shift rounds towards −∞ as `BigInt`'s does, read off `x`'s limbs instead
-/// of shifting a copy.
-fn top_bits(x: &BigInt) -> (f64, i64) {
-    use num_traits::{Signed, ToPrimitive};
-    let bits = x.bits();
+/// A number scaled to 64 significant bits: `x >> shift` (rounded towards −∞, as `BigInt`'s
+/// shift) as an `f64`, and the shift (0 for a number of at most 64 bits). [`rational_to_f64`]
+/// divides two of them; a numerator computed in limbs ([`top_bits_of_limbs`]) is converted
+/// without forming a `BigInt`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TopBits {
+    value: f64,
+    shift: i64,
+}
+
+impl TopBits {
+    /// `self / denominator` as [`fraction_to_f64`] computes it (`0.0` for a zero numerator).
+    pub fn over(self, denominator: TopBits) -> f64 {
+        if self.value == 0.0 {
+            return 0.0;
+        }
+        let exp = self.shift - denominator.shift;
+        let exp = exp.clamp(i32::MIN as i64, i32::MAX as i64) as i32;
+        (self.value / denominator.value) * 2f64.powi(exp)
+    }
+}
+
+/// [`TopBits`] of `x`, read off its limbs instead of shifting a copy.
+pub fn top_bits(x: &BigInt) -> TopBits {
+    use num_traits::Signed;
+    let magnitude = x.magnitude();
+    scaled_limbs(
+        x.bits(),
+        |i| magnitude.iter_u64_digits().nth(i).unwrap_or(0),
+        |shift| magnitude.trailing_zeros().unwrap_or(0) < shift,
+        x.is_negative(),
+    )
+}
+
+/// [`TopBits`] of `±Σ limbs[i] 2^(64 i)` (`-` when `negative`; limbs least significant first,
+/// zero limbs on top allowed): the same as [`top_bits`] of that `BigInt`.
+pub fn top_bits_of_limbs(limbs: &[u64], negative: bool) -> TopBits {
+    let used = limbs.iter().rposition(|l| *l != 0).map_or(0, |i| i + 1);
+    let limbs = &limbs[..used];
+    let bits = limbs.last().map_or(0, |top| {
+        64 * (limbs.len() as u64 - 1) + u64::from(64 - top.leading_zeros())
+    });
+    scaled_limbs(
+        bits,
+        |i| limbs.get(i).copied().unwrap_or(0),
+        |shift| {
+            let whole = (shift / 64) as usize;
+            let part = shift % 64;
+            limbs[..whole].iter().any(|l| *l != 0)
+                || (part > 0 && limbs[whole] & ((1u64 << part) - 1) != 0)
+        },
+        negative,
+    )
+}
+
+/// [`TopBits`] of a number of `bits` bits with limbs `limb(i)`, which has ones below bit `s`
+/// when `ones_below(s)`.
+fn scaled_limbs(
+    bits: u64,
+    limb: impl Fn(usize) -> u64,
+    ones_below: impl FnOnce(u64) -> bool,
+    negative: bool,
+) -> TopBits {
+    let sign = |v: f64| if negative { -v } else { v };
     if bits <= 64 {
-        return (x.to_f64().unwrap_or(0.0), 0);
+        return TopBits {
+            value: sign(limb(0) as f64),
+            shift: 0,
+        };
     }
     let shift = bits - 64;
-    let magnitude = x.magnitude();
-    let limb = |i: u64| {
-        usize::try_from(i)
-            .ok()
-            .and_then(|i| magnitude.iter_u64_digits().nth(i))
-            .unwrap_or(0)
-    };
     let offset = shift % 64;
-    let low = limb(shift / 64);
+    let index = usize::try_from(shift / 64).unwrap_or(usize::MAX);
+    let low = limb(index);
     let top = if offset == 0 {
         low
     } else {
-        (low >> offset) | (limb(shift / 64 + 1) << (64 - offset))
+        (low >> offset) | (limb(index.saturating_add(1)) << (64 - offset))
     };
-    let value = if !x.is_negative() {
-        top as f64
-    } else if magnitude.trailing_zeros().unwrap_or(0) < shift {
-        // Ones below the shift: rounded towards −∞, one unit further from zero.
+    let value = if negative && ones_below(shift) {
+        // Rounded towards −∞: one unit further from zero.
         -((u128::from(top) + 1) as f64)
     } else {
-        -(top as f64)
+        sign(top as f64)
     };
-    (value, shift as i64)
+    TopBits {
+        value,
+        shift: shift as i64,
+    }
 }
 
 /// Converts a rational to the nearest `f64`, correctly rounded (ties to even), with gradual
@@ -694,7 +743,13 @@ mod tests {
         // negative, which moves the rounded value.
         let x = from_limbs(&[1, BELOW_A_TIE], true);
         let expected = -((1u64 << 63) as f64 + 4096.0);
-        assert_eq!(top_bits(&x), (expected, 64));
+        assert_eq!(
+            top_bits(&x),
+            TopBits {
+                value: expected,
+                shift: 64
+            }
+        );
         assert_eq!(
             shifted_to_f64(&x, &BigInt::from(1)),
             expected * 2f64.powi(64)
@@ -705,10 +760,22 @@ mod tests {
         );
         // Nothing below the shift: no rounding.
         let exact = from_limbs(&[0, BELOW_A_TIE], true);
-        assert_eq!(top_bits(&exact), (-((1u64 << 63) as f64 + 2048.0), 64));
+        assert_eq!(
+            top_bits(&exact),
+            TopBits {
+                value: -((1u64 << 63) as f64 + 2048.0),
+                shift: 64
+            }
+        );
         // |x| = 2^128 − 1: `x >> 64` is −2^64, beyond a `u64`.
         let x = from_limbs(&[u64::MAX, u64::MAX], true);
-        assert_eq!(top_bits(&x), (-(2f64.powi(64)), 64));
+        assert_eq!(
+            top_bits(&x),
+            TopBits {
+                value: -(2f64.powi(64)),
+                shift: 64
+            }
+        );
     }
 
     proptest::proptest! {
@@ -735,6 +802,11 @@ mod tests {
             let expected = shifted_to_f64(&n, &d);
             let found = fraction_to_f64(&n, &d);
             proptest::prop_assert!(found.to_bits() == expected.to_bits(), "{} against {}", found, expected);
+            // The same from the numerator's limbs, with zero limbs on top.
+            let mut limbs = n.magnitude().to_u64_digits();
+            limbs.extend([0, 0]);
+            let from_limbs = if n.is_zero() { 0.0 } else { top_bits_of_limbs(&limbs, n.sign() == num_bigint::Sign::Minus).over(top_bits(&d)) };
+            proptest::prop_assert!(from_limbs.to_bits() == expected.to_bits(), "{} against {}", from_limbs, expected);
         }
     }
 

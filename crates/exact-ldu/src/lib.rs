@@ -51,6 +51,7 @@ mod ring;
 mod shared_once;
 mod snap;
 pub mod sparse;
+mod word_combination;
 mod word_division;
 
 pub use blocks::{

@@ -16,6 +16,8 @@ use crate::dixon::{entries_per_task, LiftingSolver};
 use crate::qvec::QVec;
 use crate::ring::{lcm, Ring};
 use crate::shared_once::SharedOnce;
+use crate::word_combination::word_combination_top_bits;
+use api::exact::{top_bits, top_bits_of_limbs, TopBits};
 use api::Rational;
 use num_bigint::BigInt;
 use num_integer::Integer;
@@ -610,76 +612,167 @@ pub(super) fn combine<R: Ring>(
     responses: &[Numerators],
     alpha: &QVec<R>,
 ) -> Numerators {
-    let moving: Vec<bool> = alpha.num.iter().map(|a| !a.is_zero()).collect();
-    if !moving.contains(&true) {
-        return base.clone();
+    match Combination::new(base, memo, responses, alpha) {
+        None => base.clone(),
+        Some(c) => Numerators {
+            num: (0..base.num.len()).map(|s| c.entry(s)).collect(),
+            den: c.den,
+        },
     }
-    let remembered = memo.and_then(|m| {
-        m.lock()
-            .ok()?
-            .as_ref()
-            .filter(|s| s.moving == moving)
-            .map(Arc::clone)
-    });
-    let scales = remembered.unwrap_or_else(|| {
-        let scales = Arc::new(Scales::new(base, responses, moving));
-        if let Some(mut guard) = memo.and_then(|m| m.lock().ok()) {
-            *guard = Some(Arc::clone(&scales));
+}
+
+/// [`combine`] rounded to `f64` as [`api::exact::fraction_to_f64`] rounds each entry over the
+/// denominator: what a preview draws. Long entries with word-sized scales are summed in limbs
+/// and scaled there ([`word_combination_top_bits`]), never formed as big integers.
+pub(super) fn combine_to_f64<R: Ring>(
+    base: &Numerators,
+    memo: Option<&Mutex<Option<Arc<Scales>>>>,
+    responses: &[Numerators],
+    alpha: &QVec<R>,
+) -> Vec<f64> {
+    match Combination::new(base, memo, responses, alpha) {
+        None => base
+            .num
+            .iter()
+            .map(|n| api::exact::fraction_to_f64(n, &base.den))
+            .collect(),
+        Some(c) => {
+            let den = top_bits(&c.den);
+            (0..base.num.len())
+                .map(|s| c.entry_top_bits(s).over(den))
+                .collect()
         }
-        scales
-    });
-    let factors: Vec<BigInt> = alpha
-        .num
-        .iter()
-        .filter(|a| !a.is_zero())
-        .zip(&scales.ratios)
-        .map(|(a, ratio)| a.to_bigint() * ratio)
-        .collect();
-    let moved: Vec<&Numerators> = responses
-        .iter()
-        .zip(&scales.moving)
-        .filter(|(_, m)| **m)
-        .map(|(r, _)| r)
-        .collect();
-    // x = (b (L / b_den) α_den − Σ a_k (L / r_den,k) r_k) / (L α_den).
-    let alpha_den = alpha.den.to_bigint();
-    let base_scale = &alpha_den * &scales.base_ratio;
-    // Small edits and drag frames: numerators and factors within an `i128` make each entry a
-    // sum of `i128` products, computed without big-integer temporaries while it fits (checked).
-    let small: Option<(&Words, i128, Vec<i128>)> = scales.words.as_ref().and_then(|w| {
-        Some((
-            w,
-            ToPrimitive::to_i128(&base_scale)?,
-            factors
+    }
+}
+
+/// The terms of [`combine`] for one `α` with at least one moving anchor coordinate:
+/// `x = (b (L / b_den) α_den − Σ a_k (L / r_den,k) r_k) / (L α_den)`.
+struct Combination<'a> {
+    base: &'a Numerators,
+    scales: Arc<Scales>,
+    /// The responses of the moving coordinates.
+    moved: Vec<&'a Numerators>,
+    /// `a_k (L / r_den,k)` per moving coordinate.
+    factors: Vec<BigInt>,
+    /// `α_den (L / b_den)`.
+    base_scale: BigInt,
+    /// The scales as `i128` when the numerators are `i128` too ([`Scales::words`]).
+    small: Option<(i128, Vec<i128>)>,
+    /// The scales as `i64` (negated factors) for long numerators.
+    word: Option<(i64, Vec<i64>)>,
+    /// `L α_den`.
+    den: BigInt,
+}
+
+impl<'a> Combination<'a> {
+    /// `None` when no anchor coordinate moves (the result is `base`).
+    fn new<R: Ring>(
+        base: &'a Numerators,
+        memo: Option<&Mutex<Option<Arc<Scales>>>>,
+        responses: &'a [Numerators],
+        alpha: &QVec<R>,
+    ) -> Option<Self> {
+        let moving: Vec<bool> = alpha.num.iter().map(|a| !a.is_zero()).collect();
+        if !moving.contains(&true) {
+            return None;
+        }
+        let remembered = memo.and_then(|m| {
+            m.lock()
+                .ok()?
+                .as_ref()
+                .filter(|s| s.moving == moving)
+                .map(Arc::clone)
+        });
+        let scales = remembered.unwrap_or_else(|| {
+            let scales = Arc::new(Scales::new(base, responses, moving));
+            if let Some(mut guard) = memo.and_then(|m| m.lock().ok()) {
+                *guard = Some(Arc::clone(&scales));
+            }
+            scales
+        });
+        let factors: Vec<BigInt> = alpha
+            .num
+            .iter()
+            .filter(|a| !a.is_zero())
+            .zip(&scales.ratios)
+            .map(|(a, ratio)| a.to_bigint() * ratio)
+            .collect();
+        let moved: Vec<&Numerators> = responses
+            .iter()
+            .zip(&scales.moving)
+            .filter(|(_, m)| **m)
+            .map(|(r, _)| r)
+            .collect();
+        let alpha_den = alpha.den.to_bigint();
+        let base_scale = &alpha_den * &scales.base_ratio;
+        // Small edits and drag frames: numerators and factors within an `i128` make each entry
+        // a sum of `i128` products, computed without big-integer temporaries while it fits
+        // (checked).
+        let small = scales.words.as_ref().and_then(|_| {
+            Some((
+                ToPrimitive::to_i128(&base_scale)?,
+                factors
+                    .iter()
+                    .map(ToPrimitive::to_i128)
+                    .collect::<Option<Vec<i128>>>()?,
+            ))
+        });
+        let word = ToPrimitive::to_i64(&base_scale).and_then(|bs| {
+            let negated = factors
                 .iter()
-                .map(ToPrimitive::to_i128)
-                .collect::<Option<Vec<i128>>>()?,
-        ))
-    });
-    let num = base
-        .num
-        .iter()
-        .enumerate()
-        .map(|(s, b)| {
-            if let Some(value) = small.as_ref().and_then(|(w, bs, fs)| {
-                let mut sum = w.base[s].checked_mul(*bs)?;
-                for (r, f) in w.responses.iter().zip(fs) {
-                    sum = sum.checked_sub(r[s].checked_mul(*f)?)?;
-                }
-                Some(sum)
-            }) {
-                return crate::ring::bigint_from_i128(value);
-            }
-            let mut value = b * &base_scale;
-            for (r, f) in moved.iter().zip(&factors) {
-                value -= f * &r.num[s];
-            }
-            value
+                .map(|f| ToPrimitive::to_i64(f)?.checked_neg())
+                .collect::<Option<Vec<i64>>>()?;
+            Some((bs, negated))
+        });
+        let den = &scales.common * alpha_den;
+        Some(Combination {
+            base,
+            scales,
+            moved,
+            factors,
+            base_scale,
+            small,
+            word,
+            den,
         })
-        .collect();
-    Numerators {
-        num,
-        den: &scales.common * alpha_den,
+    }
+
+    /// Entry `s` in `i128`, when the numerators and scales are and the sum stays there.
+    fn entry_in_words(&self, s: usize) -> Option<i128> {
+        let (bs, fs) = self.small.as_ref()?;
+        let w = self.scales.words.as_ref()?;
+        let mut sum = w.base[s].checked_mul(*bs)?;
+        for (r, f) in w.responses.iter().zip(fs) {
+            sum = sum.checked_sub(r[s].checked_mul(*f)?)?;
+        }
+        Some(sum)
+    }
+
+    /// Numerator `s` over [`Self::den`].
+    fn entry(&self, s: usize) -> BigInt {
+        if let Some(value) = self.entry_in_words(s) {
+            return crate::ring::bigint_from_i128(value);
+        }
+        let mut value = &self.base.num[s] * &self.base_scale;
+        for (r, f) in self.moved.iter().zip(&self.factors) {
+            value -= f * &r.num[s];
+        }
+        value
+    }
+
+    /// [`top_bits`] of numerator `s`.
+    fn entry_top_bits(&self, s: usize) -> TopBits {
+        if let Some(value) = self.entry_in_words(s) {
+            let magnitude = value.unsigned_abs();
+            return top_bits_of_limbs(&[magnitude as u64, (magnitude >> 64) as u64], value < 0);
+        }
+        if let Some((bs, fs)) = &self.word {
+            let responses = self.moved.iter().zip(fs).map(|(r, f)| (&r.num[s], *f));
+            return word_combination_top_bits(
+                std::iter::once((&self.base.num[s], *bs)).chain(responses),
+            );
+        }
+        top_bits(&self.entry(s))
     }
 }
 
@@ -987,6 +1080,56 @@ mod tests {
                 memoised.solve(0, &alpha, &hints).expect("consistent"),
                 fresh.solve(0, &alpha, &hints).expect("consistent")
             );
+        }
+    }
+
+    /// The preview's entries are those of the combination, each rounded over the denominator
+    /// as `fraction_to_f64` rounds it, bit for bit: with numerators in `i128`; long numerators
+    /// with word-sized scales (summed in limbs); scales beyond a word; no moving coordinate.
+    #[test]
+    fn previews_round_the_combination_entry_by_entry() {
+        use super::{combine, combine_to_f64, Numerators};
+        use crate::qvec::QVec;
+        use num_bigint::BigInt;
+        let long = |seed: i64, bits: u32| -> BigInt {
+            (BigInt::from(seed) << bits)
+                + BigInt::from(seed * 7919 - 3) * (BigInt::from(3) << (bits / 2))
+        };
+        for bits in [10u32, 300, 4_000] {
+            let base = Numerators {
+                num: (-4..5).map(|i| long(i * 13 + 1, bits)).collect(),
+                den: long(5, bits / 2),
+            };
+            let responses: Vec<Numerators> = (0..3)
+                .map(|k| Numerators {
+                    num: (-4..5).map(|i| long(i * (k + 2) - 11, bits)).collect(),
+                    // Over multiples of the base's denominator, as the responses of a
+                    // solve: the scales stay small.
+                    den: &base.den * (k + 1),
+                })
+                .collect();
+            for alpha in [
+                vec![q(3, 2), q(0, 1), q(-7, 1)],
+                vec![q(1, 3), q(-5, 7), q(11, 5)],
+                // Scales beyond a word.
+                vec![
+                    Rational::new(long(3, 90), BigInt::from(7)),
+                    q(1, 1),
+                    q(0, 1),
+                ],
+                vec![q(0, 1), q(0, 1), q(0, 1)],
+            ] {
+                let alpha = QVec::<Int>::from_rationals(&alpha);
+                let exact = combine(&base, None, &responses, &alpha);
+                let rounded: Vec<f64> = exact
+                    .num
+                    .iter()
+                    .map(|n| api::exact::fraction_to_f64(n, &exact.den))
+                    .collect();
+                let preview = combine_to_f64(&base, None, &responses, &alpha);
+                let bits_of = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+                assert_eq!(bits_of(&preview), bits_of(&rounded), "{bits} bits");
+            }
         }
     }
 

@@ -31,7 +31,7 @@ use api::{
 };
 use num_bigint::BigInt;
 use num_traits::Zero;
-use std::sync::OnceLock;
+use std::sync::{Arc, Mutex, OnceLock};
 
 /// One left-null-space vector `y` (`yᵀA = 0`) with its products against the family.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -436,13 +436,9 @@ impl<R: Ring> PreparedLeastSquares for ExactLeastSquares<R> {
         alpha: &[Rational],
         hints: &[Rational],
     ) -> Result<Vec<f64>, SolveError<Rational>> {
-        Ok(match self.numerators(column, alpha, hints)? {
-            None => hints.iter().map(api::Value::to_f64).collect(),
-            Some((numerators, den)) => numerators
-                .iter()
-                .map(|n| api::exact::fraction_to_f64(n, &den))
-                .collect(),
-        })
+        Ok(self
+            .combined(column, alpha, hints, affine::combine_to_f64)?
+            .unwrap_or_else(|| hints.iter().map(api::Value::to_f64).collect()))
     }
 }
 
@@ -458,6 +454,26 @@ impl<R: Ring> ExactLeastSquares<R> {
         alpha: &[Rational],
         hints: &[Rational],
     ) -> Result<Option<(Vec<BigInt>, BigInt)>, SolveError<Rational>> {
+        self.combined(column, alpha, hints, |base, memo, responses, alpha| {
+            let x = affine::combine(base, memo, responses, alpha);
+            (x.num, x.den)
+        })
+    }
+
+    /// [`Self::numerators`] as `combine` (`affine::combine` or one of its roundings) gives them
+    /// from the hints' base solution and the responses to the anchor values.
+    fn combined<T>(
+        &self,
+        column: usize,
+        alpha: &[Rational],
+        hints: &[Rational],
+        combine: impl FnOnce(
+            &affine::Numerators,
+            Option<&Mutex<Option<Arc<affine::Scales>>>>,
+            &[affine::Numerators],
+            &QVec<R>,
+        ) -> T,
+    ) -> Result<Option<T>, SolveError<Rational>> {
         self.validate(column, alpha)?;
         check_len("hints", hints.len(), self.n)?;
         let alpha = QVec::<R>::from_rationals(alpha);
@@ -466,13 +482,12 @@ impl<R: Ring> ExactLeastSquares<R> {
             return Ok(None);
         };
         let base = self.base(normal, column, hints);
-        let x = affine::combine(
+        Ok(Some(combine(
             &base.numerators,
             Some(base.scales()),
             self.responses(normal),
             &alpha,
-        );
-        Ok(Some((x.num, x.den)))
+        )))
     }
 
     /// `b̂ = ĉ_j − K̂ α` at the independent rows, as rationals.
