@@ -231,19 +231,35 @@ pub fn top_bits(x: &BigInt) -> TopBits {
 /// [`TopBits`] of `±Σ limbs[i] 2^(64 i)` (`-` when `negative`; limbs least significant first,
 /// zero limbs on top allowed): the same as [`top_bits`] of that `BigInt`.
 pub fn top_bits_of_limbs(limbs: &[u64], negative: bool) -> TopBits {
+    top_bits_of_limbs_above(limbs, 0, negative)
+}
+
+/// [`top_bits_of_limbs`] of the number whose limbs are `zeros` zero limbs, then `limbs`: a number
+/// known only from its top limbs, as exactly as if the zeros were written out.
+pub fn top_bits_of_limbs_above(limbs: &[u64], zeros: usize, negative: bool) -> TopBits {
     let used = limbs.iter().rposition(|l| *l != 0).map_or(0, |i| i + 1);
     let limbs = &limbs[..used];
-    let bits = limbs.last().map_or(0, |top| {
-        64 * (limbs.len() as u64 - 1) + u64::from(64 - top.leading_zeros())
-    });
+    let Some(top) = limbs.last() else {
+        return TopBits {
+            value: 0.0,
+            shift: 0,
+        };
+    };
+    let bits = 64 * ((zeros + limbs.len()) as u64 - 1) + u64::from(64 - top.leading_zeros());
+    let limb = |i: usize| {
+        i.checked_sub(zeros)
+            .and_then(|i| limbs.get(i))
+            .copied()
+            .unwrap_or(0)
+    };
     scaled_limbs(
         bits,
-        |i| limbs.get(i).copied().unwrap_or(0),
+        limb,
         |shift| {
             let whole = (shift / 64) as usize;
             let part = shift % 64;
-            limbs[..whole].iter().any(|l| *l != 0)
-                || (part > 0 && limbs[whole] & ((1u64 << part) - 1) != 0)
+            (zeros..whole).any(|i| limb(i) != 0)
+                || (part > 0 && limb(whole) & ((1u64 << part) - 1) != 0)
         },
         negative,
     )
@@ -795,6 +811,7 @@ mod tests {
             d in proptest::collection::vec(proptest::num::u64::ANY, 1..6),
             n_negative in proptest::bool::ANY,
             d_negative in proptest::bool::ANY,
+            zeros in 0usize..3,
         ) {
             let n = from_limbs(&n, n_negative);
             let d = from_limbs(&d, d_negative);
@@ -807,6 +824,12 @@ mod tests {
             limbs.extend([0, 0]);
             let from_limbs = if n.is_zero() { 0.0 } else { top_bits_of_limbs(&limbs, n.sign() == num_bigint::Sign::Minus).over(top_bits(&d)) };
             proptest::prop_assert!(from_limbs.to_bits() == expected.to_bits(), "{} against {}", from_limbs, expected);
+            // Known from the limbs above `zeros` zero limbs.
+            let shifted = &n << (64 * zeros);
+            proptest::prop_assert_eq!(
+                top_bits_of_limbs_above(&limbs, zeros, n.sign() == num_bigint::Sign::Minus),
+                top_bits(&shifted)
+            );
         }
     }
 

@@ -16,7 +16,7 @@ use crate::dixon::{entries_per_task, LiftingSolver};
 use crate::qvec::QVec;
 use crate::ring::{lcm, Ring};
 use crate::shared_once::SharedOnce;
-use crate::word_combination::word_combination_top_bits;
+use crate::word_combination::word_combination_to_f64;
 use api::exact::{top_bits, top_bits_of_limbs, TopBits};
 use api::Rational;
 use num_bigint::BigInt;
@@ -623,7 +623,7 @@ pub(super) fn combine<R: Ring>(
 
 /// [`combine`] rounded to `f64` as [`api::exact::fraction_to_f64`] rounds each entry over the
 /// denominator: what a preview draws. Long entries with word-sized scales are summed in limbs
-/// and scaled there ([`word_combination_top_bits`]), never formed as big integers.
+/// and rounded there ([`word_combination_to_f64`]), never formed as big integers.
 pub(super) fn combine_to_f64<R: Ring>(
     base: &Numerators,
     memo: Option<&Mutex<Option<Arc<Scales>>>>,
@@ -639,7 +639,7 @@ pub(super) fn combine_to_f64<R: Ring>(
         Some(c) => {
             let den = top_bits(&c.den);
             (0..base.num.len())
-                .map(|s| c.entry_top_bits(s).over(den))
+                .map(|s| c.entry_to_f64(s, den))
                 .collect()
         }
     }
@@ -760,19 +760,22 @@ impl<'a> Combination<'a> {
         value
     }
 
-    /// [`top_bits`] of numerator `s`.
-    fn entry_top_bits(&self, s: usize) -> TopBits {
+    /// Numerator `s` over [`Self::den`] rounded to `f64` as
+    /// [`api::exact::fraction_to_f64`] rounds it; `den` is [`top_bits`] of [`Self::den`].
+    fn entry_to_f64(&self, s: usize, den: TopBits) -> f64 {
         if let Some(value) = self.entry_in_words(s) {
             let magnitude = value.unsigned_abs();
-            return top_bits_of_limbs(&[magnitude as u64, (magnitude >> 64) as u64], value < 0);
+            return top_bits_of_limbs(&[magnitude as u64, (magnitude >> 64) as u64], value < 0)
+                .over(den);
         }
         if let Some((bs, fs)) = &self.word {
             let responses = self.moved.iter().zip(fs).map(|(r, f)| (&r.num[s], *f));
-            return word_combination_top_bits(
+            return word_combination_to_f64(
                 std::iter::once((&self.base.num[s], *bs)).chain(responses),
+                den,
             );
         }
-        top_bits(&self.entry(s))
+        top_bits(&self.entry(s)).over(den)
     }
 }
 
