@@ -51,6 +51,19 @@ fn bits_at(v: &[u64], shift: usize) -> u64 {
     word & (u64::MAX >> 1)
 }
 
+/// `a −= b` on the limbs `b` covers (least significant first, `a` at least as long), a borrow
+/// out of the last of them dropped: the difference for `a ≥ b` of equal length, or the low
+/// limbs of one whose borrow the caller holds elsewhere.
+pub(crate) fn subtract_limbs(a: &mut [u64], b: &[u64]) {
+    let mut borrow = false;
+    for (a, b) in a.iter_mut().zip(b) {
+        let (d, under1) = a.overflowing_sub(*b);
+        let (d, under2) = d.overflowing_sub(u64::from(borrow));
+        *a = d;
+        borrow = under1 || under2;
+    }
+}
+
 pub(crate) fn bit_len(v: &[u64]) -> usize {
     match v.last() {
         None => 0,

@@ -9,7 +9,7 @@
 //! them. The values' own residues take only the few REDC rows that bring them below `2m`
 //! (see [`Montgomery::residue_into`]).
 
-use crate::gcd::from_limbs;
+use crate::gcd::{from_limbs, subtract_limbs};
 use crate::montgomery_lanes::LaneMontgomery;
 use num_bigint::BigUint;
 use num_traits::One;
@@ -339,13 +339,8 @@ fn subtract_if_not_below(low: &mut [u64], high: u64, modulus: &[u64]) {
             .find(|(x, y)| x != y)
             .is_none_or(|(x, y)| x > y);
     if not_below {
-        let mut borrow = false;
-        for (x, y) in low.iter_mut().zip(modulus) {
-            let (d, b1) = x.overflowing_sub(*y);
-            let (d, b2) = d.overflowing_sub(u64::from(borrow));
-            *x = d;
-            borrow = b1 || b2;
-        }
+        // The borrow out of the top limb is `high`'s, dropped with it.
+        subtract_limbs(low, modulus);
     }
 }
 

@@ -14,6 +14,7 @@
 //! (128-bit multiply-adds) and their difference written once. (Building a `BigInt` from that
 //! would cost as much as the arithmetic: `num-bigint` takes digits only as 32-bit slices.)
 
+use crate::gcd::subtract_limbs;
 use api::exact::{top_bits_of_limbs, top_bits_of_limbs_above, TopBits};
 use num_bigint::{BigInt, Sign};
 use std::cell::RefCell;
@@ -94,7 +95,7 @@ fn from_top_limbs<'a>(
 fn difference_to_f64(a: &TopSum, b: &TopSum, below: usize, denominator: TopBits) -> f64 {
     let is_negative = a.iter().rev().lt(b.iter().rev());
     let (mut larger, smaller) = if is_negative { (*b, a) } else { (*a, b) };
-    subtract_in_place(&mut larger, smaller);
+    subtract_limbs(&mut larger, smaller);
     top_bits_of_limbs_above(&larger, below, is_negative).over(denominator)
 }
 
@@ -134,7 +135,7 @@ fn whole_sum<'a>(terms: impl IntoIterator<Item = (&'a BigInt, i64)>, limbs: usiz
         } else {
             (positive, &*negative)
         };
-        subtract_in_place(larger, smaller);
+        subtract_limbs(larger, smaller);
         top_bits_of_limbs(larger, is_negative)
     })
 }
@@ -151,17 +152,6 @@ fn multiply_add(sum: &mut [u64], x: impl Iterator<Item = u64>, c: u64) {
         i += 1;
     }
     add_at(sum, i, carry);
-}
-
-/// `a −= b` for `a ≥ b` of equal length.
-fn subtract_in_place(a: &mut [u64], b: &[u64]) {
-    let mut borrow = false;
-    for (a, b) in a.iter_mut().zip(b) {
-        let (d, under1) = a.overflowing_sub(*b);
-        let (d, under2) = d.overflowing_sub(u64::from(borrow));
-        *a = d;
-        borrow = under1 || under2;
-    }
 }
 
 #[cfg(test)]
