@@ -60,7 +60,7 @@ fn from_top_limbs<'a>(
 ) -> Option<f64> {
     let mut positive = TopSum::default();
     let mut negative = TopSum::default();
-    // Terms of each sign with limbs below `below`: each may add up to one unit of limb 1.
+    // Terms of each sign: the limbs below `below` of each may add up to one unit of limb 1.
     let (mut rest_positive, mut rest_negative) = (0u64, 0u64);
     for (x, c) in terms {
         if c == 0 || x.sign() == Sign::NoSign {
@@ -78,7 +78,7 @@ fn from_top_limbs<'a>(
             magnitude.iter_u64_digits().skip(below),
             c.unsigned_abs(),
         );
-        *rest += u64::from(magnitude.iter_u64_digits().len() > 0 && below > 0);
+        *rest += 1;
     }
     // The sum lies in [positive − negative − rest_negative·2^64, positive + rest_positive·2^64
     // − negative], in units of limb `below`.
