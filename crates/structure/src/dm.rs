@@ -5,8 +5,6 @@
 use crate::bipartite::Bipartite;
 use crate::error::StructureError;
 use crate::matching::{maximum_matching, Matching};
-use petgraph::algo::kosaraju_scc;
-use petgraph::graph::{DiGraph, NodeIndex};
 use serde::Serialize;
 use std::cmp::Reverse;
 use std::collections::{BinaryHeap, VecDeque};
@@ -162,9 +160,8 @@ pub fn decompose(graph: &Bipartite) -> DmDecomposition {
 ///   (column to row by any edge, row to column by the matching), with the rows on those paths;
 /// * well-determined part: the rest, perfectly matched; its fine blocks are the strongly
 ///   connected components of the graph on matched pairs where the pair of row `r` depends on
-///   the pair of column `c` for every other well column `c` of row `r`, found with petgraph's
-///   `kosaraju_scc` (iterative: its two passes use `DfsPostOrder` and `Dfs`, whose `next` pop
-///   and push an explicit `Vec` stack), ordered topologically.
+///   the pair of column `c` for every other well column `c` of row `r`, found by Tarjan's
+///   algorithm (iterative, an explicit stack), ordered topologically.
 ///
 /// The parts do not depend on which maximum matching is given. Time
 /// `O(rows + cols + nnz)` plus a heap over the blocks; no recursion.
@@ -309,6 +306,10 @@ type FineBlocks = (Vec<Block>, Vec<Option<usize>>, Vec<Option<usize>>);
 
 /// The irreducible blocks of the well part: strongly connected components of the dependency
 /// graph on matched pairs, collapsed and ordered topologically.
+///
+/// The graphs live in flat arrays (compressed adjacency lists): on the small systems of a
+/// generic edit, where this runs once per edit for the report, a vector per node or component
+/// (what a general graph type and its component lists hold) cost more than the search.
 fn fine_blocks(
     graph: &Bipartite,
     matching: &Matching,
@@ -322,11 +323,9 @@ fn fine_blocks(
     for (k, &r) in well_rows.iter().enumerate() {
         node_of_row[r] = k;
     }
-    let mut g: DiGraph<(), ()> = DiGraph::with_capacity(well_rows.len(), 0);
-    for _ in well_rows {
-        g.add_node(());
-    }
-    for (k, &r) in well_rows.iter().enumerate() {
+    // The pair of row `r` depends on the pair of each other well column `c` of row `r`.
+    let mut dependencies = Adjacency::with_nodes(well_rows.len());
+    for &r in well_rows {
         let mate = matching.row_to_col[r];
         for &c in graph.row(r) {
             if col_part[c] != PartKind::Well || Some(c) == mate {
@@ -337,34 +336,22 @@ fn fine_blocks(
             if let Some(r2) = matching.col_to_row[c] {
                 let target = node_of_row[r2];
                 if target != usize::MAX {
-                    g.add_edge(NodeIndex::new(k), NodeIndex::new(target), ());
+                    dependencies.push_edge(target);
                 }
             }
         }
+        dependencies.end_node();
     }
+    let (scc_of, count) = strongly_connected_components(&dependencies);
 
-    // kosaraju_scc (petgraph 0.8.3, src/algo/scc/kosaraju_scc.rs) is iterative: both passes
-    // drive `DfsPostOrder::next` / `Dfs::next`, which loop over an explicit `Vec` stack.
-    let sccs = kosaraju_scc(&g);
-    let mut scc_of = vec![0usize; well_rows.len()];
-    for (s, members) in sccs.iter().enumerate() {
-        for v in members {
-            scc_of[v.index()] = s;
-        }
-    }
-    let count = sccs.len();
-    // Dependencies between components (edges of the collapsed graph H).
-    let mut deps: Vec<Vec<usize>> = vec![Vec::new(); count];
-    for e in g.raw_edges() {
-        let (a, b) = (scc_of[e.source().index()], scc_of[e.target().index()]);
-        if a != b {
-            deps[a].push(b);
-        }
-    }
-    for d in &mut deps {
-        d.sort_unstable();
-        d.dedup();
-    }
+    // Dependencies between components (edges of the collapsed graph H), without repeats.
+    let mut edges: Vec<(usize, usize)> = (0..well_rows.len())
+        .flat_map(|k| dependencies.targets(k).iter().map(move |&t| (k, t)))
+        .map(|(k, t)| (scc_of[k], scc_of[t]))
+        .filter(|(a, b)| a != b)
+        .collect();
+    edges.sort_unstable();
+    edges.dedup();
     // Smallest row of each component: the tie-break of the solve order. Nodes are numbered by
     // increasing row, so the smallest node index gives the smallest row.
     let mut first_row = vec![usize::MAX; count];
@@ -374,23 +361,28 @@ fn fine_blocks(
     }
 
     // Kahn's algorithm: a component becomes ready when all it depends on is placed.
-    let mut waiting: Vec<usize> = deps.iter().map(Vec::len).collect();
-    let mut dependents: Vec<Vec<usize>> = vec![Vec::new(); count];
-    for (a, d) in deps.iter().enumerate() {
-        for &b in d {
-            dependents[b].push(a);
+    let mut waiting = vec![0usize; count];
+    let mut dependents = Adjacency::with_nodes(count);
+    let mut by_dependency = edges.clone();
+    by_dependency.sort_unstable_by_key(|&(_, b)| b);
+    let mut next = by_dependency.iter().peekable();
+    for b in 0..count {
+        while let Some(&(a, _)) = next.next_if(|(_, t)| *t == b) {
+            dependents.push_edge(a);
+            waiting[a] += 1;
         }
+        dependents.end_node();
     }
     let mut ready: BinaryHeap<Reverse<(usize, usize)>> = (0..count)
         .filter(|&s| waiting[s] == 0)
         .map(|s| Reverse((first_row[s], s)))
         .collect();
     let mut position = vec![usize::MAX; count];
-    let mut order = Vec::with_capacity(count);
+    let mut placed = 0;
     while let Some(Reverse((_, s))) = ready.pop() {
-        position[s] = order.len();
-        order.push(s);
-        for &a in &dependents[s] {
+        position[s] = placed;
+        placed += 1;
+        for &a in dependents.targets(s) {
             waiting[a] -= 1;
             if waiting[a] == 0 {
                 ready.push(Reverse((first_row[a], a)));
@@ -398,9 +390,21 @@ fn fine_blocks(
         }
     }
     // The collapsed graph is acyclic, so every component is placed.
-    debug_assert_eq!(order.len(), count);
+    debug_assert_eq!(placed, count);
 
-    let mut blocks: Vec<Block> = vec![Block::default(); count];
+    // Each block's rows, sized before they are filled.
+    let mut sizes = vec![0usize; count];
+    for &s in &scc_of {
+        sizes[position[s]] += 1;
+    }
+    let mut blocks: Vec<Block> = sizes
+        .iter()
+        .map(|&size| Block {
+            rows: Vec::with_capacity(size),
+            cols: Vec::with_capacity(size),
+            ..Block::default()
+        })
+        .collect();
     let mut row_block = vec![None; m];
     let mut col_block = vec![None; n];
     for (k, &r) in well_rows.iter().enumerate() {
@@ -412,13 +416,11 @@ fn fine_blocks(
             col_block[c] = Some(b);
         }
     }
-    for (s, d) in deps.iter().enumerate() {
-        let b = position[s];
-        let mut mapped: Vec<usize> = d.iter().map(|&t| position[t]).collect();
-        mapped.sort_unstable();
-        blocks[b].depends_on = mapped;
+    for &(a, b) in &edges {
+        blocks[position[a]].depends_on.push(position[b]);
     }
     for block in &mut blocks {
+        block.depends_on.sort_unstable();
         // Rows were pushed increasing; columns follow the rows' mates.
         block.cols.sort_unstable();
         let mut inputs: Vec<usize> = block
@@ -436,4 +438,99 @@ fn fine_blocks(
         .enumerate()
         .all(|(r, p)| (*p == PartKind::Well) == row_block[r].is_some()));
     (blocks, row_block, col_block)
+}
+
+/// A directed graph on nodes `0..n` as compressed adjacency lists, built node by node.
+struct Adjacency {
+    /// The out-edges of node `v` are `targets[start[v]..start[v + 1]]`.
+    start: Vec<usize>,
+    targets: Vec<usize>,
+}
+
+impl Adjacency {
+    /// An empty graph to be filled with `nodes` nodes.
+    fn with_nodes(nodes: usize) -> Self {
+        let mut start = Vec::with_capacity(nodes + 1);
+        start.push(0);
+        Adjacency {
+            start,
+            targets: Vec::new(),
+        }
+    }
+
+    /// An edge from the node being filled to `target`.
+    fn push_edge(&mut self, target: usize) {
+        self.targets.push(target);
+    }
+
+    /// Ends the node being filled: the next edges leave the next node.
+    fn end_node(&mut self) {
+        self.start.push(self.targets.len());
+    }
+
+    /// Number of nodes filled.
+    fn nodes(&self) -> usize {
+        self.start.len() - 1
+    }
+
+    /// The out-neighbours of `v`.
+    fn targets(&self, v: usize) -> &[usize] {
+        &self.targets[self.start[v]..self.start[v + 1]]
+    }
+}
+
+/// Tarjan's strongly connected components, iterative (an explicit stack of `(node, next edge)`
+/// frames, no recursion): the component of each node and the number of components.
+fn strongly_connected_components(graph: &Adjacency) -> (Vec<usize>, usize) {
+    const UNSEEN: usize = usize::MAX;
+    let nodes = graph.nodes();
+    let mut index = vec![UNSEEN; nodes];
+    let mut low = vec![0usize; nodes];
+    let mut component = vec![UNSEEN; nodes];
+    // Visited nodes whose component is not closed yet (Tarjan's stack).
+    let mut open = Vec::new();
+    let mut frames: Vec<(usize, usize)> = Vec::new();
+    let (mut visited, mut count) = (0, 0);
+    for root in 0..nodes {
+        if index[root] != UNSEEN {
+            continue;
+        }
+        index[root] = visited;
+        low[root] = visited;
+        visited += 1;
+        open.push(root);
+        frames.push((root, 0));
+        while let Some((v, edge)) = frames.last_mut() {
+            let v = *v;
+            if let Some(&w) = graph.targets(v).get(*edge) {
+                *edge += 1;
+                if index[w] == UNSEEN {
+                    index[w] = visited;
+                    low[w] = visited;
+                    visited += 1;
+                    open.push(w);
+                    frames.push((w, 0));
+                } else if component[w] == UNSEEN {
+                    // `w` is open: on the path or in a component not closed yet.
+                    low[v] = low[v].min(index[w]);
+                }
+                continue;
+            }
+            frames.pop();
+            if let Some(&(parent, _)) = frames.last() {
+                low[parent] = low[parent].min(low[v]);
+            }
+            if low[v] == index[v] {
+                // `v` is the first node of its component: close it.
+                while let Some(w) = open.pop() {
+                    component[w] = count;
+                    if w == v {
+                        break;
+                    }
+                }
+                count += 1;
+            }
+        }
+    }
+    (component, count)
 }

@@ -162,6 +162,16 @@ fn check_decomposition(g: &Bipartite, m: &Matching, dm: &DmDecomposition) {
             assert_eq!(col_block[mate], b);
         }
         assert!(block.depends_on.iter().all(|&d| d < b));
+        // The solve order's tie-break: of the blocks ready when `b` is placed (all they depend
+        // on placed before), `b` has the smallest first row.
+        for later in &dm.blocks[b + 1..] {
+            if later.depends_on.iter().all(|&d| d < b) {
+                assert!(
+                    block.rows[0] < later.rows[0],
+                    "block {b} placed before a block ready with a smaller first row"
+                );
+            }
+        }
         let mut expected: Vec<usize> = block
             .rows
             .iter()
