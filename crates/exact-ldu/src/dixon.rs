@@ -49,10 +49,12 @@ const BITS_PER_STEP: u64 = 30;
 type Bounds = (Option<Vec<Vec<(usize, i64)>>>, u64);
 
 /// A nonsingular square integer matrix prepared for solving by lifting.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone)]
 pub(crate) struct LiftingSolver {
     n: usize,
-    rows: Vec<Vec<(usize, BigInt)>>,
+    /// The rows as big integers: given, or made from `small_rows` when a solve first lifts
+    /// (the small normal matrices of a generic edit are solved in words and never need them).
+    rows: OnceLock<Vec<Vec<(usize, BigInt)>>>,
     /// The rows again, when every entry is below `2^62` in absolute value.
     small_rows: Option<Vec<Vec<(usize, i64)>>>,
     /// `A` eliminated fraction-free in `i128`, for small positive definite matrices: their
@@ -143,6 +145,58 @@ fn residue_rows(rows: &[Vec<(usize, BigInt)>], modulus: &Modulus) -> Vec<Vec<(us
         .collect()
 }
 
+/// Solvers of the same matrix are equal, whichever of their parts were made yet (the big-integer
+/// rows and the modular inverse are functions of the matrix).
+impl PartialEq for LiftingSolver {
+    fn eq(&self, other: &Self) -> bool {
+        self.n == other.n
+            && self.rows() == other.rows()
+            && self.small_rows == other.small_rows
+            && self.small == other.small
+            && self.hadamard_bits == other.hadamard_bits
+    }
+}
+
+impl Eq for LiftingSolver {}
+
+/// Entries of a matrix kept in machine words are below this in absolute value.
+const SMALL_ENTRY_LIMIT: u64 = 1 << 62;
+
+/// Machine-word rows as big integers.
+fn big_rows(words: &[Vec<(usize, i64)>]) -> Vec<Vec<(usize, BigInt)>> {
+    words
+        .iter()
+        .map(|row| row.iter().map(|(j, v)| (*j, BigInt::from(*v))).collect())
+        .collect()
+}
+
+/// The squared norms of the columns of `n`-column machine-word rows, `None` when one leaves a
+/// `u128` (each square is below `2^124`).
+fn word_column_squares(n: usize, rows: &[Vec<(usize, i64)>]) -> Option<Vec<u128>> {
+    let mut squares = vec![0u128; n];
+    for row in rows {
+        for (j, v) in row {
+            let v = v.unsigned_abs() as u128;
+            squares[*j] = squares[*j].checked_add(v * v)?;
+        }
+    }
+    Some(squares)
+}
+
+/// `Σ_j ⌈log₂ √s_j⌉` of the squared column norms `s_j`, `None` when a column is zero.
+fn hadamard_bits_of_squares(squares: &[u128]) -> Option<u64> {
+    if squares.contains(&0) {
+        return None;
+    }
+    // ⌈log₂ √s⌉ = ⌈bits(s) / 2⌉, as `norm_bits` computes it.
+    Some(
+        squares
+            .iter()
+            .map(|s| u64::from(u128::BITS - s.leading_zeros()).div_ceil(2))
+            .sum(),
+    )
+}
+
 impl LiftingSolver {
     /// Prepares a symmetric positive definite `A` (`n × n`, both triangles given as sparse
     /// rows, column indices increasing): `L D Lᵀ` modulo a prime in a fill-reducing order, so
@@ -158,7 +212,7 @@ impl LiftingSolver {
                 // inverse waits for a solve that overflows.
                 return Some(Self::from_parts(
                     n,
-                    rows,
+                    OnceLock::from(rows),
                     (small_rows, hadamard_bits),
                     Some(small),
                     OnceLock::new(),
@@ -176,11 +230,23 @@ impl LiftingSolver {
     /// of a matrix whose Gram matrix this is are independent.
     pub(crate) fn small_symmetric(n: usize, words: &[Vec<(usize, i64)>]) -> Option<Self> {
         let small = SmallBareiss::factor(n, words)?;
-        let rows: Vec<Vec<(usize, BigInt)>> = words
+        let fits = words
             .iter()
-            .map(|row| row.iter().map(|(j, v)| (*j, BigInt::from(*v))).collect())
-            .collect();
-        let bounds = Self::bounds(n, &rows)?;
+            .flatten()
+            .all(|(_, v)| v.unsigned_abs() < SMALL_ENTRY_LIMIT);
+        let squares = fits.then(|| word_column_squares(n, words)).flatten();
+        let (rows, bounds) = match squares {
+            // The big-integer rows wait for a solve that lifts.
+            Some(squares) => (
+                OnceLock::new(),
+                (Some(words.to_vec()), hadamard_bits_of_squares(&squares)?),
+            ),
+            None => {
+                let rows = big_rows(words);
+                let bounds = Self::bounds(n, &rows)?;
+                (OnceLock::from(rows), bounds)
+            }
+        };
         Some(Self::from_parts(
             n,
             rows,
@@ -212,7 +278,7 @@ impl LiftingSolver {
         let bounds = Self::bounds(n, &rows)?;
         Some(Self::from_parts(
             n,
-            rows,
+            OnceLock::from(rows),
             bounds,
             None,
             OnceLock::from(inverse),
@@ -222,7 +288,7 @@ impl LiftingSolver {
     /// The solver from its parts: `bounds` as [`LiftingSolver::bounds`] gives them.
     fn from_parts(
         n: usize,
-        rows: Vec<Vec<(usize, BigInt)>>,
+        rows: OnceLock<Vec<Vec<(usize, BigInt)>>>,
         (small_rows, hadamard_bits): Bounds,
         small: Option<SmallBareiss>,
         inverse: OnceLock<ModularInverse>,
@@ -241,41 +307,24 @@ impl LiftingSolver {
     /// The rows as machine integers when they all fit, and the Hadamard bound; `None` when a
     /// column of `A` is zero (`A` singular).
     fn bounds(n: usize, rows: &[Vec<(usize, BigInt)>]) -> Option<Bounds> {
-        const LIMIT: i64 = 1 << 62;
         let small_rows = rows
             .iter()
             .map(|row| {
                 row.iter()
                     .map(|(j, v)| {
                         v.to_i64()
-                            .filter(|x| x.unsigned_abs() < LIMIT.unsigned_abs())
+                            .filter(|x| x.unsigned_abs() < SMALL_ENTRY_LIMIT)
                             .map(|x| (*j, x))
                     })
                     .collect::<Option<Vec<_>>>()
             })
             .collect::<Option<Vec<_>>>();
-        // Squared column norms in machine words while they fit (each square is below 2^124).
-        let word_norms = small_rows.as_ref().and_then(|small| {
-            let mut squares = vec![0u128; n];
-            for row in small {
-                for (j, v) in row {
-                    let v = v.unsigned_abs() as u128;
-                    squares[*j] = squares[*j].checked_add(v * v)?;
-                }
-            }
-            Some(squares)
-        });
+        // Squared column norms in machine words while they fit.
+        let word_norms = small_rows
+            .as_ref()
+            .and_then(|small| word_column_squares(n, small));
         let hadamard_bits = match word_norms {
-            Some(squares) => {
-                if squares.contains(&0) {
-                    return None;
-                }
-                // ⌈log₂ √s⌉ = ⌈bits(s) / 2⌉, as `norm_bits` computes it.
-                squares
-                    .iter()
-                    .map(|s| u64::from(u128::BITS - s.leading_zeros()).div_ceil(2))
-                    .sum()
-            }
+            Some(squares) => hadamard_bits_of_squares(&squares)?,
             None => {
                 let mut columns: Vec<Vec<&BigInt>> = vec![Vec::new(); n];
                 for row in rows {
@@ -302,7 +351,7 @@ impl LiftingSolver {
         let inverse = Self::dense_inverse(n, &rows, bounds.1)?;
         Some(Self::from_parts(
             n,
-            rows,
+            OnceLock::from(rows),
             bounds,
             None,
             OnceLock::from(inverse),
@@ -332,10 +381,21 @@ impl LiftingSolver {
         None
     }
 
+    /// The rows as big integers, made now from the machine-word rows if not given.
+    fn rows(&self) -> &[Vec<(usize, BigInt)>] {
+        self.rows.get_or_init(|| {
+            big_rows(
+                self.small_rows
+                    .as_ref()
+                    .expect("a solver is given its big-integer rows unless it keeps them in words"),
+            )
+        })
+    }
+
     /// `A⁻¹ mod p`, made now if the solver was made without it.
     fn inverse(&self) -> &ModularInverse {
         self.inverse.get_or_init(|| {
-            Self::dense_inverse(self.n, &self.rows, self.hadamard_bits).expect(
+            Self::dense_inverse(self.n, self.rows(), self.hadamard_bits).expect(
                 "a matrix with a nonzero fraction-free determinant is nonsingular modulo some \
                  lifting prime",
             )
@@ -548,10 +608,10 @@ impl LiftingSolver {
         b: &[BigInt],
     ) -> Option<(Vec<BigInt>, BigInt)> {
         let words = (den.bits() / 64) as usize + 1;
-        let holds = self
-            .rows
+        let rows = self.rows();
+        let holds = rows
             .par_iter()
-            .with_min_len(entries_per_task(self.rows.len(), words))
+            .with_min_len(entries_per_task(rows.len(), words))
             .zip(b)
             .all(|(row, bi)| {
                 let lhs: BigInt = row.iter().map(|(j, v)| v * &numerators[*j]).sum();
@@ -1026,7 +1086,7 @@ impl Residual {
             }
             Residual::Big(values) => {
                 let p = BigInt::from(p);
-                for (r, row) in values.iter_mut().zip(&solver.rows) {
+                for (r, row) in values.iter_mut().zip(solver.rows()) {
                     let s: BigInt = row.iter().map(|(j, a)| a * x[*j]).sum();
                     *r = (&*r - s) / &p;
                 }
@@ -1149,6 +1209,36 @@ mod tests {
         let b = vec![big.clone(), -&big + 1, BigInt::from(5)];
         let solution = solver.solve(&b);
         check_solution(&rows, &b, &solution);
+    }
+
+    /// A small symmetric matrix prepared in words keeps no big-integer rows until a solve
+    /// lifts: a right-hand side beyond words is lifted with the rows made then, and the solver
+    /// equals the one given big-integer rows.
+    #[test]
+    fn solvers_prepared_in_words_lift_with_rows_made_on_demand() {
+        let rows = vec![vec![4, -1, 0], vec![-1, 4, -2], vec![0, -2, 5]];
+        let words: Vec<Vec<(usize, i64)>> = rows
+            .iter()
+            .map(|r| {
+                r.iter()
+                    .enumerate()
+                    .filter(|(_, v)| **v != 0)
+                    .map(|(j, v)| (j, *v))
+                    .collect()
+            })
+            .collect();
+        let solver = LiftingSolver::small_symmetric(3, &words).expect("positive definite");
+        assert!(solver.rows.get().is_none(), "no big-integer rows before a lifting");
+        let big = BigInt::from(11).pow(60u32);
+        let b = vec![big.clone(), BigInt::from(-3), -&big + 2];
+        let solution = solver.solve(&b);
+        check_solution(&rows, &b, &solution);
+        assert!(solver.rows.get().is_some());
+        let given = LiftingSolver::new_symmetric(3, sparse(&rows)).expect("positive definite");
+        assert!(solver == given);
+        // Words within bounds are still answered in words.
+        let small = vec![BigInt::from(1), BigInt::from(2), BigInt::from(3)];
+        check_solution(&rows, &small, &solver.solve(&small));
     }
 
     #[test]
