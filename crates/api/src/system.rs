@@ -133,49 +133,64 @@ impl RowBody {
         }
     }
 
-    /// The row as scalar equations over single coordinates: a vector row of dimension `d`
-    /// becomes `d` equations (`component: Some(k)`), a scalar row one (`component: None`). The
-    /// one place where rows are split per coordinate.
-    pub fn scalar_equations(&self) -> Vec<ScalarEquation> {
-        match self {
-            RowBody::Vector { terms, rhs } => rhs
-                .iter()
-                .enumerate()
-                .map(|(k, q)| ScalarEquation {
-                    terms: terms
-                        .iter()
-                        .map(|(p, c)| {
-                            (
-                                Coord {
-                                    param: *p,
-                                    component: k,
-                                },
-                                c.clone(),
-                            )
-                        })
-                        .collect(),
-                    rhs: q.clone(),
-                    component: Some(k),
-                })
-                .collect(),
-            RowBody::Scalar { terms, rhs } => vec![ScalarEquation {
-                terms: terms.clone(),
-                rhs: rhs.clone(),
-                component: None,
-            }],
-        }
+    /// The row as scalar equations over single coordinates, borrowed: a vector row of
+    /// dimension `d` stands for `d` equations (`component: Some(k)`), a scalar row for one
+    /// (`component: None`). The one place where rows are split per coordinate; nothing is
+    /// copied (a small edit's analyses split their rows at every edit).
+    pub fn scalar_equations(&self) -> impl ExactSizeIterator<Item = ScalarEquation<'_>> + '_ {
+        (0..self.scalar_rows()).map(move |k| ScalarEquation { body: self, k })
     }
 }
 
-/// One scalar equation `Σ c_j x_j = q` over coordinates, from [`RowBody::scalar_equations`].
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct ScalarEquation {
-    /// Coefficients per coordinate.
-    pub terms: Vec<(Coord, Integer)>,
-    /// Right-hand side.
-    pub rhs: Integer,
+/// One scalar equation `Σ c_j x_j = q` over coordinates of a row, from
+/// [`RowBody::scalar_equations`] (borrowed from the row).
+#[derive(Debug, Clone, Copy)]
+pub struct ScalarEquation<'a> {
+    body: &'a RowBody,
+    /// The coordinate, for a vector row; `0` for a scalar row.
+    k: usize,
+}
+
+impl<'a> ScalarEquation<'a> {
     /// The coordinate, for equations split from a vector row.
-    pub component: Option<usize>,
+    pub fn component(&self) -> Option<usize> {
+        match self.body {
+            RowBody::Vector { .. } => Some(self.k),
+            RowBody::Scalar { .. } => None,
+        }
+    }
+
+    /// Right-hand side.
+    pub fn rhs(&self) -> &'a Integer {
+        match self.body {
+            RowBody::Vector { rhs, .. } => &rhs[self.k],
+            RowBody::Scalar { rhs, .. } => rhs,
+        }
+    }
+
+    /// Coefficients per coordinate, in the row's order.
+    pub fn terms(&self) -> impl Iterator<Item = (Coord, &'a Integer)> + 'a {
+        let k = self.k;
+        let (vector, scalar) = match self.body {
+            RowBody::Vector { terms, .. } => (
+                Some(terms.iter().map(move |(p, c)| {
+                    (
+                        Coord {
+                            param: *p,
+                            component: k,
+                        },
+                        c,
+                    )
+                })),
+                None,
+            ),
+            RowBody::Scalar { terms, .. } => (None, Some(terms.iter().map(|(c, v)| (*c, v)))),
+        };
+        vector
+            .into_iter()
+            .flatten()
+            .chain(scalar.into_iter().flatten())
+    }
 }
 
 /// A labelled constraint row.
@@ -482,13 +497,12 @@ impl ConstraintSystem {
             for equation in row.body.scalar_equations() {
                 sparse.push(
                     equation
-                        .terms
-                        .into_iter()
-                        .map(|(c, v)| (offsets[c.param.index()] + c.component, v))
+                        .terms()
+                        .map(|(c, v)| (offsets[c.param.index()] + c.component, v.clone()))
                         .collect(),
                 );
-                rhs_out.push(equation.rhs);
-                origin.push((RowId(i as u32), equation.component.unwrap_or(0)));
+                rhs_out.push(equation.rhs().clone());
+                origin.push((RowId(i as u32), equation.component().unwrap_or(0)));
             }
         }
         let matrix = IntMatrix::from_sparse(self.coordinate_count(), sparse)

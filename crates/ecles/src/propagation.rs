@@ -42,7 +42,7 @@
 
 use api::{
     ConstraintSystem, Factorization, IntMatrix, Integer, IntegerNullSpace, LinearBackend, ParamId,
-    Rational, RowId, ScalarEquation, SolveError,
+    Rational, RowId, SolveError,
 };
 use num_traits::{One, Signed, Zero};
 
@@ -740,8 +740,7 @@ impl Component {
         // scalar equations and which of them the component holds.
         let mut seen_column = vec![false; system.coordinate_count()];
         let mut reached_columns: Vec<usize> = Vec::new();
-        let mut equations: Vec<Option<(Vec<ScalarEquation>, Vec<bool>)>> =
-            vec![None; system.rows().len()];
+        let mut equations: Vec<Option<Vec<bool>>> = vec![None; system.rows().len()];
         let mut touched_rows: Vec<RowId> = Vec::new();
         let mut stack: Vec<(ParamId, usize)> = Vec::new();
         let mut reach = |p: ParamId, k: usize, stack: &mut Vec<(ParamId, usize)>| {
@@ -757,15 +756,14 @@ impl Component {
         }
         while let Some((p, k)) = stack.pop() {
             for &row in system.rows_of(p) {
-                let (of_row, seen) = equations[row.index()].get_or_insert_with(|| {
+                let of_row = system.rows()[row.index()].body.scalar_equations();
+                let seen = equations[row.index()].get_or_insert_with(|| {
                     touched_rows.push(row);
-                    let of_row = system.rows()[row.index()].body.scalar_equations();
-                    let seen = vec![false; of_row.len()];
-                    (of_row, seen)
+                    vec![false; of_row.len()]
                 });
                 // A system's rows hold no zero coefficients (`ConstraintSystem::add_row`
                 // merges them away): every term links its equation and its coordinate.
-                for (equation, seen) in of_row.iter().zip(seen.iter_mut()) {
+                for (equation, seen) in of_row.zip(seen.iter_mut()) {
                     if *seen {
                         continue;
                     }
@@ -773,18 +771,17 @@ impl Component {
                     // its parameters (`p` among them); a scalar row's terms are looked at. Each
                     // equation is scanned only until it is reached, so a row of many terms costs
                     // in proportion to them, not to their square.
-                    let touches = match equation.component {
+                    let touches = match equation.component() {
                         Some(c) => c == k,
                         None => equation
-                            .terms
-                            .iter()
+                            .terms()
                             .any(|(c, _)| c.param == p && c.component == k),
                     };
                     if !touches {
                         continue;
                     }
                     *seen = true;
-                    for (c, _) in &equation.terms {
+                    for (c, _) in equation.terms() {
                         reach(c.param, c.component, &mut stack);
                     }
                 }
@@ -797,15 +794,15 @@ impl Component {
         let lost = |_| PropagationError::Backend("a coordinate left its component".into());
         let mut sparse = Vec::new();
         let mut origin = Vec::new();
-        for (row, (of_row, seen)) in touched_rows
+        for (row, seen) in touched_rows
             .iter()
             .filter_map(|&row| equations[row.index()].as_ref().map(|e| (row, e)))
         {
-            for equation in of_row.iter().zip(seen).filter(|(_, s)| **s).map(|(e, _)| e) {
+            let of_row = system.rows()[row.index()].body.scalar_equations();
+            for equation in of_row.zip(seen).filter(|(_, s)| **s).map(|(e, _)| e) {
                 sparse.push(
                     equation
-                        .terms
-                        .iter()
+                        .terms()
                         .map(|(c, v)| {
                             columns
                                 .binary_search(&(offsets[c.param.index()] + c.component))
@@ -814,7 +811,7 @@ impl Component {
                         })
                         .collect::<Result<Vec<_>, _>>()?,
                 );
-                origin.push((row, equation.component.unwrap_or(0)));
+                origin.push((row, equation.component().unwrap_or(0)));
             }
         }
         let a = IntMatrix::from_sparse(columns.len(), sparse)

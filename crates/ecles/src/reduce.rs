@@ -227,11 +227,7 @@ pub(crate) fn reduce(
                     }
                     RowBody::Vector { .. } => {
                         for equation in row.body.scalar_equations() {
-                            push(
-                                equation.component,
-                                &mut equation.terms.iter().map(|(c, v)| (*c, v)),
-                                &equation.rhs,
-                            );
+                            push(equation.component(), &mut equation.terms(), equation.rhs());
                         }
                     }
                 }

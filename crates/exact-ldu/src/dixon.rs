@@ -1228,7 +1228,10 @@ mod tests {
             })
             .collect();
         let solver = LiftingSolver::small_symmetric(3, &words).expect("positive definite");
-        assert!(solver.rows.get().is_none(), "no big-integer rows before a lifting");
+        assert!(
+            solver.rows.get().is_none(),
+            "no big-integer rows before a lifting"
+        );
         let big = BigInt::from(11).pow(60u32);
         let b = vec![big.clone(), BigInt::from(-3), -&big + 2];
         let solution = solver.solve(&b);
