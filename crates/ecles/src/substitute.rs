@@ -147,9 +147,12 @@ impl Substitution {
         if count == 0 || count * SUBSTITUTE_FRACTION < m {
             return None;
         }
-        let mut rows_of: Vec<Vec<usize>> = vec![Vec::new(); n];
         let mut pins: Vec<usize> = Vec::new();
         let mut anchor_pins: Vec<usize> = Vec::new();
+        // The trivial rows of two unknowns at each unknown, as flat lists: unknown `u`'s are
+        // `row_at[start[u]..start[u + 1]]` (counted, then placed; a list per unknown cost a
+        // small edit more than the search).
+        let mut start = vec![0usize; n + 1];
         for (i, row) in r_ed.row_iter().enumerate() {
             if !trivial[i] {
                 continue;
@@ -159,11 +162,25 @@ impl Substitution {
                 [_] => anchor_pins.push(i),
                 _ => {
                     for (u, _) in row {
-                        rows_of[*u].push(i);
+                        start[*u + 1] += 1;
                     }
                 }
             }
         }
+        for u in 0..n {
+            start[u + 1] += start[u];
+        }
+        let mut row_at = vec![0usize; start[n]];
+        let mut filled = start.clone();
+        for (i, row) in r_ed.row_iter().enumerate() {
+            if trivial[i] && row.len() == 2 {
+                for (u, _) in row {
+                    row_at[filled[*u]] = i;
+                    filled[*u] += 1;
+                }
+            }
+        }
+        let rows_of = |u: usize| &row_at[start[u]..start[u + 1]];
         let columns = reduced.family.constant.len();
         let mut group = vec![None; n];
         let mut sign = vec![0i8; n];
@@ -241,7 +258,7 @@ impl Substitution {
         let mut roots = (0..n).peekable();
         loop {
             while let Some(p) = queue.pop_front() {
-                for &i in &rows_of[p] {
+                for &i in rows_of(p) {
                     if used[i] {
                         continue;
                     }
