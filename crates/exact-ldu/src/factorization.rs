@@ -88,33 +88,14 @@ impl<R: Ring> Eq for Factoring<R> {}
 /// The Gram matrix `A Aᵀ` of a small matrix with independent rows, prepared in words: `None`
 /// unless `A` has at most [`crate::bareiss_small::MAX_ORDER`] rows, no more rows than columns,
 /// entries and products that fit machine words, and independent rows (the elimination's
-/// pivots, leading principal minors of `G`, all nonzero). Sums accumulate in a dense `m × m`
-/// array of `i128`, checked.
+/// pivots, leading principal minors of `G`, all nonzero). Sums accumulate in `i128`, checked
+/// ([`crate::gram_words`]).
 fn full_row_rank_gram<R: Ring>(a: &[SparseRow<R>], cols: usize) -> Option<LiftingSolver> {
     let m = a.len();
     if m == 0 || m > crate::bareiss_small::MAX_ORDER || m > cols {
         return None;
     }
-    let mut by_column: Vec<Vec<(usize, i128)>> = vec![Vec::new(); cols];
-    for (k, row) in a.iter().enumerate() {
-        for (c, v) in row {
-            by_column[*c].push((k, i128::from(v.to_i64()?)));
-        }
-    }
-    let mut g = vec![0i128; m * m];
-    for column in &by_column {
-        crate::lsq::add_scaled_outer_product(&mut g, m, column, 1)?;
-    }
-    let words: Vec<Vec<(usize, i64)>> = g
-        .chunks(m)
-        .map(|row| {
-            row.iter()
-                .enumerate()
-                .filter(|(_, v)| **v != 0)
-                .map(|(l, v)| Some((l, i64::try_from(*v).ok()?)))
-                .collect::<Option<Vec<_>>>()
-        })
-        .collect::<Option<_>>()?;
+    let words = crate::gram_words::gram_rows(a, cols, |_| Some(1), |x| i64::try_from(x).ok())?;
     LiftingSolver::small_symmetric(m, &words)
 }
 

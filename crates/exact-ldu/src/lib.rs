@@ -28,6 +28,7 @@ mod decimal_lanes;
 mod dixon;
 mod factorization;
 mod gcd;
+mod gram_words;
 // SIMD loads and stores need `unsafe`.
 #[allow(unsafe_code)]
 mod ifma;

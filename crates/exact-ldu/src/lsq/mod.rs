@@ -260,9 +260,32 @@ impl<R: Ring> ExactLeastSquares<R> {
     }
 }
 
-/// `G = Â V Âᵀ` as sparse rows (`r × r`): `G_kl = Σ_s Â_ks V_s Â_ls`, accumulated column by
-/// column of `Â` so only pairs of rows that share an unknown are touched.
+/// `G = Â V Âᵀ` as sparse rows (`r × r`): `G_kl = Σ_s Â_ks V_s Â_ls`. In `i128` (checked,
+/// [`crate::gram_words`]) when `r` is at most the order solved fraction-free and the entries of
+/// `Â` and `V` fit an `i64` (the small edits' case, without a big-integer product per entry),
+/// else in big integers.
 fn normal_matrix<R: Ring>(
+    a_hat: &[SparseRow<R>],
+    v: &[BigInt],
+    n: usize,
+) -> Vec<Vec<(usize, BigInt)>> {
+    if a_hat.len() <= crate::bareiss_small::MAX_ORDER {
+        let in_words = crate::gram_words::gram_rows(
+            a_hat,
+            n,
+            |s| v[s].to_i64(),
+            |x| Some(crate::ring::bigint_from_i128(x)),
+        );
+        if let Some(g) = in_words {
+            return g;
+        }
+    }
+    normal_matrix_in_big_integers(a_hat, v, n)
+}
+
+/// [`normal_matrix`] with every product a big integer, accumulated column by column of `Â` so
+/// only pairs of rows that share an unknown are touched.
+fn normal_matrix_in_big_integers<R: Ring>(
     a_hat: &[SparseRow<R>],
     v: &[BigInt],
     n: usize,
@@ -273,9 +296,6 @@ fn normal_matrix<R: Ring>(
         for (s, val) in row {
             by_column[*s].push((k, val.to_bigint()));
         }
-    }
-    if let Some(g) = normal_matrix_in_words(&by_column, v, r) {
-        return g;
     }
     let mut g: Vec<std::collections::BTreeMap<usize, BigInt>> = vec![Default::default(); r];
     for (s, entries) in by_column.iter().enumerate() {
@@ -289,61 +309,6 @@ fn normal_matrix<R: Ring>(
     g.into_iter()
         .map(|row| row.into_iter().filter(|(_, v)| !Zero::is_zero(v)).collect())
         .collect()
-}
-
-/// [`normal_matrix`] in `i128` (checked) when the entries of `Â` and `V` fit an `i64`: the
-/// small edits' case, without a big-integer product per entry; `None` on overflow. The sums
-/// accumulate in a dense `r × r` array (`r` is at most the order solved fraction-free).
-fn normal_matrix_in_words(
-    by_column: &[Vec<(usize, BigInt)>],
-    v: &[BigInt],
-    r: usize,
-) -> Option<Vec<Vec<(usize, BigInt)>>> {
-    if r == 0 {
-        return Some(Vec::new());
-    }
-    if r > crate::bareiss_small::MAX_ORDER {
-        return None;
-    }
-    let mut g = vec![0i128; r * r];
-    for (s, entries) in by_column.iter().enumerate() {
-        let vs = i128::from(v[s].to_i64()?);
-        let words: Vec<(usize, i128)> = entries
-            .iter()
-            .map(|(k, a)| Some((*k, i128::from(a.to_i64()?))))
-            .collect::<Option<_>>()?;
-        add_scaled_outer_product(&mut g, r, &words, vs)?;
-    }
-    Some(
-        g.chunks(r)
-            .map(|row| {
-                row.iter()
-                    .enumerate()
-                    .filter(|(_, v)| **v != 0)
-                    .map(|(l, v)| (l, crate::ring::bigint_from_i128(*v)))
-                    .collect()
-            })
-            .collect(),
-    )
-}
-
-/// `g ← g + v · a aᵀ` for one column `a` of `Â` (its nonzero entries as `(row, value)`), into
-/// the dense `r × r` array `g` of a Gram matrix built column by column; checked: `None` when a
-/// product or a sum leaves `i128`.
-pub(crate) fn add_scaled_outer_product(
-    g: &mut [i128],
-    r: usize,
-    column: &[(usize, i128)],
-    v: i128,
-) -> Option<()> {
-    for &(k, ak) in column {
-        let scaled = ak.checked_mul(v)?;
-        for &(l, al) in column {
-            let entry = &mut g[k * r + l];
-            *entry = entry.checked_add(scaled.checked_mul(al)?)?;
-        }
-    }
-    Some(())
 }
 
 impl<R: Ring> PreparedLeastSquares for ExactLeastSquares<R> {
@@ -528,6 +493,7 @@ mod tests {
         ];
         let v = vec![BigInt::from(1), BigInt::from(4), BigInt::from(7)];
         let g = normal_matrix(&rows, &v, 3);
+        assert_eq!(g, normal_matrix_in_big_integers(&rows, &v, 3));
         // Row 0 · V · row 0 = 4 + 63, row 0 · V · row 1 = −105, row 1 · V · row 1 = 4 + 175.
         let expected = vec![
             vec![(0, BigInt::from(67)), (1, BigInt::from(-105))],
