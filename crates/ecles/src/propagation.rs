@@ -574,7 +574,8 @@ where
         if coordinates.clone().any(|c| picked.contains(&c)) {
             continue;
         }
-        let value: Vec<Rational> = coordinates.clone().map(|c| particular[c].clone()).collect();
+        // The move's value on the parameter (copied only into a forced move).
+        let value = &particular[coordinates.clone()];
         // The span of the freedom projected on the parameter, formed only while it can still
         // grow and from projections that are not zero (most are, for a parameter far from the
         // move: every edit's analysis projects its whole null space once per parameter).
@@ -601,8 +602,8 @@ where
             if value.iter().all(Zero::is_zero) {
                 continue;
             }
-            Follows::Forced(value)
-        } else if span.is_whole_space() || span.contains(integer_multiple(&value)) {
+            Follows::Forced(value.to_vec())
+        } else if span.is_whole_space() || span.contains(integer_multiple(value)) {
             // The move's value minus a free move is zero (always, when the free moves span
             // every direction of the parameter): the parameter may stay.
             Follows::MayStay { freedom }
