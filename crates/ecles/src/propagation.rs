@@ -579,31 +579,38 @@ where
         // The span of the freedom projected on the parameter, formed only while it can still
         // grow and from projections that are not zero (most are, for a parameter far from the
         // move: every edit's analysis projects its whole null space once per parameter).
-        let mut span = IntegerEchelon::new(coordinates.len());
-        for v in free {
-            if span.is_whole_space() {
-                break;
-            }
-            let mut nonzero = coordinates.clone().filter(|&c| !v[c].is_zero());
-            match (nonzero.next(), nonzero.next()) {
-                (None, _) => {}
-                // One nonzero entry spans the line of its unit vector (a scalar parameter's
-                // projection always does): no rationals scaled.
-                (Some(c), None) => {
-                    let mut unit = vec![Integer::zero(); coordinates.len()];
-                    unit[c - coordinates.start] = Integer::one();
-                    span.insert(unit);
+        let (freedom, whole_space, span) = if coordinates.len() == 1 {
+            // A scalar parameter: free exactly when some null vector moves it, and then in
+            // every direction of its line.
+            let c = coordinates.start;
+            let moved = usize::from(free.iter().any(|v| !v[c].is_zero()));
+            (moved, moved == 1, None)
+        } else {
+            let mut span = IntegerEchelon::new(coordinates.len());
+            for v in free {
+                if span.is_whole_space() {
+                    break;
                 }
-                _ => span.insert(coordinates.clone().map(|c| v[c].clone().into()).collect()),
+                let mut nonzero = coordinates.clone().filter(|&c| !v[c].is_zero());
+                match (nonzero.next(), nonzero.next()) {
+                    (None, _) => {}
+                    // One nonzero entry spans the line of its unit vector: no rationals scaled.
+                    (Some(c), None) => {
+                        let mut unit = vec![Integer::zero(); coordinates.len()];
+                        unit[c - coordinates.start] = Integer::one();
+                        span.insert(unit);
+                    }
+                    _ => span.insert(coordinates.clone().map(|c| v[c].clone().into()).collect()),
+                }
             }
-        }
-        let freedom = span.dimension();
+            (span.dimension(), span.is_whole_space(), Some(span))
+        };
         let entry = if freedom == 0 {
             if value.iter().all(Zero::is_zero) {
                 continue;
             }
             Follows::Forced(value.to_vec())
-        } else if span.is_whole_space() || span.contains(integer_multiple(value)) {
+        } else if whole_space || span.is_some_and(|span| span.contains(integer_multiple(value))) {
             // The move's value minus a free move is zero (always, when the free moves span
             // every direction of the parameter): the parameter may stay.
             Follows::MayStay { freedom }
