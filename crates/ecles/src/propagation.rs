@@ -49,7 +49,7 @@ use num_traits::{One, Signed, Zero};
 mod equalities;
 mod words;
 use equalities::Equalities;
-use words::WordElimination;
+use words::{WordElimination, WordFraction};
 
 /// Most null-space values (`(n − r)·n`) an explicit analysis forms: about 2·10⁶ (a component
 /// of 1 400 free coordinates; seconds and hundreds of MB).
@@ -365,7 +365,7 @@ where
     // The move reached: `particular` plus the null space of `M` (of the given nullity, formed
     // by `free` only within the budget), per parameter of the component.
     let reached = |nullity: usize,
-                   particular: Vec<Rational>,
+                   particular: Particular,
                    free: &dyn Fn() -> Result<NullVectors, PropagationError>|
      -> Result<MoveOutcome, PropagationError> {
         let values = columns.len().saturating_mul(nullity);
@@ -376,26 +376,45 @@ where
                 budget,
             });
         }
-        let particular = match &equalities {
-            Some(e) => e.expand(&particular),
-            None => particular,
-        };
         let (n, picked) = (columns.len(), &picked_local);
         let e = equalities.as_ref();
-        Ok(MoveOutcome::Moves(match free()? {
-            NullVectors::Words(free) => {
-                follows(n, picked, &particular, &expanded(e, free), coordinate_of)
-            }
-            NullVectors::Integers(free) => {
-                follows(n, picked, &particular, &expanded(e, free), coordinate_of)
-            }
+        let free = free()?;
+        Ok(MoveOutcome::Moves(match (particular, free) {
+            (Particular::Words(x), NullVectors::Words(free)) => follows(
+                n,
+                picked,
+                &expanded_values(e, x),
+                &expanded(e, free),
+                coordinate_of,
+            ),
+            (Particular::Words(x), NullVectors::Integers(free)) => follows(
+                n,
+                picked,
+                &expanded_values(e, x),
+                &expanded(e, free),
+                coordinate_of,
+            ),
+            (Particular::Rationals(x), NullVectors::Words(free)) => follows(
+                n,
+                picked,
+                &expanded_values(e, x),
+                &expanded(e, free),
+                coordinate_of,
+            ),
+            (Particular::Rationals(x), NullVectors::Integers(free)) => follows(
+                n,
+                picked,
+                &expanded_values(e, x),
+                &expanded(e, free),
+                coordinate_of,
+            ),
         }))
     };
     let outcome = match (requested, &solves) {
         (None, _) => None,
         (Some(_), Solves::Words(words)) => Some(reached(
             m_a.cols() - words.rank(),
-            words.particular(),
+            Particular::Words(words.particular()),
             &|| match words.null_space() {
                 Some(free) => Ok(NullVectors::Words(free)),
                 // A null vector outside an `i64`: the backend's, for the same span.
@@ -407,6 +426,7 @@ where
         (Some(moves), Solves::Backend(factored)) => {
             Some(match move_solution(factored, m_a.rows(), moves)? {
                 MoveSolution::Reached(particular) => {
+                    let particular = Particular::Rationals(particular);
                     reached(factored.cols() - factored.rank(), particular, &|| {
                         Ok(NullVectors::Integers(factored.integer_null_space()))
                     })?
@@ -451,6 +471,54 @@ enum Solves<F> {
 enum NullVectors {
     Words(Vec<Vec<i64>>),
     Integers(Vec<Vec<Integer>>),
+}
+
+/// The move's particular solution: rationals from the backend, word fractions from the
+/// elimination in words (made rationals only where a value is reported).
+enum Particular {
+    Words(Vec<WordFraction>),
+    Rationals(Vec<Rational>),
+}
+
+/// A value of a particular solution, as [`follows`] reads it.
+trait MoveValue {
+    /// Whether the value is zero.
+    fn vanishes(&self) -> bool;
+    /// The value as a rational in lowest terms.
+    fn exact(&self) -> Rational;
+}
+
+impl MoveValue for Rational {
+    fn vanishes(&self) -> bool {
+        self.is_zero()
+    }
+
+    fn exact(&self) -> Rational {
+        self.clone()
+    }
+}
+
+impl MoveValue for WordFraction {
+    fn vanishes(&self) -> bool {
+        self.is_zero()
+    }
+
+    fn exact(&self) -> Rational {
+        self.to_rational()
+    }
+}
+
+/// A particular solution over the merged classes of `equalities` as one over the component's
+/// columns (itself when nothing was merged).
+fn expanded_values<T>(equalities: Option<&Equalities>, values: Vec<T>) -> Vec<T>
+where
+    T: Clone,
+    for<'a> &'a T: std::ops::Neg<Output = T>,
+{
+    match equalities {
+        Some(e) => e.expand(&values),
+        None => values,
+    }
 }
 
 /// `vectors` over the merged classes of `equalities` as vectors over the component's columns
@@ -552,14 +620,15 @@ where
 /// component's columns: machine words from the elimination in words, big integers from the
 /// backend). `coordinate_of` is nondecreasing in the parameter (the component's columns are
 /// sorted), so each parameter's coordinates are one run of columns.
-fn follows<T>(
+fn follows<V, T>(
     n: usize,
     picked: &[usize],
-    particular: &[Rational],
+    particular: &[V],
     free: &[Vec<T>],
     coordinate_of: impl Fn(usize) -> (ParamId, usize),
 ) -> Vec<(ParamId, Follows)>
 where
+    V: MoveValue,
     T: Clone + Zero + Into<Integer>,
 {
     let mut follows = Vec::new();
@@ -574,7 +643,7 @@ where
         if coordinates.clone().any(|c| picked.contains(&c)) {
             continue;
         }
-        // The move's value on the parameter (copied only into a forced move).
+        // The move's value on the parameter (made rationals only where they are read).
         let value = &particular[coordinates.clone()];
         // The span of the freedom projected on the parameter, formed only while it can still
         // grow and from projections that are not zero (most are, for a parameter far from the
@@ -606,11 +675,16 @@ where
             (span.dimension(), span.is_whole_space(), Some(span))
         };
         let entry = if freedom == 0 {
-            if value.iter().all(Zero::is_zero) {
+            if value.iter().all(MoveValue::vanishes) {
                 continue;
             }
-            Follows::Forced(value.to_vec())
-        } else if whole_space || span.is_some_and(|span| span.contains(integer_multiple(value))) {
+            Follows::Forced(value.iter().map(MoveValue::exact).collect())
+        } else if whole_space
+            || span.is_some_and(|span| {
+                let value: Vec<Rational> = value.iter().map(MoveValue::exact).collect();
+                span.contains(integer_multiple(&value))
+            })
+        {
             // The move's value minus a free move is zero (always, when the free moves span
             // every direction of the parameter): the parameter may stay.
             Follows::MayStay { freedom }
@@ -1350,7 +1424,11 @@ mod tests {
         }
         let mut rhs = vec![Rational::zero(); component.a.rows()];
         rhs.extend(m.iter().cloned());
-        let x = words.particular();
+        let x: Vec<Rational> = words
+            .particular()
+            .into_iter()
+            .map(|v| v.to_rational())
+            .collect();
         for (i, row) in with_picked.row_iter().enumerate() {
             let value: Rational = row
                 .iter()

@@ -187,13 +187,17 @@ impl WordElimination {
     }
 
     /// The requested move's particular solution with every free coordinate zero: pivot row
-    /// `r` reads `W_{r,c_r} x_{c_r} + Σ_free W_{r,f} x_f = W_{r,move}`.
-    pub(super) fn particular(&self) -> Vec<Rational> {
-        let mut x = vec![Rational::zero(); self.columns];
+    /// `r` reads `W_{r,c_r} x_{c_r} + Σ_free W_{r,f} x_f = W_{r,move}`. As word fractions, made
+    /// rationals only where the report shows a value (a forced move).
+    pub(super) fn particular(&self) -> Vec<WordFraction> {
+        let mut x = vec![WordFraction { num: 0, den: 1 }; self.columns];
         for (row, &c) in self.rows.iter().zip(&self.pivot_columns) {
             // Pivots are positive, and so is the scale.
             let den = i128::from(row[c]) * i128::from(self.scale);
-            x[c] = word_ratio(row[self.columns], den);
+            x[c] = WordFraction {
+                num: i128::from(row[self.columns]),
+                den,
+            };
         }
         x
     }
@@ -270,22 +274,75 @@ fn word_gcd(a: i64, b: i64) -> i64 {
     (a.unsigned_abs().gcd(&b.unsigned_abs())) as i64
 }
 
-/// `n / d` in lowest terms (`d > 0`), by a GCD of words when `d` fits one.
-fn word_ratio(n: i64, d: i128) -> Rational {
-    if n == 0 {
-        return Rational::zero();
+/// `num / den` with `den > 0`, not reduced: a value of the particular solution in words
+/// (`num` an `i64`'s value or its negation, `den` a product of two `i64`s).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) struct WordFraction {
+    num: i128,
+    den: i128,
+}
+
+impl WordFraction {
+    /// Whether the value is zero.
+    pub(super) fn is_zero(&self) -> bool {
+        self.num == 0
     }
-    match u64::try_from(d) {
-        Ok(d) => {
-            let g = n.unsigned_abs().gcd(&d);
-            // `g ≥ 1` divides `|n| ≤ 2^63`: the quotient keeps `n`'s sign and fits.
-            let n = i128::from(n) / i128::from(g);
-            Rational::new_raw(Integer::from(n), Integer::from(d / g))
+
+    /// The value in lowest terms, by a GCD of words when both parts fit one.
+    pub(super) fn to_rational(self) -> Rational {
+        let WordFraction { num: n, den: d } = self;
+        if n == 0 {
+            return Rational::zero();
         }
-        Err(_) => {
-            let n = i128::from(n);
-            let g = n.gcd(&d);
-            Rational::new_raw(Integer::from(n / g), Integer::from(d / g))
+        let g = match (u64::try_from(n.unsigned_abs()), u64::try_from(d)) {
+            (Ok(a), Ok(b)) => i128::from(a.gcd(&b)),
+            _ => n.gcd(&d),
+        };
+        // `g ≥ 1` divides both: the quotients keep their signs.
+        Rational::new_raw(Integer::from(n / g), Integer::from(d / g))
+    }
+}
+
+impl std::ops::Neg for &WordFraction {
+    type Output = WordFraction;
+
+    /// The negated value (`num` is within `±2^63`, so its negation fits).
+    fn neg(self) -> WordFraction {
+        WordFraction {
+            num: -self.num,
+            den: self.den,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn fraction(num: i128, den: i128) -> WordFraction {
+        WordFraction { num, den }
+    }
+
+    fn rational(n: i64, d: i64) -> Rational {
+        Rational::new(Integer::from(n), Integer::from(d))
+    }
+
+    #[test]
+    fn word_fractions_become_rationals_in_lowest_terms() {
+        assert_eq!(fraction(6, 4).to_rational(), rational(3, 2));
+        assert_eq!(fraction(-6, 4).to_rational(), rational(-3, 2));
+        assert_eq!((-&fraction(-6, 4)).to_rational(), rational(3, 2));
+        assert_eq!(fraction(0, 7).to_rational(), Rational::zero());
+        assert!(fraction(0, 7).is_zero() && !fraction(1, 7).is_zero());
+        // A denominator beyond a word (a pivot times the move's scale) reduces in `i128`.
+        let big = fraction(3 << 40, 1 << 70);
+        let expected = Rational::new(Integer::from(3), Integer::from(1u64 << 30));
+        assert_eq!(big.to_rational(), expected);
+        // The result is reduced as built, not only equal in value.
+        let r = fraction(i128::from(i64::MIN), 1 << 64).to_rational();
+        assert_eq!(
+            (r.numer().clone(), r.denom().clone()),
+            (Integer::from(-1), Integer::from(2))
+        );
     }
 }
