@@ -624,7 +624,11 @@ fn word_residual<'a>(
         if b == denom {
             numer = numer.checked_add(term)?;
         } else {
-            let g = denom.gcd(&b);
+            // Both denominators are positive; a GCD of words when both fit one.
+            let g = match (u64::try_from(denom), u64::try_from(b)) {
+                (Ok(x), Ok(y)) => i128::from(x.gcd(&y)),
+                _ => denom.gcd(&b),
+            };
             let (fd, fb) = (b / g, denom / g);
             numer = numer.checked_mul(fd)?.checked_add(term.checked_mul(fb)?)?;
             denom = denom.checked_mul(fd)?;
