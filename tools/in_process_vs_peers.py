@@ -71,8 +71,6 @@ def main():
     parser.add_argument("--timeout", type=float, default=60.0,
                         help="seconds allowed per peer measurement (default: 60)")
     args = parser.parse_args()
-    builders = {"chain": peer_bench.chain, "grid": peer_bench.grid,
-                "parallelograms": peer_bench.parallelograms}
     cases = [(name, n) for name in peer_bench.SYSTEMS for n in args.sizes]
     print("ecles: the run_edit bench", file=sys.stderr, flush=True)
     run_bench([bench_id(name, n) for name, n in cases], args.measurement_time)
@@ -81,7 +79,7 @@ def main():
              "ecles / SolveSpace, best | ecles / SolveSpace, median |",
              "|---|---:|---:|---:|---:|---:|---:|"]
     for name, n in cases:
-        system = builders[name](n)
+        system = peer_bench.BUILDERS[name](n)
         print(f"{name}, {len(system.points)} points: peers", file=sys.stderr, flush=True)
         ours = ecles_per_edit(bench_id(name, n))
         slvs = peer_bench.run_isolated(peer_bench.measure_slvs, system, args.timeout)

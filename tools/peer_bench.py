@@ -174,6 +174,10 @@ def parallelograms(n):
     return System("parallelograms", points, constraints, 2 * (m // 2))
 
 
+# Each system's builder, by name.
+BUILDERS = {"chain": chain, "grid": grid, "parallelograms": parallelograms}
+
+
 def check_positions(system, coordinates):
     """None if the dragged point is at its target and every equation holds to TOLERANCE on the
     coordinates (x0, y0, x1, ...), else what is wrong."""
@@ -448,7 +452,6 @@ def main():
                         help="seconds allowed per peer measurement and per ecles process "
                              "(default: 60)")
     args = parser.parse_args()
-    builders = {"chain": chain, "grid": grid, "parallelograms": parallelograms}
     lines = ["| system | points | equations | ecles with edit (ms) | ecles without (ms) | "
              "ecles per edit (ms) | SolveSpace per solve, best / median (ms) | "
              "kiwi per solve, best / median (µs) | "
@@ -457,7 +460,7 @@ def main():
     with tempfile.TemporaryDirectory() as directory:
         for name in args.systems:
             for n in args.sizes:
-                system = builders[name](n)
+                system = BUILDERS[name](n)
                 print(f"{name}, {len(system.points)} points: ecles", file=sys.stderr, flush=True)
                 ecles = measure_ecles(system, directory, args.timeout)
                 print("  SolveSpace", file=sys.stderr, flush=True)

@@ -379,35 +379,13 @@ where
         let (n, picked) = (columns.len(), &picked_local);
         let e = equalities.as_ref();
         let free = free()?;
-        Ok(MoveOutcome::Moves(match (particular, free) {
-            (Particular::Words(x), NullVectors::Words(free)) => follows(
-                n,
-                picked,
-                &expanded_values(e, x),
-                &expanded(e, free),
-                coordinate_of,
-            ),
-            (Particular::Words(x), NullVectors::Integers(free)) => follows(
-                n,
-                picked,
-                &expanded_values(e, x),
-                &expanded(e, free),
-                coordinate_of,
-            ),
-            (Particular::Rationals(x), NullVectors::Words(free)) => follows(
-                n,
-                picked,
-                &expanded_values(e, x),
-                &expanded(e, free),
-                coordinate_of,
-            ),
-            (Particular::Rationals(x), NullVectors::Integers(free)) => follows(
-                n,
-                picked,
-                &expanded_values(e, x),
-                &expanded(e, free),
-                coordinate_of,
-            ),
+        Ok(MoveOutcome::Moves(match particular {
+            Particular::Words(x) => {
+                follows_of(n, picked, &expanded_values(e, x), free, e, coordinate_of)
+            }
+            Particular::Rationals(x) => {
+                follows_of(n, picked, &expanded_values(e, x), free, e, coordinate_of)
+            }
         }))
     };
     let outcome = match (requested, &solves) {
@@ -505,6 +483,33 @@ impl MoveValue for WordFraction {
 
     fn exact(&self) -> Rational {
         self.to_rational()
+    }
+}
+
+/// [`follows`] with the null vectors of either kind, expanded over the component's columns.
+fn follows_of<V: MoveValue>(
+    n: usize,
+    picked: &[usize],
+    particular: &[V],
+    free: NullVectors,
+    equalities: Option<&Equalities>,
+    coordinate_of: impl Fn(usize) -> (ParamId, usize),
+) -> Vec<(ParamId, Follows)> {
+    match free {
+        NullVectors::Words(free) => follows(
+            n,
+            picked,
+            particular,
+            &expanded(equalities, free),
+            coordinate_of,
+        ),
+        NullVectors::Integers(free) => follows(
+            n,
+            picked,
+            particular,
+            &expanded(equalities, free),
+            coordinate_of,
+        ),
     }
 }
 
