@@ -45,27 +45,176 @@ fn cross(a: i64, b: i64, c: i64, d: i64) -> i128 {
     i128::from(a) * i128::from(b) - i128::from(c) * i128::from(d)
 }
 
-/// `A` after Bareiss' elimination: on and above the diagonal the rows of the last step that
-/// changed them (`U`, with `U_{n−1,n−1} = det A`; `U_{k,i}` is also the multiplier of row `i`
-/// at step `k`, by symmetry); below it `A`'s own entries, not read.
+/// `A` factored one connected component at a time (the graph of its nonzero off-diagonal
+/// entries): the normal matrix of an edit whose x and y coordinates are tied by the same rows
+/// is two identical blocks, factored once. The solution of `A x = b` is unique, so solving
+/// block by block and bringing the blocks' lowest terms over the least common multiple of
+/// their denominators gives exactly what one elimination of `A` gives (and smaller minors on
+/// the way: a block's are not multiplied by the other blocks' determinants).
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub(crate) struct SmallBareiss {
     n: usize,
-    m: Vec<i64>,
+    /// The distinct blocks, eliminated.
+    blocks: Vec<DenseBareiss>,
+    /// Each component's indices (increasing) and its block in `blocks`; empty when `A` is one
+    /// component (then `blocks` holds `A` itself).
+    parts: Vec<(Vec<usize>, usize)>,
 }
 
 impl SmallBareiss {
     /// Eliminates `A` (`n × n`, `n ≤ MAX_ORDER`, both triangles given as sparse rows). `None`
-    /// when `n` is too large, a value reaches `2^62` or a pivot is zero.
+    /// when `n` is too large, `A` is not symmetric, or in some block a value reaches `2^62`
+    /// or a pivot is zero.
     pub(crate) fn factor(n: usize, rows: &[Vec<(usize, i64)>]) -> Option<Self> {
         if n == 0 || n > MAX_ORDER || rows.len() != n {
             return None;
         }
-        let mut m = vec![0i64; n * n];
-        for (i, row) in rows.iter().enumerate() {
-            for &(j, v) in row {
-                m[i * n + j] = word(i128::from(v))?;
+        let components = components(n, rows)?;
+        if components.len() == 1 {
+            let mut m = vec![0i64; n * n];
+            for (i, row) in rows.iter().enumerate() {
+                for &(j, v) in row {
+                    m[i * n + j] = v;
+                }
             }
+            return Some(SmallBareiss {
+                n,
+                blocks: vec![DenseBareiss::factor(n, m)?],
+                parts: Vec::new(),
+            });
+        }
+        // Each component's dense matrix in its own numbering: equal ones share a block.
+        let mut local = vec![0usize; n];
+        let mut keys: Vec<Vec<i64>> = Vec::new();
+        let mut blocks = Vec::new();
+        let mut parts = Vec::with_capacity(components.len());
+        for indices in components {
+            let k = indices.len();
+            for (at, &i) in indices.iter().enumerate() {
+                local[i] = at;
+            }
+            let mut m = vec![0i64; k * k];
+            for (at, &i) in indices.iter().enumerate() {
+                // A zero entry may name another component's index: only nonzeros are placed.
+                for &(j, v) in rows[i].iter().filter(|(_, v)| *v != 0) {
+                    m[at * k + local[j]] = v;
+                }
+            }
+            let block = match keys.iter().position(|key| *key == m) {
+                Some(block) => block,
+                None => {
+                    blocks.push(DenseBareiss::factor(k, m.clone())?);
+                    keys.push(m);
+                    blocks.len() - 1
+                }
+            };
+            parts.push((indices, block));
+        }
+        Some(SmallBareiss { n, blocks, parts })
+    }
+
+    /// The exact solution of `A x = b` as `(numerators, denominator)` with the smallest
+    /// positive common denominator (what lifting with rational reconstruction gives); `None`
+    /// when `b` or a value on the way reaches `2^62`.
+    pub(crate) fn solve(&self, b: &[BigInt]) -> Option<(Vec<BigInt>, BigInt)> {
+        // `solve_words` checks the bound of every entry.
+        let b: Vec<i64> = b.iter().map(ToPrimitive::to_i64).collect::<Option<_>>()?;
+        let (numerators, denominator) = self.solve_words(&b)?;
+        Some((
+            numerators.into_iter().map(BigInt::from).collect(),
+            BigInt::from(denominator),
+        ))
+    }
+
+    /// [`SmallBareiss::solve`] for a right-hand side of machine words, answering in words.
+    pub(crate) fn solve_words(&self, b: &[i64]) -> Option<(Vec<i64>, i64)> {
+        if self.parts.is_empty() {
+            return self.blocks[0].solve_words(b);
+        }
+        // Each block in lowest terms, then all over the least common multiple `l` of their
+        // denominators: a prime's highest power in `l` comes from a block whose numerators
+        // are not all multiples of it, and that block is scaled by a cofactor without it, so
+        // the whole is in lowest terms too.
+        let mut solved = Vec::with_capacity(self.parts.len());
+        let mut l: u64 = 1;
+        let mut gathered = Vec::new();
+        for (indices, block) in &self.parts {
+            gathered.clear();
+            gathered.extend(indices.iter().map(|&i| b[i]));
+            let (y, d) = self.blocks[*block].solve_words(&gathered)?;
+            let d = d.unsigned_abs();
+            l = (l / l.gcd(&d)).checked_mul(d)?;
+            if l >= WORD_LIMIT {
+                return None;
+            }
+            solved.push((y, d));
+        }
+        let mut x = vec![0i64; self.n];
+        for ((indices, _), (y, d)) in self.parts.iter().zip(solved) {
+            let scale = i128::from(l / d);
+            for (&i, v) in indices.iter().zip(y) {
+                x[i] = word(i128::from(v) * scale)?;
+            }
+        }
+        Some((x, l as i64))
+    }
+}
+
+/// The connected components of the symmetric pattern of `rows` (`i` and `j` joined by a
+/// nonzero entry `(i, j)`), each as its increasing indices, ordered by their first index;
+/// `None` when an entry's column is not below `n`.
+fn components(n: usize, rows: &[Vec<(usize, i64)>]) -> Option<Vec<Vec<usize>>> {
+    fn root(parent: &mut [usize], mut x: usize) -> usize {
+        while parent[x] != x {
+            parent[x] = parent[parent[x]];
+            x = parent[x];
+        }
+        x
+    }
+    let mut parent: Vec<usize> = (0..n).collect();
+    for (i, row) in rows.iter().enumerate() {
+        for &(j, v) in row {
+            if j >= n {
+                return None;
+            }
+            if v != 0 {
+                let (a, b) = (root(&mut parent, i), root(&mut parent, j));
+                parent[a.max(b)] = a.min(b);
+            }
+        }
+    }
+    // Roots are the smallest index of their component: components come in order of it.
+    let mut slot = vec![usize::MAX; n];
+    let mut components: Vec<Vec<usize>> = Vec::new();
+    for i in 0..n {
+        let r = root(&mut parent, i);
+        if slot[r] == usize::MAX {
+            slot[r] = components.len();
+            components.push(Vec::new());
+        }
+        components[slot[r]].push(i);
+    }
+    Some(components)
+}
+
+/// One block after Bareiss' elimination: on and above the diagonal the rows of the last step
+/// that changed them (`U`, with `U_{n−1,n−1} = det A`; `U_{k,i}` is also the multiplier of row
+/// `i` at step `k`, by symmetry); below it `A`'s own entries, not read.
+#[derive(Debug, Clone, PartialEq, Eq)]
+struct DenseBareiss {
+    n: usize,
+    m: Vec<i64>,
+    /// The exact divisor of each pivot `U_kk`, for the solves.
+    pivots: Vec<ExactDivisor>,
+}
+
+impl DenseBareiss {
+    /// Eliminates the dense `n × n` matrix `m` (row-major). `None` when it is not symmetric,
+    /// a value reaches `2^62` or a pivot is zero.
+    fn factor(n: usize, mut m: Vec<i64>) -> Option<Self> {
+        debug_assert_eq!(m.len(), n * n);
+        if m.iter().any(|&v| word(i128::from(v)).is_none()) {
+            return None;
         }
         // Symmetric (else the caller lifts): then every step keeps the trailing block
         // symmetric (an entry is the minor of the leading rows and columns with row `i` and
@@ -75,6 +224,7 @@ impl SmallBareiss {
             return None;
         }
         let mut previous = ExactDivisor::new(1);
+        let mut pivots = Vec::with_capacity(n);
         for k in 0..n {
             let pivot = m[k * n + k];
             if pivot == 0 {
@@ -93,25 +243,13 @@ impl SmallBareiss {
                 }
             }
             previous = ExactDivisor::new(pivot);
+            pivots.push(previous);
         }
-        Some(SmallBareiss { n, m })
+        Some(DenseBareiss { n, m, pivots })
     }
 
-    /// The exact solution of `A x = b` as `(numerators, denominator)` with the smallest
-    /// positive common denominator (what lifting with rational reconstruction gives); `None`
-    /// when `b` or a value on the way reaches `2^62`.
-    pub(crate) fn solve(&self, b: &[BigInt]) -> Option<(Vec<BigInt>, BigInt)> {
-        // `solve_words` checks the bound of every entry.
-        let b: Vec<i64> = b.iter().map(ToPrimitive::to_i64).collect::<Option<_>>()?;
-        let (numerators, denominator) = self.solve_words(&b)?;
-        Some((
-            numerators.into_iter().map(BigInt::from).collect(),
-            BigInt::from(denominator),
-        ))
-    }
-
-    /// [`SmallBareiss::solve`] for a right-hand side of machine words, answering in words.
-    pub(crate) fn solve_words(&self, b: &[i64]) -> Option<(Vec<i64>, i64)> {
+    /// `A x = b` in lowest terms (see [`SmallBareiss::solve`]), in words.
+    fn solve_words(&self, b: &[i64]) -> Option<(Vec<i64>, i64)> {
         let n = self.n;
         let at = |i: usize, j: usize| self.m[i * n + j];
         let mut c: Vec<i64> = b
@@ -119,9 +257,10 @@ impl SmallBareiss {
             .map(|&v| word(i128::from(v)))
             .collect::<Option<_>>()?;
         // The right-hand side through the same steps.
-        let mut previous = ExactDivisor::new(1);
+        let one = ExactDivisor::new(1);
         for k in 0..n {
             let pivot = at(k, k);
+            let previous = if k == 0 { &one } else { &self.pivots[k - 1] };
             for i in k + 1..n {
                 // The multiplier, by symmetry (see `factor`).
                 let below = at(k, i);
@@ -130,7 +269,6 @@ impl SmallBareiss {
                 }
                 c[i] = previous.quotient(cross(pivot, c[i], below, c[k]))?;
             }
-            previous = ExactDivisor::new(pivot);
         }
         // U x = c with U_{n−1,n−1} = det: y = det · x by exact divisions, last entry first.
         // Each product is below 2^124 and at most 48 are summed (checked: a sum may overflow).
@@ -141,15 +279,24 @@ impl SmallBareiss {
             for (u, yj) in self.m[i * n + i + 1..(i + 1) * n].iter().zip(&y[i + 1..]) {
                 sum = sum.checked_sub(i128::from(*u) * i128::from(*yj))?;
             }
-            y[i] = ExactDivisor::new(at(i, i)).quotient(sum)?;
+            y[i] = self.pivots[i].quotient(sum)?;
         }
         // Lowest common denominator: divide by the content of (det, y).
         let mut g = det.unsigned_abs();
         for v in &y {
+            if g == 1 {
+                break;
+            }
             g = g.gcd(&v.unsigned_abs());
         }
         let sign: i64 = if det < 0 { -1 } else { 1 };
         let g = i64::try_from(g).ok()?;
+        if g == 1 {
+            if sign < 0 {
+                y.iter_mut().for_each(|v| *v = -*v);
+            }
+            return Some((y, sign * det));
+        }
         Some((
             y.into_iter().map(|v| sign * (v / g)).collect(),
             sign * (det / g),
@@ -163,7 +310,7 @@ impl SmallBareiss {
 /// quotient is wanted only below `2^62` ([`word`]), which `|a| < 2^62 |b|` decides before it is
 /// computed. Each elimination step divides by one previous pivot `(n − k)²` times: the inverse
 /// is found once (a 64-bit division is tens of cycles, most of a small factoring's time).
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 struct ExactDivisor {
     negative: bool,
     shift: u32,
@@ -223,6 +370,10 @@ mod tests {
         let (num, den) = f.solve(&[BigInt::from(1), BigInt::from(0)]).expect("small");
         assert_eq!(num, [BigInt::from(2), BigInt::from(-1)]);
         assert_eq!(den, BigInt::from(3));
+        // A negative determinant (symmetric, not definite: pivots 1 and −3) still answers
+        // over a positive denominator: x = (−1/3, 2/3).
+        let g = SmallBareiss::factor(2, &dense_rows(&[vec![1, 2], vec![2, 1]])).expect("pivots");
+        assert_eq!(g.solve_words(&[1, 0]), Some((vec![-1, 2], 3)));
         // An integer answer has denominator one.
         let (num, den) = f.solve(&[BigInt::from(3), BigInt::from(3)]).expect("small");
         assert_eq!(
@@ -344,5 +495,133 @@ mod tests {
             });
             prop_assert_eq!(lcm, den);
         }
+
+        /// Block-diagonal `A` with its blocks' indices interleaved, identical blocks among
+        /// them: factored block by block (identical blocks once), solved exactly, in lowest
+        /// terms, and equal to one elimination of the whole matrix whenever that fits words.
+        #[test]
+        fn blocks_are_solved_as_the_whole_matrix(
+            sizes in proptest::collection::vec(1usize..5, 1..4),
+            twins in proptest::collection::vec(any::<bool>(), 4),
+            entries in proptest::collection::vec(0i64..7, 3 * 25),
+            order in Just(()).prop_perturb(|_, mut rng| rng.next_u64()),
+            rhs in proptest::collection::vec(-1000i64..1000, 16),
+        ) {
+            // Block t is `Bᵀ B + T` of its own random nonnegative `B` (`T` tridiagonal, 3 on
+            // the diagonal and 1 beside it: positive definite and one component), or a copy of
+            // block t − 1.
+            let mut blocks: Vec<Vec<Vec<i64>>> = Vec::new();
+            for (t, &k) in sizes.iter().enumerate() {
+                let twin = t > 0 && twins[t];
+                let block = if twin {
+                    blocks[t - 1].clone()
+                } else {
+                    let e = |i: usize, j: usize| entries[t * 25 + i * 5 + j];
+                    (0..k)
+                        .map(|i| {
+                            (0..k)
+                                .map(|j| {
+                                    let t = match i.abs_diff(j) {
+                                        0 => 3,
+                                        1 => 1,
+                                        _ => 0,
+                                    };
+                                    (0..5).map(|r| e(r, i) * e(r, j)).sum::<i64>() + t
+                                })
+                                .collect()
+                        })
+                        .collect()
+                };
+                blocks.push(block);
+            }
+            let n: usize = blocks.iter().map(Vec::len).sum();
+            // A pseudo-random interleaving of the blocks' indices, each block's in its own
+            // order (as the x and y rows of an edit are).
+            let mut owner: Vec<usize> = blocks
+                .iter()
+                .enumerate()
+                .flat_map(|(t, block)| std::iter::repeat_n(t, block.len()))
+                .collect();
+            let mut state = order | 1;
+            for i in (1..n).rev() {
+                state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+                owner.swap(i, (state >> 33) as usize % (i + 1));
+            }
+            let mut place = vec![0usize; n];
+            let mut starts: Vec<usize> = blocks
+                .iter()
+                .scan(0, |start, block| {
+                    let s = *start;
+                    *start += block.len();
+                    Some(s)
+                })
+                .collect();
+            for (slot, &t) in owner.iter().enumerate() {
+                place[starts[t]] = slot;
+                starts[t] += 1;
+            }
+            let mut a = vec![vec![0i64; n]; n];
+            let mut start = 0;
+            for block in &blocks {
+                for (i, row) in block.iter().enumerate() {
+                    for (j, v) in row.iter().enumerate() {
+                        a[place[start + i]][place[start + j]] = *v;
+                    }
+                }
+                start += block.len();
+            }
+            let f = SmallBareiss::factor(n, &dense_rows(&a)).expect("SPD blocks and small");
+            let distinct = (0..blocks.len())
+                .filter(|&t| !blocks[..t].contains(&blocks[t]))
+                .count();
+            if blocks.len() > 1 {
+                prop_assert_eq!(f.blocks.len(), distinct);
+                prop_assert_eq!(f.parts.len(), blocks.len());
+            }
+            let b: Vec<BigInt> = rhs[..n].iter().map(|v| BigInt::from(*v)).collect();
+            let (num, den) = f.solve(&b).expect("small");
+            prop_assert!(den > BigInt::zero());
+            for (i, row) in a.iter().enumerate() {
+                let lhs: BigInt = row.iter().zip(&num).map(|(aij, x)| BigInt::from(*aij) * x).sum();
+                prop_assert_eq!(lhs, &den * &b[i]);
+            }
+            let lcm = num.iter().fold(BigInt::from(1), |l, x| {
+                l.lcm(BigRational::new(x.clone(), den.clone()).denom())
+            });
+            prop_assert_eq!(&lcm, &den);
+            let whole = a.iter().flatten().copied().collect();
+            if let Some(whole) = DenseBareiss::factor(n, whole) {
+                let b: Vec<i64> = rhs[..n].to_vec();
+                if let Some((wn, wd)) = whole.solve_words(&b) {
+                    prop_assert_eq!(wn.iter().map(|v| BigInt::from(*v)).collect::<Vec<_>>(), num);
+                    prop_assert_eq!(BigInt::from(wd), den);
+                }
+            }
+        }
+    }
+
+    /// Explicit zeros naming another component are not placed; a zero right-hand side of a
+    /// block is zero over denominator one.
+    #[test]
+    fn explicit_zeros_and_zero_blocks() {
+        // Components {0, 2} and {1}; row 1 holds an explicit zero at column 2.
+        let rows = vec![
+            vec![(0, 2), (2, 1)],
+            vec![(1, 2), (2, 0)],
+            vec![(0, 1), (2, 2)],
+        ];
+        let f = SmallBareiss::factor(3, &rows).expect("SPD blocks");
+        assert_eq!(f.parts.len(), 2);
+        // [[2, 1], [1, 2]] y = [1, 0] and 2 z = 0: (2/3, 0, −1/3).
+        let (num, den) = f.solve_words(&[1, 0, 0]).expect("small");
+        assert_eq!((num, den), (vec![2, 0, -1], 3));
+        // 2 z = 1 and the other block zero: (0, 1/2, 0).
+        let (num, den) = f.solve_words(&[0, 1, 0]).expect("small");
+        assert_eq!((num, den), (vec![0, 1, 0], 2));
+        // Both: (2/3, 1/2, −1/3) over 6, and (2/3, 1, −1/3) over 3.
+        let (num, den) = f.solve_words(&[1, 1, 0]).expect("small");
+        assert_eq!((num, den), (vec![4, 3, -2], 6));
+        let (num, den) = f.solve_words(&[1, 2, 0]).expect("small");
+        assert_eq!((num, den), (vec![2, 3, -1], 3));
     }
 }
