@@ -241,7 +241,7 @@ impl<F: Factorization> Edit<F> {
     where
         B: LinearBackend<Factorization = F>,
     {
-        let weights = validate_ids_and_weights(system, values, spec)?;
+        validate_ids_and_weights(system, values, spec)?;
         let relevant = extract_relevant(system, &spec.anchors, &spec.derived);
         let reduced = reduce(system, values, spec, &relevant);
 
@@ -253,13 +253,19 @@ impl<F: Factorization> Edit<F> {
                 .map(|p| system.params()[p.index()].name.clone())
                 .collect()
         };
+        // One weight per unknown of `R_ED` (per coordinate in the scalar layout).
         let mut edit_weights = Vec::with_capacity(reduced.r_ed.cols());
-        for (w, p) in weights.iter().zip(&spec.derived) {
-            let copies = match reduced.layout {
-                Layout::Vector { .. } => 1,
-                Layout::Scalar => system.params()[p.index()].dim,
-            };
-            edit_weights.extend(std::iter::repeat_n(w.clone(), copies));
+        match &spec.weights {
+            None => edit_weights.resize(reduced.r_ed.cols(), Rational::one()),
+            Some(weights) => {
+                for (w, p) in weights.iter().zip(&spec.derived) {
+                    let copies = match reduced.layout {
+                        Layout::Vector { .. } => 1,
+                        Layout::Scalar => system.params()[p.index()].dim,
+                    };
+                    edit_weights.extend(std::iter::repeat_n(w.clone(), copies));
+                }
+            }
         }
         let substitution = substitute
             .then(|| Substitution::new(&reduced, &edit_weights))
@@ -280,10 +286,10 @@ impl<F: Factorization> Edit<F> {
             strongly_solvable = Some(true);
         }
         let factored_weights = match &substitution {
-            Some(s) => s.group_weights().to_vec(),
-            None => edit_weights.clone(),
+            Some(s) => s.group_weights(),
+            None => &edit_weights,
         };
-        let prepared = factorization.prepare_least_squares(&factored.family, &factored_weights)?;
+        let prepared = factorization.prepare_least_squares(&factored.family, factored_weights)?;
         Ok(Edit {
             backend: backend.name(),
             anchors: spec.anchors.clone(),
@@ -1016,12 +1022,12 @@ pub(crate) fn conflict<S: Clone>(
     }
 }
 
-/// Checks ids, overlaps and weights; returns one weight per derived parameter.
+/// Checks ids, overlaps and weights (one positive weight per derived parameter, if given).
 pub(crate) fn validate_spec<S: std::fmt::Debug>(
     system: &ConstraintSystem,
     values: &Values,
     spec: &EditSpec,
-) -> Result<Vec<Rational>, EditError<S>> {
+) -> Result<(), EditError<S>> {
     if spec.anchors.is_empty() {
         return Err(EditError::NoAnchors);
     }
@@ -1033,7 +1039,7 @@ fn validate_ids_and_weights<S: std::fmt::Debug>(
     system: &ConstraintSystem,
     values: &Values,
     spec: &EditSpec,
-) -> Result<Vec<Rational>, EditError<S>> {
+) -> Result<(), EditError<S>> {
     // foldhash: SipHash's set-up and rounds were a visible part of initialising small edits.
     let mut seen: HashMap<ParamId, bool, foldhash::fast::RandomState> =
         HashMap::with_capacity_and_hasher(
@@ -1066,26 +1072,22 @@ fn validate_ids_and_weights<S: std::fmt::Debug>(
             found: values.len(),
         });
     }
-    let weights = match &spec.weights {
-        None => vec![Rational::one(); spec.derived.len()],
-        Some(w) => {
-            if w.len() != spec.derived.len() {
-                return Err(EditError::WeightCount {
-                    expected: spec.derived.len(),
-                    found: w.len(),
+    if let Some(w) = &spec.weights {
+        if w.len() != spec.derived.len() {
+            return Err(EditError::WeightCount {
+                expected: spec.derived.len(),
+                found: w.len(),
+            });
+        }
+        for (wi, p) in w.iter().zip(&spec.derived) {
+            // A sign test, not a comparison of fractions (which multiplies across).
+            if !wi.is_positive() {
+                return Err(EditError::NonPositiveWeight {
+                    name: system.params()[p.index()].name.clone(),
+                    weight: api::format_rational(wi),
                 });
             }
-            for (wi, p) in w.iter().zip(&spec.derived) {
-                // A sign test, not a comparison of fractions (which multiplies across).
-                if !wi.is_positive() {
-                    return Err(EditError::NonPositiveWeight {
-                        name: system.params()[p.index()].name.clone(),
-                        weight: api::format_rational(wi),
-                    });
-                }
-            }
-            w.clone()
         }
-    };
-    Ok(weights)
+    }
+    Ok(())
 }
