@@ -200,6 +200,11 @@ impl<R: Ring> ExactFactorization<R> {
         &self.a
     }
 
+    /// The rows of `A`, shared.
+    pub(crate) fn shared_sparse_rows(&self) -> Arc<Vec<SparseRow<R>>> {
+        Arc::clone(&self.a)
+    }
+
     /// Per redundant row: the primitive integer `y` with `yᵀA = 0` supported on that row and
     /// the independent rows it depends on, as `(original row, y_row)` sorted by row.
     pub(crate) fn dependencies(&self) -> Vec<Vec<(usize, R)>> {

@@ -49,7 +49,8 @@ struct ConsistencyCheck<R: Ring> {
 pub struct ExactLeastSquares<R: Ring = Int> {
     n: usize,
     parameters: usize,
-    a_hat: Vec<SparseRow<R>>,
+    /// `Â`: shared with the factorization when every row is independent.
+    a_hat: Arc<Vec<SparseRow<R>>>,
     k_hat: Vec<SparseRow<R>>,
     c_hat: Vec<QVec<R>>,
     /// `V = δ W⁻¹`, one positive integer per unknown.
@@ -138,20 +139,42 @@ impl<R: Ring> ExactLeastSquares<R> {
                 .collect()
         };
 
-        let a_hat: Vec<SparseRow<R>> = independent
-            .iter()
-            .map(|&i| f.sparse_rows()[i].clone())
-            .collect();
+        // Every row independent, in order (full row rank, the common case): `Â`, `K̂` and `ĉ`
+        // are the rows themselves, shared or moved rather than copied.
+        let all_rows =
+            independent.len() == m && independent.iter().enumerate().all(|(k, &i)| k == i);
+        let a_hat: Arc<Vec<SparseRow<R>>> = if all_rows {
+            f.shared_sparse_rows()
+        } else {
+            Arc::new(
+                independent
+                    .iter()
+                    .map(|&i| f.sparse_rows()[i].clone())
+                    .collect(),
+            )
+        };
         let k_rows: Vec<SparseRow<R>> = family
             .coefficients
             .row_iter()
             .map(|row| row.iter().map(|(c, v)| (*c, R::from_bigint(v))).collect())
             .collect();
-        let k_hat = independent.iter().map(|&i| k_rows[i].clone()).collect();
+        let dependencies = f.dependencies();
+        let constants: Vec<QVec<R>> = if dependencies.is_empty() {
+            Vec::new()
+        } else {
+            family
+                .constant
+                .iter()
+                .map(|c| QVec::from_rationals(c))
+                .collect()
+        };
         let c_hat = family
             .constant
             .iter()
             .map(|c| {
+                if all_rows {
+                    return QVec::from_rationals(c);
+                }
                 let picked: Vec<Rational> = independent.iter().map(|&i| c[i].clone()).collect();
                 QVec::from_rationals(&picked)
             })
@@ -166,13 +189,7 @@ impl<R: Ring> ExactLeastSquares<R> {
                 .expect("Â V Âᵀ is positive definite for independent rows Â and positive V"),
         });
 
-        let constants: Vec<QVec<R>> = family
-            .constant
-            .iter()
-            .map(|c| QVec::from_rationals(c))
-            .collect();
-        let checks = f
-            .dependencies()
+        let checks = dependencies
             .into_iter()
             .map(|y| {
                 let mut y_k_dense = vec![R::zero(); family.coefficients.cols()];
@@ -203,6 +220,11 @@ impl<R: Ring> ExactLeastSquares<R> {
                 ConsistencyCheck { y, y_k, y_c }
             })
             .collect();
+        let k_hat = if all_rows {
+            k_rows
+        } else {
+            independent.iter().map(|&i| k_rows[i].clone()).collect()
+        };
 
         Ok(ExactLeastSquares {
             n,
