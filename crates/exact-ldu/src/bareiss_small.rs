@@ -83,28 +83,39 @@ impl SmallBareiss {
                 parts: Vec::new(),
             });
         }
-        // Each component's dense matrix in its own numbering: equal ones share a block.
+        // Each index's position in its component: the components' indices increase, so a
+        // row's entries keep their order. Components whose rows are entry for entry the same
+        // in those positions are the same matrix and share a block.
         let mut local = vec![0usize; n];
-        let mut keys: Vec<Vec<i64>> = Vec::new();
-        let mut blocks = Vec::new();
-        let mut parts = Vec::with_capacity(components.len());
-        for indices in components {
-            let k = indices.len();
+        for indices in &components {
             for (at, &i) in indices.iter().enumerate() {
                 local[i] = at;
             }
-            let mut m = vec![0i64; k * k];
-            for (at, &i) in indices.iter().enumerate() {
-                // A zero entry may name another component's index: only nonzeros are placed.
-                for &(j, v) in rows[i].iter().filter(|(_, v)| *v != 0) {
-                    m[at * k + local[j]] = v;
-                }
-            }
-            let block = match keys.iter().position(|key| *key == m) {
-                Some(block) => block,
+        }
+        let nonzeros = |i: usize| {
+            rows[i]
+                .iter()
+                .filter(|(_, v)| *v != 0)
+                .map(|&(j, v)| (local[j], v))
+        };
+        let same = |a: &[usize], b: &[usize]| {
+            a.len() == b.len() && a.iter().zip(b).all(|(&i, &j)| nonzeros(i).eq(nonzeros(j)))
+        };
+        let mut blocks = Vec::new();
+        let mut parts: Vec<(Vec<usize>, usize)> = Vec::with_capacity(components.len());
+        for indices in components {
+            let twin = parts.iter().find(|(other, _)| same(other, &indices));
+            let block = match twin {
+                Some((_, block)) => *block,
                 None => {
-                    blocks.push(DenseBareiss::factor(k, m.clone())?);
-                    keys.push(m);
+                    let k = indices.len();
+                    let mut m = vec![0i64; k * k];
+                    for (at, &i) in indices.iter().enumerate() {
+                        for (j, v) in nonzeros(i) {
+                            m[at * k + j] = v;
+                        }
+                    }
+                    blocks.push(DenseBareiss::factor(k, m)?);
                     blocks.len() - 1
                 }
             };
@@ -161,38 +172,39 @@ impl SmallBareiss {
 }
 
 /// The connected components of the symmetric pattern of `rows` (`i` and `j` joined by a
-/// nonzero entry `(i, j)`), each as its increasing indices, ordered by their first index;
-/// `None` when an entry's column is not below `n`.
+/// nonzero entry `(i, j)`), each as its increasing indices, ordered by their first index, by
+/// depth-first search; `None` when an entry's column is not below `n`, or an entry joins a
+/// component found before (the pattern is not symmetric).
 fn components(n: usize, rows: &[Vec<(usize, i64)>]) -> Option<Vec<Vec<usize>>> {
-    fn root(parent: &mut [usize], mut x: usize) -> usize {
-        while parent[x] != x {
-            parent[x] = parent[parent[x]];
-            x = parent[x];
+    let mut label = vec![usize::MAX; n];
+    let mut count = 0;
+    let mut stack = Vec::new();
+    for start in 0..n {
+        if label[start] != usize::MAX {
+            continue;
         }
-        x
-    }
-    let mut parent: Vec<usize> = (0..n).collect();
-    for (i, row) in rows.iter().enumerate() {
-        for &(j, v) in row {
-            if j >= n {
-                return None;
+        label[start] = count;
+        stack.push(start);
+        while let Some(i) = stack.pop() {
+            for &(j, v) in &rows[i] {
+                if j >= n {
+                    return None;
+                }
+                if v == 0 || label[j] == count {
+                    continue;
+                }
+                if label[j] != usize::MAX {
+                    return None;
+                }
+                label[j] = count;
+                stack.push(j);
             }
-            if v != 0 {
-                let (a, b) = (root(&mut parent, i), root(&mut parent, j));
-                parent[a.max(b)] = a.min(b);
-            }
         }
+        count += 1;
     }
-    // Roots are the smallest index of their component: components come in order of it.
-    let mut slot = vec![usize::MAX; n];
-    let mut components: Vec<Vec<usize>> = Vec::new();
-    for i in 0..n {
-        let r = root(&mut parent, i);
-        if slot[r] == usize::MAX {
-            slot[r] = components.len();
-            components.push(Vec::new());
-        }
-        components[slot[r]].push(i);
+    let mut components = vec![Vec::new(); count];
+    for (i, &c) in label.iter().enumerate() {
+        components[c].push(i);
     }
     Some(components)
 }
@@ -386,6 +398,7 @@ mod tests {
     fn refuses_what_it_cannot_do_exactly() {
         // A matrix that is not symmetric (its multipliers are read off the upper triangle).
         assert!(SmallBareiss::factor(2, &dense_rows(&[vec![2, 1], vec![0, 2]])).is_none());
+        assert!(SmallBareiss::factor(2, &dense_rows(&[vec![2, 0], vec![1, 2]])).is_none());
         // A zero pivot (not positive definite), too large an order.
         assert!(SmallBareiss::factor(2, &dense_rows(&[vec![0, 1], vec![1, 0]])).is_none());
         assert!(SmallBareiss::factor(MAX_ORDER + 1, &vec![Vec::new(); MAX_ORDER + 1]).is_none());
