@@ -465,6 +465,31 @@ mod tests {
         }
     }
 
+    /// `f`'s solution of `A x = rhs` for `A = a`: exact (`A · num = den · rhs`, `den > 0`) and
+    /// over the smallest common denominator (the lcm of the entries' own denominators).
+    fn solved_exactly_in_lowest_terms(
+        a: &[Vec<i64>],
+        f: &SmallBareiss,
+        rhs: &[i64],
+    ) -> Result<(Vec<BigInt>, BigInt), TestCaseError> {
+        let b: Vec<BigInt> = rhs.iter().map(|v| BigInt::from(*v)).collect();
+        let (num, den) = f.solve(&b).expect("small");
+        prop_assert!(den > BigInt::zero());
+        for (i, row) in a.iter().enumerate() {
+            let lhs: BigInt = row
+                .iter()
+                .zip(&num)
+                .map(|(aij, x)| BigInt::from(*aij) * x)
+                .sum();
+            prop_assert_eq!(lhs, &den * &b[i]);
+        }
+        let lcm = num.iter().fold(BigInt::from(1), |l, x| {
+            l.lcm(BigRational::new(x.clone(), den.clone()).denom())
+        });
+        prop_assert_eq!(&lcm, &den);
+        Ok((num, den))
+    }
+
     proptest! {
         /// Random exact quotients: the multiplication by the inverse gives the division's.
         #[test]
@@ -495,18 +520,7 @@ mod tests {
                 })
                 .collect();
             let f = SmallBareiss::factor(n, &dense_rows(&a)).expect("SPD and small");
-            let b: Vec<BigInt> = rhs[..n].iter().map(|v| BigInt::from(*v)).collect();
-            let (num, den) = f.solve(&b).expect("small");
-            prop_assert!(den > BigInt::zero());
-            for (i, row) in a.iter().enumerate() {
-                let lhs: BigInt = row.iter().zip(&num).map(|(aij, x)| BigInt::from(*aij) * x).sum();
-                prop_assert_eq!(lhs, &den * &b[i]);
-            }
-            // The smallest common denominator: the lcm of the entries' own denominators.
-            let lcm = num.iter().fold(BigInt::from(1), |l, x| {
-                l.lcm(BigRational::new(x.clone(), den.clone()).denom())
-            });
-            prop_assert_eq!(lcm, den);
+            solved_exactly_in_lowest_terms(&a, &f, &rhs[..n])?;
         }
 
         /// Block-diagonal `A` with its blocks' indices interleaved, identical blocks among
@@ -591,17 +605,7 @@ mod tests {
                 prop_assert_eq!(f.blocks.len(), distinct);
                 prop_assert_eq!(f.parts.len(), blocks.len());
             }
-            let b: Vec<BigInt> = rhs[..n].iter().map(|v| BigInt::from(*v)).collect();
-            let (num, den) = f.solve(&b).expect("small");
-            prop_assert!(den > BigInt::zero());
-            for (i, row) in a.iter().enumerate() {
-                let lhs: BigInt = row.iter().zip(&num).map(|(aij, x)| BigInt::from(*aij) * x).sum();
-                prop_assert_eq!(lhs, &den * &b[i]);
-            }
-            let lcm = num.iter().fold(BigInt::from(1), |l, x| {
-                l.lcm(BigRational::new(x.clone(), den.clone()).denom())
-            });
-            prop_assert_eq!(&lcm, &den);
+            let (num, den) = solved_exactly_in_lowest_terms(&a, &f, &rhs[..n])?;
             let whole = a.iter().flatten().copied().collect();
             if let Some(whole) = DenseBareiss::factor(n, whole) {
                 let b: Vec<i64> = rhs[..n].to_vec();
