@@ -605,6 +605,41 @@ mod tests {
                 prop_assert_eq!(f.blocks.len(), distinct);
                 prop_assert_eq!(f.parts.len(), blocks.len());
             }
+            // Each block solved alone, brought over the lcm of the denominators in big
+            // integers: the answer when the lcm and every numerator are below 2^62, else the
+            // solve refuses (as one elimination of the whole matrix, whose determinant is the
+            // blocks' product, would).
+            let mut expected_den = BigInt::from(1);
+            let mut per_block = Vec::new();
+            let mut start = 0;
+            for block in &blocks {
+                let k = block.len();
+                let local: Vec<i64> = (0..k).map(|i| rhs[place[start + i]]).collect();
+                let alone = DenseBareiss::factor(k, block.iter().flatten().copied().collect())
+                    .and_then(|d| d.solve_words(&local));
+                if let Some((_, d)) = &alone {
+                    expected_den = expected_den.lcm(&BigInt::from(*d));
+                }
+                per_block.push((start, alone));
+                start += k;
+            }
+            let mut expected_num = vec![BigInt::zero(); n];
+            let mut fits = per_block.iter().all(|(_, alone)| alone.is_some());
+            for (start, alone) in per_block.iter().filter_map(|(s, a)| Some((s, a.as_ref()?))) {
+                let (y, d) = alone;
+                for (i, v) in y.iter().enumerate() {
+                    expected_num[place[start + i]] = BigInt::from(*v) * (&expected_den / BigInt::from(*d));
+                }
+            }
+            let limit = BigInt::from(1i64 << 62);
+            fits &= expected_den < limit && expected_num.iter().all(|v| v.magnitude() < limit.magnitude());
+            let Some((words, word_den)) = f.solve_words(&rhs[..n]) else {
+                prop_assert!(!fits, "refused a solution that fits words");
+                return Ok(());
+            };
+            prop_assert!(fits);
+            prop_assert_eq!(words.iter().map(|v| BigInt::from(*v)).collect::<Vec<_>>(), expected_num);
+            prop_assert_eq!(BigInt::from(word_den), expected_den);
             let (num, den) = solved_exactly_in_lowest_terms(&a, &f, &rhs[..n])?;
             let whole = a.iter().flatten().copied().collect();
             if let Some(whole) = DenseBareiss::factor(n, whole) {

@@ -1318,10 +1318,15 @@ mod tests {
             let b: Vec<BigInt> = rhs[..n].iter().map(|v| BigInt::from(*v)).collect();
             let solution = solver.solve(&b);
             check_solution(&rows, &b, &solution);
-            // The symmetric part A + Aᵀ (diagonally dominant, so positive definite) through
-            // the sparse factoring.
+            // The symmetric part A + Aᵀ off the diagonal, with a diagonal that makes it
+            // diagonally dominant (so positive definite; A + Aᵀ itself need not be, and may be
+            // singular), through the sparse factoring.
             let symmetric: Vec<Vec<i64>> = (0..n)
-                .map(|i| (0..n).map(|j| rows[i][j] + rows[j][i]).collect())
+                .map(|i| {
+                    let mut row: Vec<i64> = (0..n).map(|j| rows[i][j] + rows[j][i]).collect();
+                    row[i] = (0..n).filter(|&j| j != i).map(|j| row[j].abs()).sum::<i64>() + 1;
+                    row
+                })
                 .collect();
             let solver = LiftingSolver::lifted_symmetric(n, sparse(&symmetric)).expect("nonsingular");
             let solution = solver.solve(&b);
