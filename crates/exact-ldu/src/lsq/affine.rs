@@ -9,7 +9,9 @@
 //! at the first update, and the base is kept for the last hints of each column: an update whose
 //! hints are those of the previous one (a generic edit's steps, a drag with fixed hints) costs
 //! `O(n · a)` big-number multiplications instead of a lifted solve. Both are memos of pure
-//! functions of the prepared data: they never change an answer.
+//! functions of the prepared data: they never change an answer. Hints on the constraint set
+//! (anchors at `β`) need no base for their first update, `x = h − Σ_k (α_k − β_k) resp_k`
+//! directly; their base is formed only when a second update with them asks for it.
 
 use super::ExactLeastSquares;
 use crate::dixon::{entries_per_task, LiftingSolver};
@@ -23,7 +25,7 @@ use num_bigint::BigInt;
 use num_integer::Integer;
 use num_traits::{One, ToPrimitive, Zero};
 use rayon::prelude::*;
-use std::sync::{Arc, Mutex};
+use std::sync::{Arc, Mutex, OnceLock};
 
 /// A rational vector as integer numerators over one positive denominator.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -104,18 +106,48 @@ const PARALLEL_RESPONSES_FROM: usize = 256;
 /// without copying its numerators).
 type BaseMemo = Mutex<Option<(Vec<Rational>, Arc<Base>)>>;
 
+/// Where an update starts ([`ExactLeastSquares::start`]).
+pub(super) enum Start {
+    /// A base of the hints, from the memo or just formed.
+    Base(Arc<Base>),
+    /// The hints themselves, on the constraint set with the anchors at `beta`: the update is
+    /// `hints − Σ_k (α_k − β_k) resp_k`.
+    Hints {
+        hints: Numerators,
+        beta: Vec<Rational>,
+    },
+}
+
 /// A base with what [`combine`] derives from it and the responses, for every frame with these
 /// hints: [`Scales`] for the last set of moving anchors.
+///
+/// When the hints lie on the constraint set with the anchors at `β` (the usual case), the first
+/// update goes straight to its solution `h − Σ_k (α_k − β_k) resp_k` and keeps only `β`: the
+/// base `h + Σ_k β_k resp_k` is formed when a second update with these hints asks for it (a
+/// drag's next frame), and never for an edit updated once.
 #[derive(Debug)]
 pub(super) struct Base {
-    pub(super) numerators: Numerators,
+    numerators: OnceLock<Numerators>,
+    /// `β`, when the numerators are deferred.
+    anchors_on_hints: Option<Vec<Rational>>,
     scales: Mutex<Option<Arc<Scales>>>,
 }
 
 impl Base {
-    fn new(numerators: Numerators) -> Self {
+    /// A base formed at once.
+    fn formed(numerators: Numerators) -> Self {
         Base {
-            numerators,
+            numerators: OnceLock::from(numerators),
+            anchors_on_hints: None,
+            scales: Mutex::new(None),
+        }
+    }
+
+    /// A base `h + Σ_k β_k resp_k` formed when first read.
+    fn deferred(beta: Vec<Rational>) -> Self {
+        Base {
+            numerators: OnceLock::new(),
+            anchors_on_hints: Some(beta),
             scales: Mutex::new(None),
         }
     }
@@ -348,25 +380,22 @@ impl<R: Ring> ExactLeastSquares<R> {
         })
     }
 
-    /// `base_j(h) = h − V Âᵀ G⁻¹ (Â h − ĉ_j)`, from the memo when `h` is the last hint vector
-    /// of column `j`. Lifts the responses first if they are not ready (alongside the base's own
+    /// What an update of column `column` with hints `given` starts from: the memo's base when
+    /// `given` is the column's last hint vector, else a new base, remembered for the next
+    /// update. Lifts the responses first if they are not ready (alongside the base's own
     /// solve, one per core).
     ///
-    /// When the hints' residual is a combination of the anchors' columns, `Â h − ĉ_j = −K̂ β`
-    /// (the usual case: the current values, which satisfy every constraint with the anchors at
-    /// their current values `β`, suggested as hints), the base needs no solve of its own:
-    /// `base_j(h) = h + Σ_k β_k resp_k`.
-    pub(super) fn base(
-        &self,
-        normal: &LiftingSolver,
-        column: usize,
-        given: &[Rational],
-    ) -> Arc<Base> {
+    /// `base_j(h) = h − V Âᵀ G⁻¹ (Â h − ĉ_j)`. When the hints' residual is a combination of the
+    /// anchors' columns, `Â h − ĉ_j = −K̂ β` (the usual case: the current values, which satisfy
+    /// every constraint with the anchors at their current values `β`, suggested as hints), the
+    /// base needs no solve of its own: `base_j(h) = h + Σ_k β_k resp_k`, and the update itself
+    /// is `h − Σ_k (α_k − β_k) resp_k` (one combination, not two: [`Start::Hints`]).
+    pub(super) fn start(&self, normal: &LiftingSolver, column: usize, given: &[Rational]) -> Start {
         let slot = &self.memo.bases[column];
         if let Ok(guard) = slot.lock() {
             if let Some((hints, base)) = guard.as_ref() {
                 if api::identical_rationals(hints, given) {
-                    return Arc::clone(base);
+                    return Start::Base(Arc::clone(base));
                 }
             }
         }
@@ -376,16 +405,42 @@ impl<R: Ring> ExactLeastSquares<R> {
             num: h.num.iter().map(Ring::to_bigint).collect(),
             den: h.den.to_bigint(),
         };
-        let base = match self.anchor_combination(&rho, &common) {
-            Some(beta) => combine(&hints, None, self.responses(normal), &beta.negated()),
-            None => self.base_through_direction(normal, &hints, rho, common),
-        }
-        .without_content();
-        let base = Arc::new(Base::new(base));
+        let (start, base) = match self.anchor_combination(&rho, &common) {
+            Some(beta) => {
+                let base = Arc::new(Base::deferred(beta.clone()));
+                (Start::Hints { hints, beta }, base)
+            }
+            None => {
+                let base = self
+                    .base_through_direction(normal, &hints, rho, common)
+                    .without_content();
+                let base = Arc::new(Base::formed(base));
+                (Start::Base(Arc::clone(&base)), base)
+            }
+        };
         if let Ok(mut guard) = slot.lock() {
-            *guard = Some((given.to_vec(), Arc::clone(&base)));
+            *guard = Some((given.to_vec(), base));
         }
-        base
+        start
+    }
+
+    /// The numerators of `base`, a base of the hints `given`, formed now if they were deferred.
+    pub(super) fn base_numerators<'a>(
+        &self,
+        normal: &LiftingSolver,
+        base: &'a Base,
+        given: &[Rational],
+    ) -> &'a Numerators {
+        base.numerators.get_or_init(|| {
+            let h = QVec::<R>::from_rationals(given);
+            let hints = Numerators {
+                num: h.num.iter().map(Ring::to_bigint).collect(),
+                den: h.den.to_bigint(),
+            };
+            let beta = base.anchors_on_hints.as_deref().unwrap_or_default();
+            let beta = QVec::<R>::from_rationals(beta);
+            combine(&hints, None, self.responses(normal), &beta.negated()).without_content()
+        })
     }
 
     /// `h − V Âᵀ G⁻¹ ρ / ρ_den` for a residual off the anchors' columns. The first such residual
@@ -462,7 +517,7 @@ impl<R: Ring> ExactLeastSquares<R> {
         let mut solution = self.integer_combination(rho, Some(&first.rho))?;
         let (w, w_den) = solution.pop()?;
         let gamma = Rational::new(-(w * &first.rho_den), w_den * rho_den);
-        Some((scaled_down(solution, rho_den), gamma))
+        Some((QVec::from_rationals(&scaled_down(solution, rho_den)), gamma))
     }
 
     /// `Â h − ĉ_j` as numerators over one positive denominator.
@@ -489,7 +544,7 @@ impl<R: Ring> ExactLeastSquares<R> {
     /// Some `β` with `K̂ β = −ρ / ρ_den`, when there is one: exact elimination on the rows of
     /// `K̂` (as many unknowns as anchor coordinates), every row checked; `None` as soon as a row
     /// without anchors has a nonzero residual.
-    fn anchor_combination(&self, rho: &[BigInt], rho_den: &BigInt) -> Option<QVec<R>> {
+    fn anchor_combination(&self, rho: &[BigInt], rho_den: &BigInt) -> Option<Vec<Rational>> {
         // `K̂ u = −ρ`, then `β = u / ρ_den`.
         let solution = self.integer_combination(rho, None)?;
         Some(scaled_down(solution, rho_den))
@@ -528,13 +583,11 @@ impl<R: Ring> ExactLeastSquares<R> {
     }
 }
 
-/// `u / den` as a rational vector, from `(numerator, denominator)` pairs.
-fn scaled_down<R: Ring>(u: Vec<(BigInt, BigInt)>, den: &BigInt) -> QVec<R> {
-    let values: Vec<Rational> = u
-        .into_iter()
+/// `u / den` as rationals, from `(numerator, denominator)` pairs.
+fn scaled_down(u: Vec<(BigInt, BigInt)>, den: &BigInt) -> Vec<Rational> {
+    u.into_iter()
         .map(|(num, d)| Rational::new(num, d * den))
-        .collect();
-    QVec::from_rationals(&values)
+        .collect()
 }
 
 /// `h − p` over `h.den · p.den`.
@@ -782,6 +835,7 @@ impl<'a> Combination<'a> {
 #[cfg(test)]
 mod tests {
     use crate::factorization::ExactFactorization;
+    use crate::lsq::ExactLeastSquares;
     use crate::ring::Int;
     use crate::Simplification;
     use api::{Factorization, IntMatrix, PreparedLeastSquares, Rational, RhsFamily};
@@ -1050,7 +1104,8 @@ mod tests {
 
     /// The memo of the combination's scales follows the set of moving anchors: frames where
     /// one anchor stays, then both move, then the other stays give the fresh answers, unreduced
-    /// fractions included.
+    /// fractions included (by value: a fresh update goes straight from the hints, a memoised
+    /// one through their base, over another denominator).
     #[test]
     fn memoised_scales_follow_the_moving_anchors() {
         let a = IntMatrix::from_dense(4, &[vec![1, -2, 0, 3], vec![0, 1, 5, -1]]).expect("matrix");
@@ -1071,14 +1126,16 @@ mod tests {
             [q(2, 1), q(0, 1)],
         ] {
             let fresh = f.prepare_least_squares(&family, &weights).expect("prepare");
-            assert_eq!(
-                memoised
-                    .solve_unreduced(0, &alpha, &hints)
-                    .expect("consistent"),
-                fresh
+            let unreduced = |prepared: &ExactLeastSquares<Int>| -> Vec<Rational> {
+                prepared
                     .solve_unreduced(0, &alpha, &hints)
                     .expect("consistent")
-            );
+                    .expect("unreduced values")
+                    .into_iter()
+                    .map(|f| f.reduced())
+                    .collect()
+            };
+            assert_eq!(unreduced(&memoised), unreduced(&fresh));
             assert_eq!(
                 memoised.solve(0, &alpha, &hints).expect("consistent"),
                 fresh.solve(0, &alpha, &hints).expect("consistent")

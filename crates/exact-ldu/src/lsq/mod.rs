@@ -463,18 +463,28 @@ impl<R: Ring> ExactLeastSquares<R> {
     ) -> Result<Option<T>, SolveError<Rational>> {
         self.validate(column, alpha)?;
         check_len("hints", hints.len(), self.n)?;
-        let alpha = QVec::<R>::from_rationals(alpha);
-        self.check_prepared(column, &alpha)?;
+        let alpha_q = QVec::<R>::from_rationals(alpha);
+        self.check_prepared(column, &alpha_q)?;
         let Some(normal) = &self.normal else {
             return Ok(None);
         };
-        let base = self.base(normal, column, hints);
-        Ok(Some(combine(
-            &base.numerators,
-            Some(base.scales()),
-            self.responses(normal),
-            &alpha,
-        )))
+        Ok(Some(match self.start(normal, column, hints) {
+            affine::Start::Base(base) => combine(
+                self.base_numerators(normal, &base, hints),
+                Some(base.scales()),
+                self.responses(normal),
+                &alpha_q,
+            ),
+            affine::Start::Hints { hints, beta } => {
+                let shift: Vec<Rational> = alpha.iter().zip(&beta).map(|(a, b)| a - b).collect();
+                combine(
+                    &hints,
+                    None,
+                    self.responses(normal),
+                    &QVec::from_rationals(&shift),
+                )
+            }
+        }))
     }
 
     /// `b̂ = ĉ_j − K̂ α` at the independent rows, as rationals.
