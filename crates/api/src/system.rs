@@ -845,18 +845,79 @@ impl Values {
     }
 
     /// Replaces several parameters at once; used to commit an edit atomically after it has been
-    /// fully computed.
+    /// fully computed. Values shared with another copy (a session's undo history holds the
+    /// previous ones) are copied only where they are not replaced.
     pub fn replace_all(&mut self, updates: impl IntoIterator<Item = (ParamId, Vec<Rational>)>) {
-        let data = std::sync::Arc::make_mut(&mut self.data);
-        for (id, value) in updates {
-            data[id.index()] = value;
+        if let Some(data) = std::sync::Arc::get_mut(&mut self.data) {
+            for (id, value) in updates {
+                data[id.index()] = value;
+            }
+            return;
         }
+        let mut replaced: Vec<Option<Vec<Rational>>> = vec![None; self.data.len()];
+        for (id, value) in updates {
+            replaced[id.index()] = Some(value);
+        }
+        let data = self
+            .data
+            .iter()
+            .zip(replaced)
+            .map(|(old, new)| new.unwrap_or_else(|| old.clone()))
+            .collect();
+        self.data = std::sync::Arc::new(data);
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Replacing values shared with a copy leaves the copy as it was and copies the others
+    /// over; unshared values are replaced in place; a parameter named twice takes the last.
+    #[test]
+    fn replacing_shared_values_leaves_the_copy_alone() {
+        let mut system = ConstraintSystem::new();
+        let ids: Vec<ParamId> = (0..4)
+            .map(|k| {
+                system
+                    .add_parameter(format!("p{k}"), 1 + k % 2)
+                    .expect("parameter")
+            })
+            .collect();
+        let q = |n: i64, d: i64| Rational::new(n.into(), d.into());
+        let data = vec![
+            vec![q(1, 2)],
+            vec![q(3, 1), q(-4, 3)],
+            vec![q(5, 7)],
+            vec![q(0, 1), q(9, 4)],
+        ];
+        let mut values = Values::from_vecs(&system, data.clone()).expect("values");
+        let before = values.clone();
+        let updates = vec![
+            (ids[1], vec![q(6, 5), q(1, 1)]),
+            (ids[2], vec![q(2, 3)]),
+            (ids[1], vec![q(7, 5), q(-1, 1)]),
+        ];
+        values.replace_all(updates.clone());
+        for (k, id) in ids.iter().enumerate() {
+            assert_eq!(before.get(*id), data[k].as_slice(), "the copy, p{k}");
+        }
+        let expected = [
+            data[0].clone(),
+            vec![q(7, 5), q(-1, 1)],
+            vec![q(2, 3)],
+            data[3].clone(),
+        ];
+        for (k, id) in ids.iter().enumerate() {
+            assert_eq!(values.get(*id), expected[k].as_slice(), "replaced, p{k}");
+        }
+        drop(before);
+        let mut unshared = Values::from_vecs(&system, data).expect("values");
+        unshared.replace_all(updates);
+        for (k, id) in ids.iter().enumerate() {
+            assert_eq!(unshared.get(*id), expected[k].as_slice(), "in place, p{k}");
+        }
+    }
 
     /// Residuals of values over denominators that share almost all their factors (`D / 6`,
     /// `D / 10`, `D`), through the short Euclid, and over coprime ones, through the product.

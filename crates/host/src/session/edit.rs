@@ -145,7 +145,8 @@ impl Session {
                 },
             )
         });
-        self.commit(result, highlight, entry);
+        let updates = result.anchors.iter().chain(&result.derived).cloned();
+        self.commit(updates, highlight, entry);
         Ok(())
     }
 
@@ -217,11 +218,12 @@ impl Session {
         true
     }
 
-    /// Writes a result into the values, keeping the previous state and the edit (`entry`, its
-    /// run-file text) for [`Session::undo`] and [`Session::committed_edits`].
+    /// Writes a result's values (its anchors' and derived parameters') into the values, keeping
+    /// the previous state and the edit (`entry`, its run-file text) for [`Session::undo`] and
+    /// [`Session::committed_edits`].
     fn commit(
         &mut self,
-        result: &UpdateResult<Rational>,
+        updates: impl IntoIterator<Item = (ParamId, Vec<Rational>)>,
         highlight: Option<(String, Highlight)>,
         entry: String,
     ) {
@@ -232,7 +234,7 @@ impl Session {
             entry,
             build: None,
         });
-        result.write_into(&mut self.values);
+        self.values.replace_all(updates);
         if let Some((source, highlight)) = highlight {
             self.last_highlight.insert(source, highlight);
         }
@@ -356,10 +358,10 @@ impl Session {
                 criterion.is_least_squares(),
             );
         }
-        match &exact.outcome {
-            Ok(results) => {
+        match exact.outcome {
+            Ok(mut results) => {
                 report.solvable = true;
-                if let Some(last) = results.last() {
+                if let Some(last) = results.pop() {
                     let entries: Vec<&(ParamId, Vec<Rational>)> =
                         last.anchors.iter().chain(&last.derived).collect();
                     // Decimal text of values with thousands of digits: on all cores, each
@@ -390,14 +392,15 @@ impl Session {
                             },
                         )
                     });
-                    self.commit(last, highlight, entry.text.clone());
+                    let updates = last.anchors.into_iter().chain(last.derived);
+                    self.commit(updates, highlight, entry.text.clone());
                 }
             }
             Err(e) => {
                 report.solvable = false;
                 report.error = Some(e.to_string());
-                report.conflict = conflict_labels(&self.system, e);
-                report.explanation = self.explain_conflict(spec, e);
+                report.conflict = conflict_labels(&self.system, &e);
+                report.explanation = self.explain_conflict(spec, &e);
             }
         }
         report.max_residual = max_residual(&self.system, &self.values);
