@@ -624,12 +624,18 @@ fn word_residual<'a>(
         if b == denom {
             numer = numer.checked_add(term)?;
         } else {
-            // Both denominators are positive; a GCD of words when both fit one.
-            let g = match (u64::try_from(denom), u64::try_from(b)) {
-                (Ok(x), Ok(y)) => i128::from(x.gcd(&y)),
-                _ => denom.gcd(&b),
+            // Both denominators are positive; a GCD and quotients of words when both fit one
+            // (a division of `i128`s is a library call).
+            let (fd, fb) = match (u64::try_from(denom), u64::try_from(b)) {
+                (Ok(x), Ok(y)) => {
+                    let g = x.gcd(&y);
+                    (i128::from(y / g), i128::from(x / g))
+                }
+                _ => {
+                    let g = denom.gcd(&b);
+                    (b / g, denom / g)
+                }
             };
-            let (fd, fb) = (b / g, denom / g);
             numer = numer.checked_mul(fd)?.checked_add(term.checked_mul(fb)?)?;
             denom = denom.checked_mul(fd)?;
         }

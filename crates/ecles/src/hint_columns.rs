@@ -9,9 +9,11 @@
 use api::Rational;
 use std::sync::{Arc, Mutex};
 
-/// Per-parameter hints as given (`hints[k][j]`) and, gathered from them, one vector per
-/// coordinate (`columns[j][k]`), for the last update.
-type Gathered = (Vec<Vec<Rational>>, Arc<Vec<Vec<Rational>>>);
+/// The hints of the last update, gathered: one vector per coordinate (`columns[j][k]` is
+/// coordinate `j` of hint `k`), or every coordinate of every hint in one vector. They are also
+/// the memo's key: the next hints are compared with them, not with a copy of the hints as
+/// given.
+type Gathered = Arc<Vec<Vec<Rational>>>;
 
 /// One column of gathered hints. Two columns from the same gathering are the same hints
 /// ([`HintColumn::same_as`], a pointer comparison): the memos of the steps that follow (the
@@ -54,48 +56,72 @@ impl HintColumns {
     /// `hints` (one vector of `dim` coordinates per derived parameter) by coordinate: from the
     /// memo when they equal the last hints, gathered (and remembered) otherwise.
     pub(crate) fn by_column(&self, hints: &[Vec<Rational>], dim: usize) -> Vec<HintColumn> {
-        let gathered = self.gathered(hints, |hints| {
-            (0..dim)
-                .map(|j| hints.iter().map(|v| v[j].clone()).collect())
-                .collect()
-        });
+        let gathered = self.gathered(
+            |columns| {
+                columns.len() == dim
+                    && hints.iter().enumerate().all(|(k, v)| {
+                        v.len() == dim
+                            && v.iter()
+                                .zip(columns.iter())
+                                .all(|(x, column)| column.get(k).is_some_and(|y| identical(x, y)))
+                    })
+                    && columns.iter().all(|column| column.len() == hints.len())
+            },
+            || {
+                (0..dim)
+                    .map(|j| hints.iter().map(|v| v[j].clone()).collect())
+                    .collect()
+            },
+        );
         (0..dim).map(|j| HintColumn::new(&gathered, j)).collect()
     }
 
     /// `hints` (one vector per derived parameter, of any dimensions) as one column, every
     /// coordinate of every parameter in order: from the memo when they equal the last hints.
     pub(crate) fn flattened(&self, hints: &[Vec<Rational>]) -> HintColumn {
-        let gathered = self.gathered(hints, |hints| {
-            vec![hints.iter().flatten().cloned().collect()]
-        });
+        let gathered = self.gathered(
+            |columns| match columns.as_slice() {
+                [flat] => {
+                    flat.len() == hints.iter().map(Vec::len).sum::<usize>()
+                        && hints
+                            .iter()
+                            .flatten()
+                            .zip(flat)
+                            .all(|(x, y)| identical(x, y))
+                }
+                _ => false,
+            },
+            || vec![hints.iter().flatten().cloned().collect()],
+        );
         HintColumn::new(&gathered, 0)
     }
 
-    /// The memo's columns when `hints` are, number for number, the last hints; `gather(hints)`
-    /// (remembered) otherwise. One memo serves one layout: an edit never changes its layout.
+    /// The memo's gathering when `is_gathering_of_hints` says it is that of `hints`, number for
+    /// number; `gather()` (remembered) otherwise. One memo serves one layout: an edit never
+    /// changes its layout.
     fn gathered(
         &self,
-        hints: &[Vec<Rational>],
-        gather: impl FnOnce(&[Vec<Rational>]) -> Vec<Vec<Rational>>,
-    ) -> Arc<Vec<Vec<Rational>>> {
+        is_gathering_of_hints: impl FnOnce(&Vec<Vec<Rational>>) -> bool,
+        gather: impl FnOnce() -> Vec<Vec<Rational>>,
+    ) -> Gathered {
         if let Ok(guard) = self.0.lock() {
-            if let Some((given, columns)) = guard.as_ref() {
-                if given.len() == hints.len()
-                    && given
-                        .iter()
-                        .zip(hints)
-                        .all(|(a, b)| api::identical_rationals(a, b))
-                {
+            if let Some(columns) = guard.as_ref() {
+                if is_gathering_of_hints(columns) {
                     return Arc::clone(columns);
                 }
             }
         }
-        let columns = Arc::new(gather(hints));
+        let columns = Arc::new(gather());
         if let Ok(mut guard) = self.0.lock() {
-            *guard = Some((hints.to_vec(), Arc::clone(&columns)));
+            *guard = Some(Arc::clone(&columns));
         }
         columns
     }
+}
+
+/// Whether `a` and `b` hold the same numerator and denominator ([`api::identical_rationals`]).
+fn identical(a: &Rational, b: &Rational) -> bool {
+    api::identical_rationals(std::slice::from_ref(a), std::slice::from_ref(b))
 }
 
 impl Clone for HintColumns {
@@ -143,5 +169,34 @@ mod tests {
         let new = memo.flattened(&second);
         assert_eq!(&*new, [q(1), q(2), q(4)]);
         assert!(!new.same_as(&flat));
+        // One hint more or fewer is new hints, even when the others are the same.
+        let longer = vec![vec![q(1), q(2)], vec![q(4)], vec![q(5)]];
+        assert_eq!(&*memo.flattened(&longer), [q(1), q(2), q(4), q(5)]);
+        assert_eq!(&*memo.flattened(&first[..1]), [q(1), q(2)]);
+    }
+
+    /// The memo compares new hints with its gathering: a hint more, a hint fewer, a coordinate
+    /// changed or an equal value written unreduced each gather again; the same numbers do not.
+    #[test]
+    fn gathered_columns_are_the_key() {
+        let memo = HintColumns::default();
+        let first = vec![vec![q(1), q(2)], vec![q(3), q(4)]];
+        let columns = memo.by_column(&first, 2);
+        let fewer = memo.by_column(&first[..1], 2);
+        assert_eq!(&*fewer[0], [q(1)]);
+        assert_eq!(&*fewer[1], [q(2)]);
+        let more = vec![vec![q(1), q(2)], vec![q(3), q(4)], vec![q(5), q(6)]];
+        let gathered = memo.by_column(&more, 2);
+        assert_eq!(&*gathered[0], [q(1), q(3), q(5)]);
+        assert_eq!(&*gathered[1], [q(2), q(4), q(6)]);
+        let changed = vec![vec![q(1), q(2)], vec![q(3), q(7)], vec![q(5), q(6)]];
+        assert_eq!(&*memo.by_column(&changed, 2)[1], [q(2), q(7), q(6)]);
+        let again = memo.by_column(&changed, 2);
+        assert!(again[0].same_as(&memo.by_column(&changed.clone(), 2)[0]));
+        let unreduced = Rational::new_raw(6.into(), 2.into());
+        let written = vec![vec![q(1), q(2)], vec![unreduced, q(7)], vec![q(5), q(6)]];
+        let regathered = memo.by_column(&written, 2);
+        assert!(!regathered[0].same_as(&again[0]));
+        assert!(!columns[0].same_as(&regathered[0]));
     }
 }
