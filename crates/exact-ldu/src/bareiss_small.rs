@@ -152,6 +152,12 @@ impl SmallBareiss {
         for (indices, block) in &self.parts {
             gathered.clear();
             gathered.extend(indices.iter().map(|&i| b[i]));
+            // A block without right-hand side (an anchor's response reaches one coordinate's
+            // block) is solved by zeros over 1.
+            if gathered.iter().all(|&v| v == 0) {
+                solved.push((vec![0; indices.len()], 1));
+                continue;
+            }
             let (y, d) = self.blocks[*block].solve_words(&gathered)?;
             let d = d.unsigned_abs();
             l = (l / l.gcd(&d)).checked_mul(d)?;
