@@ -434,7 +434,8 @@ pub fn validate_weights(weights: &[Rational], n: usize) -> Result<(), BackendErr
         });
     }
     for (index, w) in weights.iter().enumerate() {
-        if *w <= Rational::from_integer(0.into()) {
+        // By signs: a comparison of rationals multiplies big integers.
+        if !num_traits::Signed::is_positive(w) {
             return Err(BackendError::NonPositiveWeight {
                 index,
                 weight: crate::exact::format_rational(w),
