@@ -42,9 +42,12 @@ pub(super) const MAX_COLUMNS: usize = 48;
 pub(super) struct WordElimination {
     /// Columns of `M`.
     columns: usize,
-    /// The rows of `W`, pivot rows first (in pivot order), each `columns + 1 + picked` wide
-    /// (the move column is zero when no move was requested).
-    rows: Vec<Vec<i64>>,
+    /// Entries per row of `W`: `columns + 1 + picked` (the move column is zero when no move
+    /// was requested).
+    width: usize,
+    /// The rows of `W` one after another, pivot rows first (in pivot order): one buffer, not a
+    /// vector per row (the elimination reads one column of every row per pivot).
+    cells: Vec<i64>,
     /// The pivot column of each pivot row.
     pivot_columns: Vec<usize>,
     /// The move's scale `s` (the least common multiple of its denominators).
@@ -69,31 +72,36 @@ impl WordElimination {
             None => (1, vec![0; picked]),
         };
         let width = columns + 1 + picked;
-        let dense = |row: &[(usize, Integer)]| -> Option<Vec<i64>> {
-            let mut w = vec![0i64; width];
+        let mut cells = vec![0i64; (a.rows() + picked) * width];
+        let mut rows = cells.chunks_exact_mut(width);
+        for (row, w) in a
+            .row_iter()
+            .chain(picked_rows.iter().map(Vec::as_slice))
+            .zip(rows.by_ref())
+        {
             for (c, v) in row {
                 w[*c] = v.to_i64()?;
             }
-            Some(w)
-        };
-        let mut rows = Vec::with_capacity(a.rows() + picked);
-        for row in a.row_iter() {
-            rows.push(dense(row)?);
         }
-        for (k, (row, m)) in picked_rows.iter().zip(moves).enumerate() {
-            let mut w = dense(row)?;
-            w[columns] = m;
-            w[columns + 1 + k] = 1;
-            rows.push(w);
+        for (k, m) in moves.into_iter().enumerate() {
+            let at = (a.rows() + k) * width;
+            cells[at + columns] = m;
+            cells[at + columns + 1 + k] = 1;
         }
         let mut elimination = WordElimination {
             columns,
-            rows,
+            width,
+            cells,
             pivot_columns: Vec::new(),
             scale,
         };
         elimination.eliminate()?;
         Some(elimination)
+    }
+
+    /// Number of rows of `W`.
+    fn row_count(&self) -> usize {
+        self.cells.len() / self.width
     }
 
     /// Gauss–Jordan over `M`'s columns, fraction-free: a row with a nonzero entry `a` in the
@@ -103,33 +111,38 @@ impl WordElimination {
     /// where Bareiss' division by the previous pivot would have to scale every row at every
     /// step. `None` on a value outside `i64`.
     fn eliminate(&mut self) -> Option<()> {
-        // The pivot row's nonzero columns (one buffer for every pivot).
+        let (width, rows) = (self.width, self.row_count());
+        // The pivot row (a copy: every other row is updated from it) and its nonzero columns.
+        let mut pivot_row = vec![0i64; width];
         let mut support = Vec::new();
         for c in 0..self.columns {
             let next = self.pivot_columns.len();
             // The candidate of least magnitude keeps the values small.
-            let Some(chosen) = (next..self.rows.len())
-                .filter(|&i| self.rows[i][c] != 0)
-                .min_by_key(|&i| self.rows[i][c].unsigned_abs())
+            let Some(chosen) = (next..rows)
+                .filter(|&i| self.cells[i * width + c] != 0)
+                .min_by_key(|&i| self.cells[i * width + c].unsigned_abs())
             else {
                 continue;
             };
-            self.rows.swap(next, chosen);
-            let (before, rest) = self.rows.split_at_mut(next);
-            let (pivot_row, after) = rest.split_first_mut()?;
+            if chosen != next {
+                let (head, tail) = self.cells.split_at_mut(chosen * width);
+                head[next * width..(next + 1) * width].swap_with_slice(&mut tail[..width]);
+            }
             // A positive pivot: where it divides a row's entry, that row only takes a multiple
             // of the pivot row's nonzero entries.
-            if pivot_row[c] < 0 {
-                for x in pivot_row.iter_mut() {
+            let stored = &mut self.cells[next * width..(next + 1) * width];
+            if stored[c] < 0 {
+                for x in stored.iter_mut() {
                     *x = x.checked_neg()?;
                 }
             }
+            pivot_row.copy_from_slice(stored);
             let p = pivot_row[c];
             support.clear();
-            support.extend((0..pivot_row.len()).filter(|&j| pivot_row[j] != 0));
-            for row in before.iter_mut().chain(after.iter_mut()) {
+            support.extend((0..width).filter(|&j| pivot_row[j] != 0));
+            for (i, row) in self.cells.chunks_exact_mut(width).enumerate() {
                 let a = row[c];
-                if a == 0 {
+                if a == 0 || i == next {
                     continue;
                 }
                 // `g` is at most `p`, an `i64`'s magnitude: the quotients fit.
@@ -163,20 +176,24 @@ impl WordElimination {
     }
 
     /// The rows of `M` reduced to zero.
-    fn zero_rows(&self) -> &[Vec<i64>] {
-        &self.rows[self.rank()..]
+    fn zero_rows(&self) -> impl Iterator<Item = &[i64]> {
+        self.cells[self.rank() * self.width..].chunks_exact(self.width)
+    }
+
+    /// The pivot rows with their pivot columns.
+    fn pivot_rows(&self) -> impl Iterator<Item = (&[i64], &usize)> {
+        self.cells.chunks_exact(self.width).zip(&self.pivot_columns)
     }
 
     /// Whether no move of the system takes the picked coordinates to the requested move.
     pub(super) fn blocked(&self) -> bool {
-        self.zero_rows().iter().any(|row| row[self.columns] != 0)
+        self.zero_rows().any(|row| row[self.columns] != 0)
     }
 
     /// The picked parts `y_P` of left null vectors of `M` that span them all: the reachable
     /// moves are the vectors orthogonal to each.
     pub(super) fn lost_normals(&self) -> Vec<Vec<Integer>> {
         self.zero_rows()
-            .iter()
             .map(|row| {
                 row[self.columns + 1..]
                     .iter()
@@ -191,7 +208,7 @@ impl WordElimination {
     /// rationals only where the report shows a value (a forced move).
     pub(super) fn particular(&self) -> Vec<WordFraction> {
         let mut x = vec![WordFraction { num: 0, den: 1 }; self.columns];
-        for (row, &c) in self.rows.iter().zip(&self.pivot_columns) {
+        for (row, &c) in self.pivot_rows() {
             // Pivots are positive, and so is the scale.
             let den = i128::from(row[c]) * i128::from(self.scale);
             x[c] = WordFraction {
@@ -210,18 +227,17 @@ impl WordElimination {
         for &c in &self.pivot_columns {
             is_pivot[c] = true;
         }
-        let pivot_rows = || self.rows.iter().zip(&self.pivot_columns);
         (0..self.columns)
             .filter(|&f| !is_pivot[f])
             .map(|f| {
                 let mut lcm = 1i64;
-                for (row, &c) in pivot_rows().filter(|(row, _)| row[f] != 0) {
+                for (row, &c) in self.pivot_rows().filter(|(row, _)| row[f] != 0) {
                     let p = row[c].checked_abs()?;
                     lcm = lcm.checked_mul(p / word_gcd(lcm, p))?;
                 }
                 let mut v = vec![0i64; self.columns];
                 v[f] = lcm;
-                for (row, &c) in pivot_rows().filter(|(row, _)| row[f] != 0) {
+                for (row, &c) in self.pivot_rows().filter(|(row, _)| row[f] != 0) {
                     v[c] = (lcm / row[c]).checked_mul(row[f])?.checked_neg()?;
                 }
                 divide_by_content(&mut v);
