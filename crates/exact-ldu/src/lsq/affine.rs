@@ -35,6 +35,14 @@ pub(super) struct Numerators {
 }
 
 impl Numerators {
+    /// `v` as big-integer numerators over its denominator.
+    fn of<R: Ring>(v: &QVec<R>) -> Self {
+        Numerators {
+            num: v.num.iter().map(Ring::to_bigint).collect(),
+            den: v.den.to_bigint(),
+        }
+    }
+
     /// Divides the numerators and the denominator by their common content, so every update
     /// built from this vector (and the GCDs that reduce its results) works on smaller numbers.
     fn without_content(mut self) -> Self {
@@ -401,10 +409,7 @@ impl<R: Ring> ExactLeastSquares<R> {
         }
         let h = &QVec::<R>::from_rationals(given);
         let (rho, common) = self.hint_residual(column, h);
-        let hints = Numerators {
-            num: h.num.iter().map(Ring::to_bigint).collect(),
-            den: h.den.to_bigint(),
-        };
+        let hints = Numerators::of(h);
         let (start, base) = match self.anchor_combination(&rho, &common) {
             Some(beta) => {
                 let base = Arc::new(Base::deferred(beta.clone()));
@@ -432,11 +437,7 @@ impl<R: Ring> ExactLeastSquares<R> {
         given: &[Rational],
     ) -> &'a Numerators {
         base.numerators.get_or_init(|| {
-            let h = QVec::<R>::from_rationals(given);
-            let hints = Numerators {
-                num: h.num.iter().map(Ring::to_bigint).collect(),
-                den: h.den.to_bigint(),
-            };
+            let hints = Numerators::of(&QVec::<R>::from_rationals(given));
             let beta = base.anchors_on_hints.as_deref().unwrap_or_default();
             let beta = QVec::<R>::from_rationals(beta);
             combine(&hints, None, self.responses(normal), &beta.negated()).without_content()
