@@ -10,6 +10,7 @@
 //! * [`input`]: reading input files (meshes, models, height fields) as bounded regular files;
 //! * [`source`]: the [`ConstraintSource`] trait constraint plugins implement;
 //! * [`view`]: what an interactive editor draws of a source (optional for sources);
+//! * [`words`]: machine-word arithmetic of the exact fast paths;
 //! * [`backend`]: the traits a linear-algebra backend implements (factor, rank, independent and
 //!   redundant rows, solve, weak and strong consistency, null space, weighted least squares).
 //!
@@ -24,6 +25,7 @@ mod name_index;
 pub mod source;
 pub mod system;
 pub mod view;
+pub mod words;
 
 pub use backend::{
     BackendError, Factorization, Fraction, Inconsistency, IntegerNullSpace, LinearBackend,

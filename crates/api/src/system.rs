@@ -609,6 +609,7 @@ fn word_residual<'a>(
     terms: impl Iterator<Item = (&'a Rational, &'a Integer)>,
     q: &Integer,
 ) -> Option<Option<Rational>> {
+    use crate::words::checked_mul_i128;
     use num_integer::Integer as _;
     use num_traits::ToPrimitive;
     // The running sum `numer / denom`, `denom > 0`.
@@ -620,7 +621,8 @@ fn word_residual<'a>(
         }
         let a = i128::from(x.numer().to_i64()?);
         let b = i128::from(x.denom().to_i64()?);
-        let term = c.checked_mul(a)?;
+        // Two `i64`s: their product fits.
+        let term = c * a;
         if b == denom {
             numer = numer.checked_add(term)?;
         } else {
@@ -636,8 +638,8 @@ fn word_residual<'a>(
                     (b / g, denom / g)
                 }
             };
-            numer = numer.checked_mul(fd)?.checked_add(term.checked_mul(fb)?)?;
-            denom = denom.checked_mul(fd)?;
+            numer = checked_mul_i128(numer, fd)?.checked_add(checked_mul_i128(term, fb)?)?;
+            denom = checked_mul_i128(denom, fd)?;
         }
     }
     Some((numer != 0).then(|| Rational::new(Integer::from(numer), Integer::from(denom))))

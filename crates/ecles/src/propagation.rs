@@ -879,8 +879,13 @@ impl Component {
         columns.sort_unstable();
         // Every coordinate of an equation reached was reached with it.
         let lost = |_| PropagationError::Backend("a coordinate left its component".into());
-        let mut sparse = Vec::new();
-        let mut origin = Vec::new();
+        let held: usize = touched_rows
+            .iter()
+            .filter_map(|row| equations[row.index()].as_ref())
+            .map(|seen| seen.iter().filter(|s| **s).count())
+            .sum();
+        let mut sparse = Vec::with_capacity(held);
+        let mut origin = Vec::with_capacity(held);
         for (row, seen) in touched_rows
             .iter()
             .filter_map(|&row| equations[row.index()].as_ref().map(|e| (row, e)))

@@ -126,7 +126,7 @@ pub(crate) fn reduce(
                 let RowBody::Vector { terms, rhs } = &row.body else {
                     unreachable!("vector layout has only vector rows")
                 };
-                let mut ed = Vec::new();
+                let mut ed = Vec::with_capacity(terms.len());
                 let mut ea = Vec::new();
                 let mut c: Vec<Rational> = rhs
                     .iter()
@@ -192,7 +192,8 @@ pub(crate) fn reduce(
                 let mut push = |component: Option<usize>,
                                 terms: &mut dyn Iterator<Item = (Coord, &Integer)>,
                                 rhs: &Integer| {
-                    let mut ed = Vec::new();
+                    // Most terms are derived: one allocation of the row, no growth.
+                    let mut ed = Vec::with_capacity(terms.size_hint().0);
                     let mut ea = Vec::new();
                     let mut c = Rational::from_integer(rhs.clone());
                     for (coord, coeff) in terms {

@@ -20,6 +20,7 @@
 //! positive definite) answers `None`, and the caller lifts instead. No result is ever rounded,
 //! so nothing needs verifying.
 
+use api::words::all_fit;
 use num_bigint::BigInt;
 use num_integer::Integer;
 use num_traits::ToPrimitive;
@@ -129,7 +130,7 @@ impl SmallBareiss {
     /// when `b` or a value on the way reaches `2^62`.
     pub(crate) fn solve(&self, b: &[BigInt]) -> Option<(Vec<BigInt>, BigInt)> {
         // `solve_words` checks the bound of every entry.
-        let b: Vec<i64> = b.iter().map(ToPrimitive::to_i64).collect::<Option<_>>()?;
+        let b = all_fit(b.len(), b.iter().map(ToPrimitive::to_i64))?;
         let (numerators, denominator) = self.solve_words(&b)?;
         Some((
             numerators.into_iter().map(BigInt::from).collect(),
@@ -270,10 +271,7 @@ impl DenseBareiss {
     fn solve_words(&self, b: &[i64]) -> Option<(Vec<i64>, i64)> {
         let n = self.n;
         let at = |i: usize, j: usize| self.m[i * n + j];
-        let mut c: Vec<i64> = b
-            .iter()
-            .map(|&v| word(i128::from(v)))
-            .collect::<Option<_>>()?;
+        let mut c = all_fit(b.len(), b.iter().map(|&v| word(i128::from(v))))?;
         // The right-hand side through the same steps.
         let one = ExactDivisor::new(1);
         for k in 0..n {

@@ -148,6 +148,25 @@ impl<R: Ring> ExactFactorization<R> {
         }
     }
 
+    /// Whether this is a factoring of `matrix` (the same shape and the same entries, compared
+    /// by value without converting the matrix): the memo of the last factoring keeps no copy of
+    /// the matrix it factored, only this factoring's own rows.
+    pub(crate) fn is_of(&self, matrix: &IntMatrix) -> bool {
+        self.cols == matrix.cols()
+            && self.a.len() == matrix.rows()
+            && self.a.iter().zip(matrix.row_iter()).all(|(ours, theirs)| {
+                ours.len() == theirs.len()
+                    && ours.iter().zip(theirs).all(|((c, v), (d, w))| {
+                        c == d
+                            && match (v.to_i64(), num_traits::ToPrimitive::to_i64(w)) {
+                                (Some(x), Some(y)) => x == y,
+                                (None, None) => v.to_bigint() == *w,
+                                _ => false,
+                            }
+                    })
+            })
+    }
+
     fn sparse(matrix: &IntMatrix) -> Vec<SparseRow<R>> {
         matrix
             .row_iter()

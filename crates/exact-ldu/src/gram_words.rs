@@ -10,6 +10,7 @@
 
 use crate::factorization::SparseRow;
 use crate::ring::Ring;
+use api::words::checked_mul_i128;
 
 /// `G = A V Aᵀ` for the sparse rows `a` over `cols` unknowns, with `V_s = scale(s)`, as sparse
 /// rows (nonzero entries only, in column order) converted by `convert`; `None` when an entry of
@@ -46,9 +47,10 @@ where
     let mut gram = Vec::with_capacity(m);
     for row in a {
         for (s, v) in row {
-            let scaled = i128::from(v.to_i64()?).checked_mul(i128::from(scale(*s)?))?;
+            // Two `i64`s: their product fits.
+            let scaled = i128::from(v.to_i64()?) * i128::from(scale(*s)?);
             for &(l, other) in &entries[starts[*s]..starts[*s + 1]] {
-                scratch[l] = scratch[l].checked_add(scaled.checked_mul(other)?)?;
+                scratch[l] = scratch[l].checked_add(checked_mul_i128(scaled, other)?)?;
             }
         }
         let nonzero = scratch.iter().filter(|x| **x != 0).count();

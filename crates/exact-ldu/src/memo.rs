@@ -6,7 +6,8 @@
 //! of the mouse-down, so the second call takes the first one's result. A memo of a pure function
 //! (the factoring is deterministic): it never changes an answer, holds one entry, and shares the
 //! factors with the caller (an [`crate::ExactFactorization`] is a pair of reference-counted
-//! parts), so it adds no copy of them.
+//! parts), so it adds no copy of them, nor of the matrix: the factoring's own rows are what the
+//! next matrix is compared with.
 
 use crate::factorization::ExactFactorization;
 use crate::ldu::Simplification;
@@ -19,7 +20,6 @@ struct LastFactored {
     method: Simplification,
     certified: bool,
     ring: TypeId,
-    matrix: IntMatrix,
     factorization: Box<dyn Any + Send>,
 }
 
@@ -45,10 +45,11 @@ pub(crate) fn factor<R: Ring>(
             if last.method == method
                 && last.certified == certified
                 && last.ring == TypeId::of::<R>()
-                && last.matrix == *matrix
             {
                 if let Some(f) = last.factorization.downcast_ref::<ExactFactorization<R>>() {
-                    return f.clone();
+                    if f.is_of(matrix) {
+                        return f.clone();
+                    }
                 }
             }
         }
@@ -63,7 +64,6 @@ pub(crate) fn factor<R: Ring>(
             method,
             certified,
             ring: TypeId::of::<R>(),
-            matrix: matrix.clone(),
             factorization: Box::new(f.clone()),
         });
     }
@@ -75,6 +75,7 @@ mod tests {
     use super::*;
     use crate::ring::Int;
     use api::Factorization;
+    use num_bigint::BigInt;
 
     /// The memo answers exactly what a fresh factoring does, for the same matrix, and does not
     /// answer for another method or another matrix.
@@ -99,5 +100,49 @@ mod tests {
         }
         assert_eq!(factor::<Int>(&a, Simplification::Gcd, false).rank(), 2);
         assert_eq!(factor::<Int>(&b, Simplification::Gcd, true).rank(), 3);
+    }
+
+    /// The memo compares the next matrix with the factoring's own rows by value: entries
+    /// beyond an `i64`, a big entry against a small one, another shape, a zero left out.
+    #[test]
+    fn the_memo_tells_matrices_apart_by_value() {
+        let big = BigInt::from(1u8) << 70u32;
+        let with = |entry: BigInt, last: i64, cols: usize| {
+            IntMatrix::from_sparse(
+                cols,
+                vec![
+                    vec![(0, BigInt::from(1)), (1, entry)],
+                    vec![(1, BigInt::from(last))],
+                ],
+            )
+            .expect("a matrix")
+        };
+        let a = with(big.clone(), 3, 2);
+        let same = with(big.clone(), 3, 2);
+        let other_big = with(big.clone() + 1, 3, 2);
+        let small = with(BigInt::from(5), 3, 2);
+        let other_small = with(big.clone(), 4, 2);
+        let wider = with(big.clone(), 3, 3);
+        let fewer = IntMatrix::from_sparse(2, vec![vec![(0, BigInt::from(1)), (1, big.clone())]])
+            .expect("a matrix");
+        let f = factor::<Int>(&a, Simplification::Gcd, false);
+        assert!(f.is_of(&a) && f.is_of(&same));
+        for (m, what) in [
+            (&other_big, "another big entry"),
+            (&small, "a small entry"),
+            (&other_small, "another small entry"),
+            (&wider, "another width"),
+            (&fewer, "fewer rows"),
+        ] {
+            assert!(!f.is_of(m), "{what}");
+            assert_eq!(
+                factor::<Int>(m, Simplification::Gcd, false),
+                ExactFactorization::<Int>::new(m, Simplification::Gcd),
+                "{what}"
+            );
+            factor::<Int>(&a, Simplification::Gcd, false);
+        }
+        let g = factor::<BigInt>(&a, Simplification::Gcd, false);
+        assert!(g.is_of(&same) && !g.is_of(&other_big) && !g.is_of(&small));
     }
 }

@@ -24,6 +24,7 @@
 use crate::gcd::{from_limbs, gcd_bigint, gcd_biguint, reduced_ratio, Limbs};
 use crate::montgomery::Montgomery;
 use crate::word_division::{exact_quotient, exact_word_quotient, word_inverse, WordRemainder};
+use api::words::all_fit;
 use api::Rational;
 use num_bigint::{BigInt, BigUint};
 use num_integer::Integer;
@@ -228,10 +229,10 @@ fn reduced_denominator(
 
 /// [`reduce_over`] by [`crate::reduce_words`] when the denominator and every value fit an `i128`.
 fn reduce_in_words(numerators: &[BigInt], den: &BigInt) -> Option<Vec<Rational>> {
-    let words = numerators
-        .iter()
-        .map(ToPrimitive::to_i128)
-        .collect::<Option<Vec<i128>>>()?;
+    let words = all_fit(
+        numerators.len(),
+        numerators.iter().map(ToPrimitive::to_i128),
+    )?;
     let reduced = crate::reduce_words::reduce_words(&words, den.to_i128()?)?;
     Some(
         reduced

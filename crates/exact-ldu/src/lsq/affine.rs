@@ -20,6 +20,7 @@ use crate::ring::{lcm, Ring};
 use crate::shared_once::SharedOnce;
 use crate::word_combination::word_combination_to_f64;
 use api::exact::{top_bits, top_bits_of_limbs, TopBits};
+use api::words::{all_fit, checked_mul_i128};
 use api::Rational;
 use num_bigint::BigInt;
 use num_integer::Integer;
@@ -199,15 +200,11 @@ impl Scales {
         for r in moved() {
             common = num_integer::Integer::lcm(&common, &r.den);
         }
-        let words = |v: &[BigInt]| {
-            v.iter()
-                .map(ToPrimitive::to_i128)
-                .collect::<Option<Vec<i128>>>()
-        };
+        let words = |v: &[BigInt]| all_fit(v.len(), v.iter().map(ToPrimitive::to_i128));
         let words = words(&base.num).and_then(|base| {
             Some(Words {
                 base,
-                responses: moved().map(|r| words(&r.num)).collect::<Option<Vec<_>>>()?,
+                responses: all_fit(responses.len(), moved().map(|r| words(&r.num)))?,
             })
         });
         Scales {
@@ -325,7 +322,7 @@ impl<R: Ring> ExactLeastSquares<R> {
         rho: &[BigInt],
         rho_den: &BigInt,
     ) -> Option<Numerators> {
-        let rho: Vec<i64> = rho.iter().map(ToPrimitive::to_i64).collect::<Option<_>>()?;
+        let rho = all_fit(rho.len(), rho.iter().map(ToPrimitive::to_i64))?;
         let (lambda, lambda_den) = normal.solve_in_words(&rho)?;
         let mut sums = vec![0i128; self.n];
         for (row, &l) in self.a_hat.iter().zip(&lambda) {
@@ -337,14 +334,13 @@ impl<R: Ring> ExactLeastSquares<R> {
                 sums[*s] = sums[*s].checked_add(term)?;
             }
         }
-        let num = sums
-            .iter()
-            .zip(&self.v)
-            .map(|(x, v)| {
-                let scaled = x.checked_mul(i128::from(ToPrimitive::to_i64(v)?))?;
+        let num = all_fit(
+            sums.len(),
+            sums.iter().zip(&self.v).map(|(x, v)| {
+                let scaled = checked_mul_i128(*x, i128::from(ToPrimitive::to_i64(v)?))?;
                 Some(crate::ring::bigint_from_i128(scaled))
-            })
-            .collect::<Option<Vec<BigInt>>>()?;
+            }),
+        )?;
         Some(Numerators {
             num,
             den: BigInt::from(lambda_den) * rho_den,
@@ -795,9 +791,9 @@ impl<'a> Combination<'a> {
     fn entry_in_words(&self, s: usize) -> Option<i128> {
         let (bs, fs) = self.small.as_ref()?;
         let w = self.scales.words.as_ref()?;
-        let mut sum = w.base[s].checked_mul(*bs)?;
+        let mut sum = checked_mul_i128(w.base[s], *bs)?;
         for (r, f) in w.responses.iter().zip(fs) {
-            sum = sum.checked_sub(r[s].checked_mul(*f)?)?;
+            sum = sum.checked_sub(checked_mul_i128(r[s], *f)?)?;
         }
         Some(sum)
     }
