@@ -19,7 +19,7 @@ impl NameIndex {
     pub(crate) fn get(&self, params: &[Parameter], name: &str) -> Option<ParamId> {
         self.table
             .find(self.state.hash_one(name), |id| {
-                params[id.index()].name == name
+                *params[id.index()].name == *name
             })
             .copied()
     }

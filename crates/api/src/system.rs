@@ -19,6 +19,7 @@ use num_traits::Zero;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::fmt;
+use std::sync::Arc;
 
 /// Index of a parameter in a [`ConstraintSystem`].
 #[derive(
@@ -64,8 +65,9 @@ pub struct Coord {
 /// A declared parameter.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Parameter {
-    /// Unique name (sources prefix their names, e.g. `"mesh.q_0_3_2@u"`).
-    pub name: String,
+    /// Unique name (sources prefix their names, e.g. `"mesh.q_0_3_2@u"`), shared: reports
+    /// name the parameters of every edit, and a copy of the name is a reference count.
+    pub name: Arc<str>,
     /// Number of coordinates: 1 for a scalar, 2 for a point of the plane.
     pub dim: usize,
 }
@@ -306,15 +308,19 @@ impl ConstraintSystem {
     /// Declares a parameter; names are unique.
     pub fn add_parameter(
         &mut self,
-        name: impl Into<String>,
+        name: impl Into<Arc<str>>,
         dim: usize,
     ) -> Result<ParamId, SystemError> {
         let name = name.into();
         if dim == 0 {
-            return Err(SystemError::ZeroDimension { name });
+            return Err(SystemError::ZeroDimension {
+                name: name.to_string(),
+            });
         }
         if self.by_name.get(&self.params, &name).is_some() {
-            return Err(SystemError::DuplicateParameter { name });
+            return Err(SystemError::DuplicateParameter {
+                name: name.to_string(),
+            });
         }
         let id = ParamId(self.params.len() as u32);
         self.params.push(Parameter { name, dim });
@@ -367,7 +373,7 @@ impl ConstraintSystem {
                     if param.dim != rhs.len() {
                         return Err(SystemError::DimensionMismatch {
                             label: row.label.clone(),
-                            name: param.name.clone(),
+                            name: param.name.to_string(),
                             row_dim: rhs.len(),
                             param_dim: param.dim,
                         });
@@ -381,7 +387,7 @@ impl ConstraintSystem {
                     if c.component >= param.dim {
                         return Err(SystemError::ComponentOutOfRange {
                             label: row.label.clone(),
-                            name: param.name.clone(),
+                            name: param.name.to_string(),
                             component: c.component,
                             dim: param.dim,
                         });
@@ -790,7 +796,7 @@ impl Values {
         })?;
         if value.len() != param.dim {
             return Err(SystemError::WrongValueDimension {
-                name: param.name.clone(),
+                name: param.name.to_string(),
                 found: value.len(),
                 expected: param.dim,
             });
@@ -830,7 +836,7 @@ impl Values {
             })?;
         if value.len() != param.dim {
             return Err(SystemError::WrongValueDimension {
-                name: param.name.clone(),
+                name: param.name.to_string(),
                 found: value.len(),
                 expected: param.dim,
             });

@@ -54,7 +54,7 @@ impl Fixture {
         let anchor = spline
             .points()
             .iter()
-            .position(|p| p.name == "v255")
+            .position(|p| &*p.name == "v255")
             .expect("vertex 255");
         Fixture {
             spline,

@@ -119,7 +119,7 @@ impl GridFixture {
         let anchor = spline
             .points()
             .iter()
-            .position(|p| p.name == "e264-265:2")
+            .position(|p| &*p.name == "e264-265:2")
             .expect("middle edge point");
         GridFixture {
             spline,

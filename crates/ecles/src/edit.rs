@@ -13,6 +13,7 @@ use api::{
 use num_traits::{One, Signed};
 use rayon::prelude::*;
 use std::collections::HashMap;
+use std::sync::Arc;
 
 /// A row of `R_ED` and its combination of independent rows (indices into `R_ED`).
 type Combination<S> = (usize, Vec<(usize, S)>);
@@ -143,10 +144,10 @@ pub struct SnapSummary {
 pub struct Edit<F: Factorization> {
     backend: &'static str,
     anchors: Vec<ParamId>,
-    anchor_names: Vec<String>,
+    anchor_names: Vec<Arc<str>>,
     anchor_dims: Vec<usize>,
     derived: Vec<ParamId>,
-    derived_names: Vec<String>,
+    derived_names: Vec<Arc<str>>,
     derived_dims: Vec<usize>,
     relevant: Relevant,
     layout: Layout,
@@ -248,7 +249,7 @@ impl<F: Factorization> Edit<F> {
         let dims = |ids: &[ParamId]| -> Vec<usize> {
             ids.iter().map(|p| system.params()[p.index()].dim).collect()
         };
-        let names = |ids: &[ParamId]| -> Vec<String> {
+        let names = |ids: &[ParamId]| -> Vec<Arc<str>> {
             ids.iter()
                 .map(|p| system.params()[p.index()].name.clone())
                 .collect()
@@ -330,7 +331,7 @@ impl<F: Factorization> Edit<F> {
         let substitution = Substitution::new(&reduced, &unit);
         let factored = substitution.as_ref().map_or(&reduced, Substitution::inner);
         let factorization = backend.factor(&factored.r_ed)?;
-        let names: Vec<String> = spec
+        let names: Vec<Arc<str>> = spec
             .anchors
             .iter()
             .map(|p| system.params()[p.index()].name.clone())
@@ -467,7 +468,7 @@ impl<F: Factorization> Edit<F> {
         &self,
         what: &'static str,
         given: &[Vec<Rational>],
-        names: &[String],
+        names: &[Arc<str>],
         dims: &[usize],
     ) -> Result<(), EditError<F::Scalar>> {
         if given.len() != dims.len() {
@@ -480,7 +481,7 @@ impl<F: Factorization> Edit<F> {
         for ((v, name), dim) in given.iter().zip(names).zip(dims) {
             if v.len() != *dim {
                 return Err(EditError::ValueDimension {
-                    name: name.clone(),
+                    name: name.to_string(),
                     expected: *dim,
                     found: v.len(),
                 });
@@ -930,7 +931,7 @@ fn strong_check<F: Factorization>(
     factorization: &F,
     reduced: &ReducedSystem,
     substitution: Option<&Substitution>,
-    anchor_names: &[String],
+    anchor_names: &[Arc<str>],
     anchor_dims: &[usize],
 ) -> Result<(), EditError<F::Scalar>> {
     let factored = substitution.map_or(reduced, Substitution::inner);
@@ -950,14 +951,14 @@ fn strong_check<F: Factorization>(
         }) => {
             let inconsistency = map_inconsistency(reduced, substitution, inconsistency);
             let (anchor, component) = match reduced.layout {
-                Layout::Vector { .. } => (anchor_names[parameter].clone(), None),
+                Layout::Vector { .. } => (anchor_names[parameter].to_string(), None),
                 Layout::Scalar => {
                     let mut offset = 0;
                     let mut found = (String::new(), None);
                     for (name, dim) in anchor_names.iter().zip(anchor_dims) {
                         if parameter < offset + dim {
                             let k = parameter - offset;
-                            found = (name.clone(), (*dim > 1).then_some(k));
+                            found = (name.to_string(), (*dim > 1).then_some(k));
                             break;
                         }
                         offset += dim;
@@ -1056,7 +1057,7 @@ fn validate_ids_and_weights<S: std::fmt::Debug>(
             return Err(EditError::UnknownParameter(*p));
         };
         if let Some(&was_anchor) = seen.get(p) {
-            let name = param.name.clone();
+            let name = param.name.to_string();
             return Err(if was_anchor != is_anchor {
                 EditError::AnchorAlsoDerived { name }
             } else {
@@ -1083,7 +1084,7 @@ fn validate_ids_and_weights<S: std::fmt::Debug>(
             // A sign test, not a comparison of fractions (which multiplies across).
             if !wi.is_positive() {
                 return Err(EditError::NonPositiveWeight {
-                    name: system.params()[p.index()].name.clone(),
+                    name: system.params()[p.index()].name.to_string(),
                     weight: api::format_rational(wi),
                 });
             }

@@ -94,7 +94,7 @@ pub fn shape(system: &ConstraintSystem) -> SystemMatrix {
                 matrix,
                 rhs,
                 labels: system.rows().iter().map(|r| r.label.clone()).collect(),
-                columns: system.params().iter().map(|p| p.name.clone()).collect(),
+                columns: system.params().iter().map(|p| p.name.to_string()).collect(),
                 copies: d,
             }
         }
@@ -110,7 +110,7 @@ pub fn shape_owned(system: ConstraintSystem) -> SystemMatrix {
         return scalar_shape(&system);
     };
     let (params, rows) = system.into_parts();
-    let columns: Vec<String> = params.into_iter().map(|p| p.name).collect();
+    let columns: Vec<String> = params.into_iter().map(|p| p.name.to_string()).collect();
     let mut rhs: Vec<Vec<Integer>> = (0..d).map(|_| Vec::with_capacity(rows.len())).collect();
     let mut labels = Vec::with_capacity(rows.len());
     let matrix_rows = rows
@@ -173,7 +173,7 @@ fn scalar_shape(system: &ConstraintSystem) -> SystemMatrix {
         .flat_map(|p| {
             (0..p.dim).map(move |k| {
                 if p.dim == 1 {
-                    p.name.clone()
+                    p.name.to_string()
                 } else {
                     format!("{}[{k}]", p.name)
                 }

@@ -5,6 +5,7 @@
 //! the same run file gives a byte-identical report.
 
 use serde::Serialize;
+use std::sync::Arc;
 
 /// The whole report.
 #[derive(Debug, Clone, Serialize)]
@@ -149,13 +150,13 @@ pub struct EditReport {
     /// The source for source operations.
     pub source: Option<String>,
     /// Anchor names.
-    pub anchors: Vec<String>,
+    pub anchors: Vec<Arc<str>>,
     /// Derived names.
-    pub derived: Vec<String>,
+    pub derived: Vec<Arc<str>>,
     /// Number of relevant constraints, in scalar equations.
     pub relevant: usize,
     /// Names of the fixed relevant parameters.
-    pub fixed_relevant: Vec<String>,
+    pub fixed_relevant: Vec<Arc<str>>,
     /// Rank of `R_ED`, in scalar equations.
     pub rank: usize,
     /// Redundant relevant equations (scalar).
@@ -269,8 +270,8 @@ impl From<ecles::SnapSummary> for SnapReport {
 /// A parameter value.
 #[derive(Debug, Clone, Serialize)]
 pub struct ValueReport {
-    /// Parameter name.
-    pub name: String,
+    /// Parameter name (the system's, shared).
+    pub name: Arc<str>,
     /// Exact coordinates.
     pub exact: Vec<String>,
     /// Float approximations of the exact coordinates.

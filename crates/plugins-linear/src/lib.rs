@@ -100,7 +100,7 @@
 //! let contribution = LinearSource::new().build(&request).unwrap();
 //! let (mut system, mut values) = (ConstraintSystem::new(), Values::default());
 //! contribution.apply_to(&mut system, &mut values).unwrap();
-//! assert_eq!(system.params()[3].name, "pump.p4");
+//! assert_eq!(&*system.params()[3].name, "pump.p4");
 //! assert_eq!(system.rows()[1].label, "p4 - p3 = 5");
 //! assert!(system.violations(&values).is_empty());
 //! ```

@@ -38,7 +38,7 @@ fn thesis_pump_system_holds_at_its_initial_values() {
     contribution
         .apply_to(&mut system, &mut values)
         .expect("apply");
-    let names: Vec<&str> = system.params().iter().map(|p| p.name.as_str()).collect();
+    let names: Vec<&str> = system.params().iter().map(|p| &*p.name).collect();
     assert_eq!(names, ["pump.p1", "pump.p2", "pump.p3", "pump.p4"]);
     assert!(system.params().iter().all(|p| p.dim == 1));
     assert_eq!(system.rows().len(), 2);

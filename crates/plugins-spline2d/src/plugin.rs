@@ -360,8 +360,8 @@ mod tests {
             }
             // Corners are the vertices' points, shared by every patch around the vertex.
             let name = |id: ParamId| system.params()[id.index()].name.clone();
-            assert_eq!(name(patch[0]), format!("phi.v{}", tri[0]));
-            assert_eq!(name(patch[20]), format!("phi.v{}", tri[2]));
+            assert_eq!(&*name(patch[0]), format!("phi.v{}", tri[0]));
+            assert_eq!(&*name(patch[20]), format!("phi.v{}", tri[2]));
         }
     }
 

@@ -310,7 +310,7 @@ impl PySession {
                 .system()
                 .params()
                 .iter()
-                .map(|p| (p.name.clone(), p.dim))
+                .map(|p| (p.name.to_string(), p.dim))
                 .collect())
         })
     }
@@ -326,7 +326,7 @@ impl PySession {
                 .map(|(i, p)| {
                     let value = session.values().get(api::ParamId(i as u32));
                     (
-                        p.name.clone(),
+                        p.name.to_string(),
                         value
                             .iter()
                             .map(|r| (r.numer().clone(), r.denom().clone()))
@@ -460,7 +460,7 @@ impl PySession {
     ) -> PyResult<(Vec<String>, Vec<String>)> {
         self.worker.run(py, move |session| {
             let plan = planned(session, &source, &operation)?;
-            let name = |id: &api::ParamId| session.system().params()[id.index()].name.clone();
+            let name = |id: &api::ParamId| session.system().params()[id.index()].name.to_string();
             Ok((
                 plan.spec.anchors.iter().map(name).collect(),
                 plan.spec.derived.iter().map(name).collect(),
@@ -617,7 +617,7 @@ impl PyEdit {
             .last()
             .ok_or_else(|| input_error("the edit has no step"))?
             .clone();
-        let name = |id: &api::ParamId| session.system().params()[id.index()].name.clone();
+        let name = |id: &api::ParamId| session.system().params()[id.index()].name.to_string();
         let ordered = |what: &str,
                        ids: &[api::ParamId],
                        given: Option<Vec<(String, Vec<String>)>>,
@@ -694,7 +694,7 @@ impl PyEdit {
             .chain(&result.derived)
             .map(|(id, v)| {
                 (
-                    session.system().params()[id.index()].name.clone(),
+                    session.system().params()[id.index()].name.to_string(),
                     v.iter()
                         .map(|r| (r.numer().clone(), r.denom().clone()))
                         .collect(),
@@ -734,7 +734,7 @@ impl PyEdit {
         let state = Arc::clone(&self.state);
         self.worker.run(py, move |session| {
             let step = PyEdit::step(&state, session, anchors, hints)?;
-            let name = |id: &api::ParamId| session.system().params()[id.index()].name.clone();
+            let name = |id: &api::ParamId| session.system().params()[id.index()].name.to_string();
             let to_f64 = |v: &[Rational]| -> Vec<f64> {
                 v.iter().map(api::exact::rational_to_f64).collect()
             };
@@ -789,7 +789,7 @@ impl PyEdit {
     fn describe(&self, py: Python<'_>) -> PyResult<(Vec<String>, Vec<String>, usize)> {
         let state = Arc::clone(&self.state);
         self.worker.run(py, move |session| {
-            let name = |id: &api::ParamId| session.system().params()[id.index()].name.clone();
+            let name = |id: &api::ParamId| session.system().params()[id.index()].name.to_string();
             let report = state.active.edit().report();
             let (_, rank, _) = host::session::equation_counts(session.system(), &report);
             Ok((

@@ -763,7 +763,7 @@ mod tests {
         let anchor = spline
             .points()
             .iter()
-            .position(|p| p.name == "v5")
+            .position(|p| &*p.name == "v5")
             .expect("interior vertex");
         let sel = editor
             .select(&system, &values, &[anchor], Neighborhood::Radius(3))

@@ -269,7 +269,7 @@ mod tests {
         let far = spline
             .points()
             .iter()
-            .position(|p| p.name == "v8")
+            .position(|p| &*p.name == "v8")
             .expect("vertex 8");
         assert_eq!(d.get(far), Some(10));
     }

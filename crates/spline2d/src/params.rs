@@ -172,7 +172,7 @@ mod tests {
         assert_eq!(system.rows().len(), 40);
         assert!(system.violations(&values).is_empty());
         assert_eq!(params.point_of(params.ids[7]), Some(7));
-        assert_eq!(system.params()[params.ids[0].index()].name, "phi.v0");
+        assert_eq!(&*system.params()[params.ids[0].index()].name, "phi.v0");
         assert!(system.rows()[0].label.starts_with("phi: C1 edge"));
         // Declaring the same prefix twice is refused, and changes nothing.
         let before = system.clone();

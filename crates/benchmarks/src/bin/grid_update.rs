@@ -52,7 +52,7 @@ fn run(repetitions: u32, delta: u32, rounds: u32) -> Result<(), String> {
     let anchor = spline
         .points()
         .iter()
-        .position(|p| p.name == "e264-265:2")
+        .position(|p| &*p.name == "e264-265:2")
         .ok_or("the grid has no point e264-265:2")?;
     let editor = SplineEditor {
         spline: &spline,

@@ -13,7 +13,7 @@
 //! (anchors at `β`) need no base for their first update, `x = h − Σ_k (α_k − β_k) resp_k`
 //! directly; their base is formed only when a second update with them asks for it.
 
-use super::ExactLeastSquares;
+use super::{Diagonal, ExactLeastSquares};
 use crate::dixon::{entries_per_task, LiftingSolver};
 use crate::qvec::QVec;
 use crate::ring::{lcm, Ring};
@@ -302,8 +302,10 @@ impl<R: Ring> ExactLeastSquares<R> {
                 num[*s] += l * a.to_bigint();
             }
         }
-        for (x, v) in num.iter_mut().zip(&self.v) {
-            *x *= v;
+        if let Diagonal::Scales(v) = &self.v {
+            for (x, v) in num.iter_mut().zip(v) {
+                *x *= v;
+            }
         }
         Numerators {
             num,
@@ -336,8 +338,8 @@ impl<R: Ring> ExactLeastSquares<R> {
         }
         let num = all_fit(
             sums.len(),
-            sums.iter().zip(&self.v).map(|(x, v)| {
-                let scaled = checked_mul_i128(*x, i128::from(ToPrimitive::to_i64(v)?))?;
+            sums.iter().enumerate().map(|(s, x)| {
+                let scaled = checked_mul_i128(*x, i128::from(self.v.word(s)?))?;
                 Some(crate::ring::bigint_from_i128(scaled))
             }),
         )?;

@@ -54,7 +54,7 @@ pub struct ExactLeastSquares<R: Ring = Int> {
     k_hat: Vec<SparseRow<R>>,
     c_hat: Vec<QVec<R>>,
     /// `V = δ W⁻¹`, one positive integer per unknown.
-    v: Vec<BigInt>,
+    v: Diagonal,
     /// `G = Â V Âᵀ` prepared for lifting (`None` when `r = 0`).
     normal: Option<LiftingSolver>,
     checks: Vec<ConsistencyCheck<R>>,
@@ -77,6 +77,49 @@ impl PartialEq for SnapMemo {
 }
 
 impl Eq for SnapMemo {}
+
+/// `V = δ W⁻¹`, the scales of the unknowns: unit weights (an edit that gives none, every
+/// generic edit of a run file) keep no vector of big-integer ones, which cost an allocation
+/// per unknown on every small edit.
+#[derive(Debug, Clone, PartialEq, Eq)]
+enum Diagonal {
+    /// `V = I` over this many unknowns.
+    Unit(usize),
+    /// One positive integer per unknown, not all of them 1.
+    Scales(Vec<BigInt>),
+}
+
+impl Diagonal {
+    /// `V` from its entries: [`Diagonal::Unit`] when every one is 1.
+    fn of(v: Vec<BigInt>) -> Self {
+        if v.iter().all(num_traits::One::is_one) {
+            Diagonal::Unit(v.len())
+        } else {
+            Diagonal::Scales(v)
+        }
+    }
+
+    fn is_unit(&self) -> bool {
+        matches!(self, Diagonal::Unit(_))
+    }
+
+    /// `V_s` as an `i64`, when it fits.
+    fn word(&self, s: usize) -> Option<i64> {
+        match self {
+            Diagonal::Unit(_) => Some(1),
+            Diagonal::Scales(v) => num_traits::ToPrimitive::to_i64(&v[s]),
+        }
+    }
+
+    /// Every entry (the ones made now for unit weights: only a snapped solve and a normal
+    /// matrix not prepared by the factoring ask).
+    fn entries(&self) -> std::borrow::Cow<'_, [BigInt]> {
+        match self {
+            Diagonal::Unit(n) => std::borrow::Cow::Owned(vec![BigInt::from(1); *n]),
+            Diagonal::Scales(v) => std::borrow::Cow::Borrowed(v),
+        }
+    }
+}
 
 /// `V = δ W⁻¹` (`δ` the lcm of the weights' numerators) in machine words, when the numerators,
 /// their lcm and every `denominator · δ / numerator` fit in a `u64` (`None` otherwise: the
@@ -122,21 +165,21 @@ impl<R: Ring> ExactLeastSquares<R> {
         let independent = &f.independent_rows();
 
         // V = δ W⁻¹ with δ the lcm of the weight numerators (unit weights: V = I).
-        let v: Vec<R> = if weights.iter().all(num_traits::One::is_one) {
-            vec![R::one(); n]
+        let v = if weights.iter().all(num_traits::One::is_one) {
+            Diagonal::Unit(n)
         } else if let Some(v) = scales_in_words(weights) {
-            v.into_iter()
-                .map(|x| R::from_bigint(&BigInt::from(x)))
-                .collect()
+            Diagonal::of(v.into_iter().map(BigInt::from).collect())
         } else {
             let mut delta = BigInt::from(1);
             for w in weights {
                 delta = num_integer::Integer::lcm(&delta, w.numer());
             }
-            weights
-                .iter()
-                .map(|w| R::from_bigint(&(w.denom() * (&delta / w.numer()))))
-                .collect()
+            Diagonal::of(
+                weights
+                    .iter()
+                    .map(|w| w.denom() * (&delta / w.numer()))
+                    .collect(),
+            )
         };
 
         // Every row independent, in order (full row rank, the common case): `Â`, `K̂` and `ĉ`
@@ -180,11 +223,9 @@ impl<R: Ring> ExactLeastSquares<R> {
             })
             .collect();
 
-        let v: Vec<BigInt> = v.iter().map(Ring::to_bigint).collect();
         // With unit weights G = Â Âᵀ, which a certified basis has already prepared.
-        let unit_weights = v.iter().all(num_traits::One::is_one);
         let normal = (r > 0).then(|| match f.gram_solver() {
-            Some(gram) if unit_weights => gram.clone(),
+            Some(gram) if v.is_unit() => gram.clone(),
             _ => LiftingSolver::new_symmetric(r, normal_matrix(&a_hat, &v, n))
                 .expect("Â V Âᵀ is positive definite for independent rows Â and positive V"),
         });
@@ -288,21 +329,21 @@ impl<R: Ring> ExactLeastSquares<R> {
 /// else in big integers.
 fn normal_matrix<R: Ring>(
     a_hat: &[SparseRow<R>],
-    v: &[BigInt],
+    v: &Diagonal,
     n: usize,
 ) -> Vec<Vec<(usize, BigInt)>> {
     if a_hat.len() <= crate::bareiss_small::MAX_ORDER {
         let in_words = crate::gram_words::gram_rows(
             a_hat,
             n,
-            |s| v[s].to_i64(),
+            |s| v.word(s),
             |x| Some(crate::ring::bigint_from_i128(x)),
         );
         if let Some(g) = in_words {
             return g;
         }
     }
-    normal_matrix_in_big_integers(a_hat, v, n)
+    normal_matrix_in_big_integers(a_hat, &v.entries(), n)
 }
 
 /// [`normal_matrix`] with every product a big integer, accumulated column by column of `Â` so
@@ -369,14 +410,14 @@ impl<R: Ring> PreparedLeastSquares for ExactLeastSquares<R> {
         let snapper = self.snapper.0.get_or_init(|| {
             Snapper::new(
                 &self.a_hat,
-                &self.v,
+                &self.v.entries(),
                 normal_matrix(&self.a_hat, &self.v, self.n),
             )
         });
         if let Some(solved) = snapper.as_ref().and_then(|s| {
             s.solve(
                 &self.a_hat,
-                &self.v,
+                &self.v.entries(),
                 &self.b_hat(column, &alpha_q),
                 hints,
                 grid_bits,
@@ -524,7 +565,7 @@ mod tests {
             vec![(1, Int::from_i64(1)), (2, Int::from_i64(5))],
         ];
         let v = vec![BigInt::from(1), BigInt::from(4), BigInt::from(7)];
-        let g = normal_matrix(&rows, &v, 3);
+        let g = normal_matrix(&rows, &Diagonal::of(v.clone()), 3);
         assert_eq!(g, normal_matrix_in_big_integers(&rows, &v, 3));
         // Row 0 · V · row 0 = 4 + 63, row 0 · V · row 1 = −105, row 1 · V · row 1 = 4 + 175.
         let expected = vec![
@@ -533,7 +574,7 @@ mod tests {
         ];
         assert_eq!(g, expected);
         let big = vec![BigInt::from(1) << 70, BigInt::from(4), BigInt::from(7)];
-        let g = normal_matrix(&rows, &big, 3);
+        let g = normal_matrix(&rows, &Diagonal::of(big), 3);
         assert_eq!(g[0][0].1, (BigInt::from(4) << 70) + 63);
     }
 

@@ -376,7 +376,7 @@ fn explain(session: &Session, request: &ExplainRequest) -> Result<Value, String>
         .map(|&id| {
             params
                 .get(id as usize)
-                .map(|p| p.name.clone())
+                .map(|p| p.name.to_string())
                 .ok_or_else(|| format!("no point {id}"))
         })
         .collect::<Result<Vec<String>, String>>()?;

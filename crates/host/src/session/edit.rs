@@ -446,7 +446,7 @@ impl Session {
                 }
             }
         }
-        let list = |set: &std::collections::BTreeSet<String>| {
+        let list = |set: &std::collections::BTreeSet<std::sync::Arc<str>>| {
             set.iter().cloned().collect::<Vec<_>>().join(", ")
         };
         let labels: Vec<String> = rows
@@ -545,8 +545,9 @@ impl Session {
         &self,
         summary: &ecles::CriterionSummary,
     ) -> crate::report::CriterionReport {
-        let names =
-            |ids: &[ParamId]| -> Vec<String> { ids.iter().map(|p| self.name(*p)).collect() };
+        let names = |ids: &[ParamId]| -> Vec<String> {
+            ids.iter().map(|p| self.name(*p).to_string()).collect()
+        };
         let supports = summary.supports.as_ref();
         crate::report::CriterionReport {
             measure: format!("{:?}", summary.measure),

@@ -514,8 +514,8 @@ impl Session {
     }
 
     /// The name of parameter `id` (`source.local`).
-    pub(crate) fn name(&self, id: ParamId) -> String {
-        self.system.params()[id.index()].name.clone()
+    pub(crate) fn name(&self, id: ParamId) -> std::sync::Arc<str> {
+        std::sync::Arc::clone(&self.system.params()[id.index()].name)
     }
 }
 

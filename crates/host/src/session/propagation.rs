@@ -87,7 +87,7 @@ impl Session {
     /// The analysis in words, one line each.
     pub fn propagation_lines(&self, analysis: &Propagation) -> Vec<String> {
         let name = |p: ParamId| self.system.params()[p.index()].name.clone();
-        let mut picked_names: Vec<String> = Vec::new();
+        let mut picked_names: Vec<std::sync::Arc<str>> = Vec::new();
         for (p, _) in &analysis.picked {
             if !picked_names.contains(&name(*p)) {
                 picked_names.push(name(*p));
@@ -180,7 +180,7 @@ impl Session {
 
     /// The analysis as JSON (the names of parameters and the labels of rows).
     pub fn propagation_json(&self, analysis: &Propagation) -> PropagationJson {
-        let name = |p: ParamId| self.system.params()[p.index()].name.clone();
+        let name = |p: ParamId| std::sync::Arc::clone(&self.system.params()[p.index()].name);
         let strings = |v: &[api::Integer]| v.iter().map(ToString::to_string).collect::<Vec<_>>();
         let outcome = analysis.outcome.as_ref().map(|outcome| match outcome {
             MoveOutcome::Blocked(rows) => OutcomeJson::Blocked {
@@ -305,7 +305,7 @@ pub enum EditPropagation {
 #[derive(Debug, Clone, Serialize)]
 struct PickedJson {
     coordinate: usize,
-    param: String,
+    param: std::sync::Arc<str>,
 }
 
 /// A direction the picked coordinates cannot move in, with the rows that remove it.
@@ -338,11 +338,11 @@ enum FollowsJson {
     Forced {
         by: Vec<String>,
         follows: &'static str,
-        param: String,
+        param: std::sync::Arc<str>,
     },
     WithChoice {
         follows: &'static str,
         freedom: usize,
-        param: String,
+        param: std::sync::Arc<str>,
     },
 }

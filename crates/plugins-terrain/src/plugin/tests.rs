@@ -77,7 +77,7 @@ fn declares_two_surfaces_or_three_with_their_conditions() {
         assert_eq!(system.params().len(), surfaces * n);
         assert_eq!(system.rows().len(), surfaces * conditions);
         assert!(system.violations(&values).is_empty());
-        let names: Vec<&str> = system.params().iter().map(|p| p.name.as_str()).collect();
+        let names: Vec<&str> = system.params().iter().map(|p| &*p.name).collect();
         assert_eq!(names[0], "hills.bottom.v0");
         assert_eq!(names[n], "hills.top.v0");
         assert_eq!(
