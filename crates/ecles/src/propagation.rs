@@ -299,23 +299,31 @@ where
     } else {
         None
     };
+    // `A` as a matrix, made only when a backend factors it (a blocked move, a value outside
+    // words, lost directions).
+    let whole = std::cell::OnceCell::new();
+    let a_matrix = || whole.get_or_init(|| a.to_matrix());
     let merged_picked_rows: Vec<Vec<(usize, Integer)>>;
     let (m_a, picked_rows) = match &equalities {
         Some(e) => {
             merged_picked_rows = picked_local.iter().map(|&c| e.picked_row(c)).collect();
-            (e.reduced(), &merged_picked_rows)
+            (SolvedRows::Merged(e.reduced()), &merged_picked_rows)
         }
-        None => (&a, &whole_picked_rows),
+        None => (SolvedRows::Whole(&a), &whole_picked_rows),
+    };
+    let m_a_matrix = || match m_a {
+        SolvedRows::Merged(m) => m,
+        SolvedRows::Whole(_) => a_matrix(),
     };
     // A small `M` is eliminated in machine words (the same answers, see `words`), unless the
     // move is blocked: the rows in its way are the backend's certificate.
     let in_words = solving
         .in_words
-        .then(|| WordElimination::of(m_a, picked_rows, requested))
+        .then(|| WordElimination::of(&m_a, picked_rows, requested))
         .flatten();
     let solves = match in_words {
         Some(words) if !words.blocked() => Solves::Words(words),
-        _ => Solves::Backend(with_picked(m_a, picked_rows)?),
+        _ => Solves::Backend(with_picked(m_a_matrix(), picked_rows)?),
     };
     let directions = match &solves {
         Solves::Words(words) => {
@@ -340,7 +348,7 @@ where
     let complement = orthogonal_complement(&directions, picked_local.len());
     let mut lost = Vec::new();
     if !complement.is_empty() {
-        let transposed = factor(&a.transpose())?;
+        let transposed = factor(&a_matrix().transpose())?;
         for w in complement {
             let mut rhs = vec![Rational::zero(); columns.len()];
             for (&c, x) in picked_local.iter().zip(&w) {
@@ -397,7 +405,7 @@ where
                 Some(free) => Ok(NullVectors::Words(free)),
                 // A null vector outside an `i64`: the backend's, for the same span.
                 None => Ok(NullVectors::Integers(
-                    with_picked(m_a, picked_rows)?.integer_null_space(),
+                    with_picked(m_a_matrix(), picked_rows)?.integer_null_space(),
                 )),
             },
         )?),
@@ -414,7 +422,7 @@ where
                     MoveOutcome::Blocked(combination(rows))
                 }
                 MoveSolution::Blocked(_) => {
-                    let whole = with_picked(&a, &whole_picked_rows)?;
+                    let whole = with_picked(a_matrix(), &whole_picked_rows)?;
                     match move_solution(&whole, a.rows(), moves)? {
                         MoveSolution::Blocked(rows) => MoveOutcome::Blocked(combination(rows)),
                         MoveSolution::Reached(_) => {
@@ -806,19 +814,110 @@ fn integer_multiple(values: &[Rational]) -> Vec<Integer> {
 /// through nonzero coefficients, as the matrix `A` (rows in the system's order of scalar
 /// equations, columns increasing), where each row of `A` comes from, and the coordinates
 /// (columns of the whole system's scalar matrix) that are `A`'s columns.
-struct Component {
-    a: IntMatrix,
+struct Component<'s> {
+    a: ComponentRows<'s>,
     origin: Vec<(RowId, usize)>,
     columns: Vec<usize>,
 }
 
-impl Component {
+/// Sparse integer rows as the eliminations in words and the merge of equalities read them:
+/// a component's rows (their coefficients still the system's) or a matrix.
+pub(crate) trait SparseRows {
+    /// Number of columns.
+    fn cols(&self) -> usize;
+    /// Number of rows.
+    fn rows(&self) -> usize;
+    /// Row `i`'s nonzero entries `(column, coefficient)`, by increasing column.
+    fn entries(&self, i: usize) -> impl Iterator<Item = (usize, &Integer)>;
+}
+
+impl SparseRows for IntMatrix {
+    fn cols(&self) -> usize {
+        IntMatrix::cols(self)
+    }
+    fn rows(&self) -> usize {
+        IntMatrix::rows(self)
+    }
+    fn entries(&self, i: usize) -> impl Iterator<Item = (usize, &Integer)> {
+        self.row(i).iter().map(|(c, v)| (*c, v))
+    }
+}
+
+/// The rows of `A`, a component's scalar equations over its columns, with the coefficients
+/// borrowed from the system's rows: a small edit's analysis eliminates them in words without
+/// copying a big integer per coefficient, and the backend's factorings take a matrix of them
+/// ([`ComponentRows::to_matrix`]) only when they are needed.
+#[derive(Debug)]
+struct ComponentRows<'s> {
+    cols: usize,
+    rows: Vec<Vec<(usize, &'s Integer)>>,
+}
+
+impl ComponentRows<'_> {
+    /// `A` as a matrix (every coefficient copied).
+    fn to_matrix(&self) -> IntMatrix {
+        IntMatrix::from_sparse(
+            self.cols,
+            self.rows
+                .iter()
+                .map(|row| row.iter().map(|(c, v)| (*c, (*v).clone())).collect())
+                .collect(),
+        )
+        .expect("a component's columns are in range")
+    }
+}
+
+impl SparseRows for ComponentRows<'_> {
+    fn cols(&self) -> usize {
+        self.cols
+    }
+    fn rows(&self) -> usize {
+        self.rows.len()
+    }
+    fn entries(&self, i: usize) -> impl Iterator<Item = (usize, &Integer)> {
+        self.rows[i].iter().map(|(c, v)| (*c, *v))
+    }
+}
+
+/// The `A` part of `M` that the solves run on: the coordinates merged by equalities, or the
+/// component's own rows.
+enum SolvedRows<'m, 's> {
+    Merged(&'m IntMatrix),
+    Whole(&'m ComponentRows<'s>),
+}
+
+impl SparseRows for SolvedRows<'_, '_> {
+    fn cols(&self) -> usize {
+        match self {
+            SolvedRows::Merged(m) => SparseRows::cols(*m),
+            SolvedRows::Whole(a) => a.cols(),
+        }
+    }
+    fn rows(&self) -> usize {
+        match self {
+            SolvedRows::Merged(m) => SparseRows::rows(*m),
+            SolvedRows::Whole(a) => a.rows(),
+        }
+    }
+    fn entries(&self, i: usize) -> impl Iterator<Item = (usize, &Integer)> {
+        let (merged, whole) = match self {
+            SolvedRows::Merged(m) => (Some(m.entries(i)), None),
+            SolvedRows::Whole(a) => (None, Some(a.entries(i))),
+        };
+        merged
+            .into_iter()
+            .flatten()
+            .chain(whole.into_iter().flatten())
+    }
+}
+
+impl<'s> Component<'s> {
     /// The component of the coordinates `start`, found by walking the rows that touch each
     /// parameter reached ([`ConstraintSystem::rows_of`]): only the component's rows are split
     /// into scalar equations, not the whole system's (which a small edit's report paid for on
     /// every edit).
     fn of(
-        system: &ConstraintSystem,
+        system: &'s ConstraintSystem,
         offsets: &[usize],
         start: impl Iterator<Item = (ParamId, usize)>,
     ) -> Result<Self, PropagationError> {
@@ -892,22 +991,25 @@ impl Component {
         {
             let of_row = system.rows()[row.index()].body.scalar_equations();
             for equation in of_row.zip(seen).filter(|(_, s)| **s).map(|(e, _)| e) {
-                sparse.push(
-                    equation
-                        .terms()
-                        .map(|(c, v)| {
-                            columns
-                                .binary_search(&(offsets[c.param.index()] + c.component))
-                                .map(|l| (l, v.clone()))
-                                .map_err(lost)
-                        })
-                        .collect::<Result<Vec<_>, _>>()?,
-                );
+                let terms = equation.terms();
+                let mut entries = Vec::with_capacity(terms.size_hint().0);
+                for (c, v) in terms {
+                    let l = columns
+                        .binary_search(&(offsets[c.param.index()] + c.component))
+                        .map_err(lost)?;
+                    entries.push((l, v));
+                }
+                // A row's terms are merged and nonzero (`ConstraintSystem::add_row`); only
+                // their order may differ from the columns'.
+                entries.sort_unstable_by_key(|(l, _)| *l);
+                sparse.push(entries);
                 origin.push((row, equation.component().unwrap_or(0)));
             }
         }
-        let a = IntMatrix::from_sparse(columns.len(), sparse)
-            .map_err(|e| PropagationError::Backend(e.to_string()))?;
+        let a = ComponentRows {
+            cols: columns.len(),
+            rows: sparse,
+        };
         Ok(Component { a, origin, columns })
     }
 }
@@ -1255,7 +1357,17 @@ mod tests {
             let found = Component::of(&f.system, &offsets, std::iter::once((ParamId(p as u32), k)))
                 .expect("a component");
             let (a, origin, columns) = component_of_whole_matrix(&f.system, &[offsets[p] + k]);
-            proptest::prop_assert_eq!(found.a, a);
+            // The same rows as the oracle's matrix, entries already in column order.
+            let found_rows: Vec<Vec<(usize, Integer)>> = found
+                .a
+                .rows
+                .iter()
+                .map(|row| row.iter().map(|(c, v)| (*c, (*v).clone())).collect())
+                .collect();
+            let expected_rows: Vec<Vec<(usize, Integer)>> = a.row_iter().map(<[_]>::to_vec).collect();
+            proptest::prop_assert_eq!(found.a.cols, a.cols());
+            proptest::prop_assert_eq!(found_rows, expected_rows);
+            proptest::prop_assert_eq!(found.a.to_matrix(), a);
             proptest::prop_assert_eq!(found.origin, origin);
             proptest::prop_assert_eq!(found.columns, columns);
         }
@@ -1428,7 +1540,7 @@ mod tests {
             .expect("small values stay in words");
         assert!(!words.blocked());
         // The particular solution solves M x = [0; m], each null vector M v = 0.
-        let mut with_picked = component.a.clone();
+        let mut with_picked = component.a.to_matrix();
         for row in &picked_rows {
             with_picked.push_row(row.clone()).expect("row");
         }

@@ -14,6 +14,7 @@
 //! analysis. What names rows of `A` (the rows removing a lost direction, the rows in the way of
 //! a blocked move) is still taken from `A` itself.
 
+use super::SparseRows;
 use api::{IntMatrix, Integer};
 use num_traits::{One, Signed};
 
@@ -29,13 +30,13 @@ pub(super) struct Equalities {
 impl Equalities {
     /// The classes of `a`'s columns under its rows `±x_i ± x_j = 0`, or `None` when no row
     /// merges two columns (then there is nothing to gain).
-    pub(super) fn merge(a: &IntMatrix) -> Option<Equalities> {
+    pub(super) fn merge(a: &impl SparseRows) -> Option<Equalities> {
         let n = a.cols();
         let mut classes = SignedUnionFind::new(n);
-        let mut kept: Vec<&[(usize, Integer)]> = Vec::new();
+        let mut kept: Vec<usize> = Vec::new();
         let mut merged_any = false;
-        for row in a.row_iter() {
-            match equality(row) {
+        for row in 0..a.rows() {
+            match equality(a.entries(row)) {
                 Some((i, j, negated)) => match classes.union(i, j, negated) {
                     Union::Merged => merged_any = true,
                     Union::Implied => {}
@@ -63,9 +64,9 @@ impl Equalities {
         let rows: Vec<Vec<(usize, Integer)>> = kept
             .into_iter()
             .map(|row| {
-                row.iter()
+                a.entries(row)
                     .map(|(c, v)| {
-                        let (class, negated) = class_of[*c];
+                        let (class, negated) = class_of[c];
                         (class, if negated { -v } else { v.clone() })
                     })
                     .collect()
@@ -115,14 +116,15 @@ impl Equalities {
 }
 
 /// A row `±x_i ± x_j = 0` as `(i, j, negated)`: `x_i = −x_j` when `negated`, else `x_i = x_j`.
-fn equality(row: &[(usize, Integer)]) -> Option<(usize, usize, bool)> {
-    match row {
-        [(i, a), (j, b)] if a.abs().is_one() && b.abs().is_one() => {
-            // a x_i + b x_j = 0: x_i = −(b / a) x_j, negated exactly when a and b agree.
-            Some((*i, *j, a.is_positive() == b.is_positive()))
-        }
-        _ => None,
+fn equality<'v>(
+    mut row: impl Iterator<Item = (usize, &'v Integer)>,
+) -> Option<(usize, usize, bool)> {
+    let ((i, a), (j, b)) = (row.next()?, row.next()?);
+    if row.next().is_some() || !a.magnitude().is_one() || !b.magnitude().is_one() {
+        return None;
     }
+    // a x_i + b x_j = 0: x_i = −(b / a) x_j, negated exactly when a and b agree.
+    Some((i, j, a.is_positive() == b.is_positive()))
 }
 
 /// What one equality did to the classes.

@@ -30,7 +30,8 @@
 //! `M` with the backend. So does a blocked move: the rows in its way are the backend's
 //! certificate, as before.
 
-use api::{IntMatrix, Integer, Rational};
+use super::SparseRows;
+use api::{Integer, Rational};
 use num_integer::Integer as _;
 use num_traits::{ToPrimitive, Zero};
 
@@ -58,7 +59,7 @@ impl WordElimination {
     /// `[a; picked_rows]` eliminated with the move `requested` (over the picked rows), or
     /// `None` when `M` has more than [`MAX_COLUMNS`] columns or a value leaves an `i64`.
     pub(super) fn of(
-        a: &IntMatrix,
+        a: &impl SparseRows,
         picked_rows: &[Vec<(usize, Integer)>],
         requested: Option<&[Rational]>,
     ) -> Option<Self> {
@@ -73,12 +74,13 @@ impl WordElimination {
         };
         let width = columns + 1 + picked;
         let mut cells = vec![0i64; (a.rows() + picked) * width];
-        let mut rows = cells.chunks_exact_mut(width);
-        for (row, w) in a
-            .row_iter()
-            .chain(picked_rows.iter().map(Vec::as_slice))
-            .zip(rows.by_ref())
-        {
+        let (of_a, of_picked) = cells.split_at_mut(a.rows() * width);
+        for (i, w) in of_a.chunks_exact_mut(width).enumerate() {
+            for (c, v) in a.entries(i) {
+                w[c] = v.to_i64()?;
+            }
+        }
+        for (row, w) in picked_rows.iter().zip(of_picked.chunks_exact_mut(width)) {
             for (c, v) in row {
                 w[*c] = v.to_i64()?;
             }
