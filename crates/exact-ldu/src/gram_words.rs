@@ -43,24 +43,35 @@ where
             filled[*s] += 1;
         }
     }
+    // The scratch row, and the entries of it this row touched (read off in column order and
+    // reset, not the whole row scanned: a row of `G` has a few entries of `m`).
     let mut scratch = vec![0i128; m];
+    let mut marked = vec![false; m];
+    let mut touched: Vec<usize> = Vec::with_capacity(m);
     let mut gram = Vec::with_capacity(m);
     for row in a {
         for (s, v) in row {
             // Two `i64`s: their product fits.
             let scaled = i128::from(v.to_i64()?) * i128::from(scale(*s)?);
             for &(l, other) in &entries[starts[*s]..starts[*s + 1]] {
+                if !marked[l] {
+                    marked[l] = true;
+                    touched.push(l);
+                }
                 scratch[l] = scratch[l].checked_add(checked_mul_i128(scaled, other)?)?;
             }
         }
-        let nonzero = scratch.iter().filter(|x| **x != 0).count();
-        let mut out = Vec::with_capacity(nonzero);
-        for (l, x) in scratch.iter_mut().enumerate() {
-            if *x != 0 {
-                out.push((l, convert(*x)?));
-                *x = 0;
+        touched.sort_unstable();
+        let mut out = Vec::with_capacity(touched.len());
+        for &l in &touched {
+            // Terms that cancel leave a zero: it is not an entry.
+            let x = std::mem::take(&mut scratch[l]);
+            marked[l] = false;
+            if x != 0 {
+                out.push((l, convert(x)?));
             }
         }
+        touched.clear();
         gram.push(out);
     }
     Some(gram)
@@ -118,6 +129,34 @@ mod tests {
         }
         // Rows 0 and 1 share no unknown: their entry is absent, not zero.
         assert!(gram[0].iter().all(|(l, _)| *l != 1));
+    }
+
+    /// Entries whose terms cancel are absent, and no row leaves anything behind for the
+    /// next: rows overlapping in several unknowns, in and out of order, against the dense
+    /// product.
+    #[test]
+    fn cancelled_entries_are_absent_and_rows_start_clean() {
+        let dense: &[&[i64]] = &[
+            &[1, 1, 0, 0],
+            &[1, -1, 0, 2],
+            &[0, 0, 3, 1],
+            &[2, 0, -1, 0],
+            &[1, -1, 0, 2],
+        ];
+        let v = [1, 1, 2, 1];
+        let gram = gram_rows(&rows(dense), 4, |s| Some(v[s]), Some).expect("small values");
+        // Row 0 · row 1 = 1 − 1 = 0: no entry, either way.
+        assert!(gram[0].iter().all(|(l, _)| *l != 1));
+        assert!(gram[1].iter().all(|(l, _)| *l != 0));
+        for (row, full) in gram.iter().zip(dense_gram(dense, &v)) {
+            let sparse: Vec<(usize, i128)> = full
+                .iter()
+                .enumerate()
+                .filter(|(_, x)| **x != 0)
+                .map(|(l, x)| (l, *x))
+                .collect();
+            assert_eq!(row, &sparse);
+        }
     }
 
     #[test]

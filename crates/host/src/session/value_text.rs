@@ -16,41 +16,75 @@ use std::collections::HashMap;
 /// The text of every value, as [`api::format_rational`] writes it (`p`, or `p/q` in lowest
 /// terms), per entry of `values`.
 pub(super) fn value_texts(values: &[&[Rational]]) -> Vec<Vec<String>> {
-    // foldhash, not SipHash: the keys are the edit's own values, and on a small edit SipHash
-    // was a fifth of this function's instructions.
-    let mut index: HashMap<&Integer, usize, foldhash::fast::RandomState> = HashMap::default();
-    let mut distinct: Vec<&Integer> = Vec::new();
-    for v in values.iter().flat_map(|entry| entry.iter()) {
-        let d = v.denom();
-        if !d.is_one() {
-            index.entry(d).or_insert_with(|| {
-                distinct.push(d);
-                distinct.len() - 1
-            });
-        }
-    }
+    let (distinct, slots) = distinct_denominators(values);
     let denominators = exact_ldu::decimal_texts(&distinct);
     let numerators: Vec<&Integer> = values
         .iter()
         .flat_map(|entry| entry.iter().map(Rational::numer))
         .collect();
     let mut numerators = exact_ldu::decimal_texts(&numerators).into_iter();
+    let mut slots = slots.into_iter();
     values
         .iter()
         .map(|entry| {
             entry
                 .iter()
                 .zip(numerators.by_ref())
-                .map(|(v, mut numerator)| {
-                    if let Some(&k) = index.get(v.denom()) {
-                        numerator.push('/');
-                        numerator.push_str(&denominators[k]);
+                .zip(slots.by_ref())
+                .map(|((_, numerator), slot)| match slot {
+                    Some(k) => {
+                        let denominator = &denominators[k];
+                        let mut text =
+                            String::with_capacity(numerator.len() + 1 + denominator.len());
+                        text.push_str(&numerator);
+                        text.push('/');
+                        text.push_str(denominator);
+                        text
                     }
-                    numerator
+                    None => numerator,
                 })
                 .collect()
         })
         .collect()
+}
+
+/// Distinct denominators up to which they are looked up one by one (a small edit's values
+/// share one or a few); beyond, in a hash table.
+const LINEAR_LOOKUP_UP_TO: usize = 8;
+
+/// The distinct denominators other than 1, in order of first appearance, and for each value
+/// (all entries in order) the index of its denominator among them (`None` for 1).
+fn distinct_denominators<'v>(values: &[&'v [Rational]]) -> (Vec<&'v Integer>, Vec<Option<usize>>) {
+    // foldhash, not SipHash: the keys are the edit's own values, and on a small edit SipHash
+    // was a fifth of this function's instructions.
+    let mut index: HashMap<&Integer, usize, foldhash::fast::RandomState> = HashMap::default();
+    let mut distinct: Vec<&Integer> = Vec::new();
+    let mut slots = Vec::with_capacity(values.iter().map(|entry| entry.len()).sum());
+    for v in values.iter().flat_map(|entry| entry.iter()) {
+        let d = v.denom();
+        if d.is_one() {
+            slots.push(None);
+            continue;
+        }
+        let known = if distinct.len() <= LINEAR_LOOKUP_UP_TO {
+            distinct.iter().position(|x| *x == d)
+        } else {
+            if index.is_empty() {
+                index.extend(distinct.iter().enumerate().map(|(k, x)| (*x, k)));
+            }
+            index.get(d).copied()
+        };
+        let k = known.unwrap_or_else(|| {
+            distinct.push(d);
+            // Once the table is made, it holds every distinct denominator.
+            if !index.is_empty() {
+                index.insert(d, distinct.len() - 1);
+            }
+            distinct.len() - 1
+        });
+        slots.push(Some(k));
+    }
+    (distinct, slots)
 }
 
 #[cfg(test)]
@@ -82,6 +116,26 @@ mod tests {
         assert_eq!(texts, expected);
         assert_eq!(texts[0], ["3", "-3/2"]);
         assert_eq!(texts[3][1], "-1/3");
+    }
+
+    /// Denominators numbered by first appearance, looked up one by one and then in the table:
+    /// one seen before the table is made and again after, one seen only after, integers.
+    #[test]
+    fn denominators_are_numbered_by_first_appearance() {
+        let mut entry: Vec<Rational> = (2..=14).map(|d| q("1", &d.to_string())).collect();
+        entry.extend([
+            q("5", "1"),
+            q("3", "7"),
+            q("1", "15"),
+            q("2", "15"),
+            q("9", "2"),
+        ]);
+        let (distinct, slots) = distinct_denominators(&[&entry[..5], &entry[5..]]);
+        let expected: Vec<Integer> = (2..=15).map(Integer::from).collect();
+        assert_eq!(distinct.into_iter().cloned().collect::<Vec<_>>(), expected);
+        let mut expected_slots: Vec<Option<usize>> = (0..13).map(Some).collect();
+        expected_slots.extend([None, Some(5), Some(13), Some(13), Some(0)]);
+        assert_eq!(slots, expected_slots);
     }
 
     /// Values long enough for the batch conversion (numerators and denominators of ~2 000
