@@ -32,13 +32,11 @@ pub(super) fn value_texts(values: &[&[Rational]]) -> Vec<Vec<String>> {
                 .zip(numerators.by_ref())
                 .zip(slots.by_ref())
                 .map(|((_, numerator), slot)| match slot {
+                    // Grown in place (short texts fit the numerator's block).
                     Some(k) => {
-                        let denominator = &denominators[k];
-                        let mut text =
-                            String::with_capacity(numerator.len() + 1 + denominator.len());
-                        text.push_str(&numerator);
+                        let mut text = numerator;
                         text.push('/');
-                        text.push_str(denominator);
+                        text.push_str(&denominators[k]);
                         text
                     }
                     None => numerator,
