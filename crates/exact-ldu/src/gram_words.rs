@@ -112,21 +112,26 @@ mod tests {
             .collect()
     }
 
+    /// The nonzero entries of each dense row, in column order.
+    fn nonzero_entries(dense: &[Vec<i128>]) -> Vec<Vec<(usize, i128)>> {
+        dense
+            .iter()
+            .map(|row| {
+                row.iter()
+                    .enumerate()
+                    .filter(|(_, x)| **x != 0)
+                    .map(|(l, x)| (l, *x))
+                    .collect()
+            })
+            .collect()
+    }
+
     #[test]
     fn gram_rows_are_the_sparse_rows_of_a_v_a_transposed() {
         let dense: &[&[i64]] = &[&[1, -2, 0, 0, 3], &[0, 0, 4, 0, 0], &[2, 0, 0, -1, 1]];
         let v = [3, 1, 5, 2, 7];
         let gram = gram_rows(&rows(dense), 5, |s| Some(v[s]), Some).expect("small values");
-        let expected = dense_gram(dense, &v);
-        for (row, full) in gram.iter().zip(&expected) {
-            let sparse: Vec<(usize, i128)> = full
-                .iter()
-                .enumerate()
-                .filter(|(_, x)| **x != 0)
-                .map(|(l, x)| (l, *x))
-                .collect();
-            assert_eq!(row, &sparse);
-        }
+        assert_eq!(gram, nonzero_entries(&dense_gram(dense, &v)));
         // Rows 0 and 1 share no unknown: their entry is absent, not zero.
         assert!(gram[0].iter().all(|(l, _)| *l != 1));
     }
@@ -148,15 +153,7 @@ mod tests {
         // Row 0 · row 1 = 1 − 1 = 0: no entry, either way.
         assert!(gram[0].iter().all(|(l, _)| *l != 1));
         assert!(gram[1].iter().all(|(l, _)| *l != 0));
-        for (row, full) in gram.iter().zip(dense_gram(dense, &v)) {
-            let sparse: Vec<(usize, i128)> = full
-                .iter()
-                .enumerate()
-                .filter(|(_, x)| **x != 0)
-                .map(|(l, x)| (l, *x))
-                .collect();
-            assert_eq!(row, &sparse);
-        }
+        assert_eq!(gram, nonzero_entries(&dense_gram(dense, &v)));
     }
 
     #[test]
