@@ -298,7 +298,7 @@ pub fn parts(system: &api::ConstraintSystem, graph: &SystemGraph) -> api::Struct
 
 /// The structure of an edit's relevant subsystem `R_ED` (rows: relevant constraints split per
 /// coordinate; columns: coordinates of the derived parameters).
-#[derive(Debug, Clone, Serialize, Default)]
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Default)]
 pub struct EditStructure {
     /// Scalar equations.
     pub equations: usize,
@@ -315,14 +315,29 @@ pub struct EditStructure {
 /// ([`ecles::ReducedSystem`]) — counted per coordinate: in the vector layout every row and
 /// column stands for one per coordinate, and the decomposition of the copies is the copy of
 /// the decomposition.
+///
+/// `independent_rows` says that the exact factoring found `R_ED`'s rows independent (its rank
+/// is its number of rows). Then no matching is needed: the structural rank lies between the
+/// rank and the number of rows, so it is the number of rows, a maximum matching leaves no row
+/// unmatched, and the over-determined part (the rows reached from unmatched rows) is empty.
+/// Most edits are such; their matching and decomposition were a tenth of a 10-point edit.
 pub fn edit_structure(
     system: &api::ConstraintSystem,
     reduced: &ecles::ReducedSystem,
+    independent_rows: bool,
 ) -> EditStructure {
     let copies = match reduced.layout() {
         ecles::Layout::Vector { dim } => dim,
         ecles::Layout::Scalar => 1,
     };
+    if independent_rows {
+        return EditStructure {
+            equations: reduced.r_ed().rows() * copies,
+            unknowns: reduced.r_ed().cols() * copies,
+            structural_rank: reduced.r_ed().rows() * copies,
+            over_determined: Vec::new(),
+        };
+    }
     let graph = Bipartite::from_matrix(reduced.r_ed());
     let dm = decompose(&graph);
     let mut over: Vec<String> = Vec::new();
@@ -340,5 +355,109 @@ pub fn edit_structure(
         unknowns: reduced.r_ed().cols() * copies,
         structural_rank: dm.structural_rank * copies,
         over_determined: capped(over.into_iter()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use api::{
+        ConstraintRow, ConstraintSystem, Coord, Factorization, Integer, LinearBackend, Origin,
+        ParamId, RowBody, Values,
+    };
+
+    /// A chain of `n` parameters of dimension `dim` (`2 p_i − p_{i−1} − p_{i+1} = 0`, vector rows
+    /// when `dim > 1`), with `extra` rows appended, and the edit moving `p_{n/2}`.
+    fn chain(
+        n: usize,
+        dim: usize,
+        extra: &[&[(usize, i64)]],
+    ) -> (ConstraintSystem, ecles::EditSpec) {
+        let mut s = ConstraintSystem::new();
+        let p: Vec<ParamId> = (0..n)
+            .map(|i| s.add_parameter(format!("p{i}"), dim).expect("fresh"))
+            .collect();
+        let mut add = |label: String, terms: &[(usize, i64)]| {
+            let body = if dim == 1 {
+                RowBody::Scalar {
+                    terms: terms
+                        .iter()
+                        .map(|(i, c)| {
+                            let coord = Coord {
+                                param: p[*i],
+                                component: 0,
+                            };
+                            (coord, Integer::from(*c))
+                        })
+                        .collect(),
+                    rhs: Integer::from(0),
+                }
+            } else {
+                RowBody::Vector {
+                    terms: terms
+                        .iter()
+                        .map(|(i, c)| (p[*i], Integer::from(*c)))
+                        .collect(),
+                    rhs: vec![Integer::from(0); dim],
+                }
+            };
+            s.add_row(ConstraintRow {
+                label,
+                origin: Origin::default(),
+                body,
+            })
+            .expect("a valid row");
+        };
+        for i in 1..n - 1 {
+            add(format!("mid{i}"), &[(i - 1, -1), (i, 2), (i + 1, -1)]);
+        }
+        for (k, terms) in extra.iter().enumerate() {
+            add(format!("extra{k}"), terms);
+        }
+        let anchor = p[n / 2];
+        let spec = ecles::EditSpec {
+            anchors: vec![anchor],
+            derived: p.iter().copied().filter(|q| *q != anchor).collect(),
+            weights: None,
+            strong: false,
+        };
+        (s, spec)
+    }
+
+    /// Independent rows (the exact rank is the number of rows) give the structure the
+    /// matching and the decomposition give: the structural rank is the number of equations
+    /// and nothing is over-determined. Dependent rows still go through the decomposition.
+    #[test]
+    fn independent_rows_need_no_matching() {
+        for dim in [1, 2] {
+            for (extra, independent) in [
+                (&[][..], true),
+                (&[&[(0, 1), (3, -1)][..]][..], true),
+                // Dependent: the chain's first row again, and a row over p0 and p1 only, which
+                // with the first two rows over-determines them.
+                (
+                    &[&[(0, -1), (1, 2), (2, -1)][..], &[(0, 1), (1, 1)][..]][..],
+                    false,
+                ),
+            ] {
+                let (system, spec) = chain(7, dim, extra);
+                let values = Values::zeros(&system);
+                let (_, reduced) =
+                    ecles::reduce_edit::<api::Rational>(&system, &values, &spec).expect("reduced");
+                let rank = exact_ldu::ExactLdu::default()
+                    .factor(reduced.r_ed())
+                    .expect("factored")
+                    .rank();
+                assert_eq!(rank == reduced.r_ed().rows(), independent, "dim {dim}");
+                let decomposed = edit_structure(&system, &reduced, false);
+                if independent {
+                    assert_eq!(edit_structure(&system, &reduced, true), decomposed);
+                    assert_eq!(decomposed.structural_rank, decomposed.equations);
+                    assert!(decomposed.over_determined.is_empty());
+                } else {
+                    assert!(!decomposed.over_determined.is_empty(), "dim {dim}");
+                }
+            }
+        }
     }
 }

@@ -334,11 +334,21 @@ impl Session {
             .map(|summary| self.criterion_report(&summary));
         // The initialised edit's reduced system; reduced again only when Initialize refused
         // the edit (a conflict's report still describes its structure).
-        report.structure = match exact.init.as_ref().and_then(|i| i.reduced.as_ref()) {
-            Some(reduced) => Some(crate::structural::edit_structure(&self.system, reduced)),
-            None => ecles::reduce_edit::<Rational>(&self.system, &self.values, spec)
+        report.structure = match exact.init.as_ref() {
+            Some(InitFacts {
+                reduced: Some(reduced),
+                independent_rows,
+                ..
+            }) => Some(crate::structural::edit_structure(
+                &self.system,
+                reduced,
+                *independent_rows,
+            )),
+            _ => ecles::reduce_edit::<Rational>(&self.system, &self.values, spec)
                 .ok()
-                .map(|(_, reduced)| crate::structural::edit_structure(&self.system, &reduced)),
+                .map(|(_, reduced)| {
+                    crate::structural::edit_structure(&self.system, &reduced, false)
+                }),
         };
         if let Some(init) = &exact.init {
             report.relevant = init.relevant;
@@ -459,7 +469,7 @@ impl Session {
         )];
         let structure = ecles::reduce_edit::<Rational>(&self.system, &self.values, spec)
             .ok()
-            .map(|(_, reduced)| crate::structural::edit_structure(&self.system, &reduced))
+            .map(|(_, reduced)| crate::structural::edit_structure(&self.system, &reduced, false))
             .unwrap_or_default();
         if !structure.over_determined.is_empty() {
             lines.push(format!(
@@ -802,6 +812,8 @@ pub(super) struct InitFacts {
     pub(super) rank: usize,
     pub(super) redundant: usize,
     pub(super) independent: Vec<api::RowId>,
+    /// Whether the exact factoring found every row of `R_ED` independent.
+    pub(super) independent_rows: bool,
     /// The reduced system the edit factored (`ecles::reduce_edit`'s), for the report's
     /// structure; `None` where the run did not go through [`ecles::Edit`].
     pub(super) reduced: Option<ecles::ReducedSystem>,
@@ -856,6 +868,7 @@ pub(super) fn execute<B: LinearBackend>(
             rows.dedup();
             rows
         },
+        independent_rows: report.rank == report.equations,
         reduced: Some(edit.into_reduced()),
     };
     Execution {
@@ -1102,6 +1115,44 @@ mod tests {
             crate::session::unique_label("worm", 4, "worm: C1 edge 1-2 #0"),
             "worm row 5: C1 edge 1-2 #0"
         );
+    }
+
+    /// The report's structure of an edit: independent rows of `R_ED` take no matching (the
+    /// structural rank is the number of equations, nothing over-determined); dependent rows
+    /// are decomposed (four equations over two unknowns, consistent: rank 2, all four rows
+    /// over-determined).
+    #[test]
+    fn the_structure_of_an_edit_with_and_without_independent_rows() {
+        let dependent = check(
+            r#"(sources: [(name: "c", plugin: "linear", config: (
+                parameters: {"x": "1", "y": "1", "w": "1"},
+                equations: ["x + y = 2", "x - y = 0", "y = 1", "w - x = 0"],
+            ))], cross_check: None, edits: [
+                Ecles(anchors: {"c.w": "1"}, derived: ["c.x", "c.y"]),
+            ])"#,
+        )
+        .expect("runs");
+        let edit = &dependent.edits[0];
+        assert!(edit.solvable, "{:?}", edit.error);
+        let s = edit.structure.as_ref().expect("a structure");
+        assert_eq!((s.equations, s.unknowns, s.structural_rank), (4, 2, 2));
+        assert_eq!(s.over_determined.len(), 4);
+        assert_eq!(edit.rank, 2);
+        let independent = check(
+            r#"(sources: [(name: "c", plugin: "linear", config: (
+                parameters: {"x": "1", "y": "1", "z": "1"},
+                equations: ["x + y + z = 3", "x - y = 0"],
+            ))], cross_check: None, edits: [
+                Ecles(anchors: {"c.z": "2"}, derived: ["c.x", "c.y"]),
+            ])"#,
+        )
+        .expect("runs");
+        let edit = &independent.edits[0];
+        assert!(edit.solvable, "{:?}", edit.error);
+        let s = edit.structure.as_ref().expect("a structure");
+        assert_eq!((s.equations, s.unknowns, s.structural_rank), (2, 2, 2));
+        assert!(s.over_determined.is_empty());
+        assert_eq!(edit.rank, 2);
     }
 
     /// A redundant row whose combination runs over hundreds of rows is given exactly, runs of

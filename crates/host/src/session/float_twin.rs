@@ -72,6 +72,8 @@ pub(crate) fn execute_sparse(
         rank: rank.rank * copies,
         redundant: (reduced.r_ed().rows() - rank.rank) * copies,
         independent: Vec::new(),
+        // Only the exact run's facts shape the report's structure.
+        independent_rows: false,
         reduced: None,
     };
     let family = reduced.family();
