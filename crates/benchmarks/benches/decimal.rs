@@ -1,8 +1,9 @@
 //! The decimal text of long integers: `num-bigint`'s conversion one integer at a time
-//! against [`exact_ldu::decimal_texts`] (eight at a time in IFMA lanes, one table of powers for
-//! the batch), for batches shaped like the exact optimum's values on the figure mesh: 256
-//! integers of 700 limbs (~13 500 digits, as at δ_max = 40) and of 110 limbs (~2 100 digits, as
-//! at δ_max = 16). Both on all cores, as the report converts them.
+//! against [`exact_ldu::decimal_texts`] (one table of powers for the batch; eight integers at a
+//! time in IFMA lanes where the processor has them, else by word products), for batches shaped
+//! like the exact optimum's values: 256 integers of 700 limbs (~13 500 digits, as at δ_max = 40
+//! on the figure mesh), of 110 limbs (~2 100 digits, as at δ_max = 16) and of 11 limbs (~210
+//! digits, as on the δ_max = 8 grid). Both on all cores, as the report converts them.
 //!
 //! `cargo bench -p benchmarks --bench decimal`
 
@@ -42,7 +43,7 @@ fn decimal(c: &mut Criterion) {
     use rayon::prelude::*;
     let mut group = c.benchmark_group("decimal-text");
     group.sample_size(10);
-    for limbs in [110usize, 700] {
+    for limbs in [11usize, 110, 700] {
         let values = batch(256, limbs);
         let refs: Vec<&BigInt> = values.iter().collect();
         let expected: Vec<String> = values.iter().map(BigInt::to_string).collect();
@@ -50,7 +51,7 @@ fn decimal(c: &mut Criterion) {
         group.bench_function(BenchmarkId::new("num-bigint", limbs), |b| {
             b.iter(|| black_box(refs.par_iter().map(|v| v.to_string()).collect::<Vec<_>>()))
         });
-        group.bench_function(BenchmarkId::new("lanes", limbs), |b| {
+        group.bench_function(BenchmarkId::new("batch", limbs), |b| {
             b.iter(|| black_box(exact_ldu::decimal_texts(&refs)))
         });
     }

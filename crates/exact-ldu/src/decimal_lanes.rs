@@ -20,10 +20,11 @@
 //!
 //! Bounds: `c_k < 2^52` and `P_k[j] < T < 2^49.83`, so each high half is below `2^49.83`; over
 //! at most [`MAX_DIGITS`] `= 2^11` digits the low accumulator stays below `2^63` and the high one
-//! below `2^60.83` (what [`normalise`] takes). Longer integers, short ones (the table is not
-//! worth it) and processors without IFMA take `num-bigint`'s conversion; the text is the same
-//! either way.
+//! below `2^60.83` (what [`normalise`] takes). Longer integers and short ones (the table is not
+//! worth it) take `num-bigint`'s conversion, processors without IFMA
+//! [`crate::decimal_words`]' word products; the text is the same either way.
 
+use crate::decimal_words::{self, WordPowers};
 use crate::ifma::{all_digits, ifma_available, DIGIT_BITS, LANES};
 use crate::lane_products::PowerTable;
 use num_bigint::{BigInt, Sign};
@@ -64,10 +65,13 @@ pub fn decimal_texts(values: &[&BigInt]) -> Vec<String> {
     if work < SEQUENTIAL_WORK {
         return values.iter().map(|v| short_text(v)).collect();
     }
+    if !ifma_available() {
+        return word_texts(values);
+    }
     let mut long: Vec<usize> = (0..values.len())
         .filter(|&i| (MIN_DIGITS..=MAX_DIGITS).contains(&digit_count(values[i])))
         .collect();
-    if long.len() < MIN_BATCH || !ifma_available() {
+    if long.len() < MIN_BATCH {
         return values.par_iter().map(|v| short_text(v)).collect();
     }
     // Groups of eight of about the same length (longest first): a lane shorter than its
@@ -93,6 +97,30 @@ pub fn decimal_texts(values: &[&BigInt]) -> Vec<String> {
         .into_par_iter()
         .zip(values.par_iter())
         .map(|(text, v)| text.unwrap_or_else(|| short_text(v)))
+        .collect()
+}
+
+/// [`decimal_texts`] without IFMA: integers of [`decimal_words::MIN_LIMBS`] to
+/// [`decimal_words::MAX_LIMBS`] limbs by word products with one table for the batch (when
+/// there are at least [`MIN_BATCH`] of them), the others by `num-bigint`; on all cores.
+fn word_texts(values: &[&BigInt]) -> Vec<String> {
+    let limb_count = |v: &BigInt| v.bits().div_ceil(64) as usize;
+    let words_take =
+        |v: &BigInt| (decimal_words::MIN_LIMBS..=decimal_words::MAX_LIMBS).contains(&limb_count(v));
+    let long = values.iter().filter(|v| words_take(v));
+    if long.clone().count() < MIN_BATCH {
+        return values.par_iter().map(|v| short_text(v)).collect();
+    }
+    let table = WordPowers::new(long.map(|v| limb_count(v)).max().unwrap_or(0));
+    values
+        .par_iter()
+        .map(|v| {
+            if words_take(v) {
+                table.text(v)
+            } else {
+                short_text(v)
+            }
+        })
         .collect()
 }
 
@@ -223,7 +251,7 @@ fn chunks_text(chunks: &[u64], negative: bool) -> String {
 
 /// The fifteen digits of a chunk `x < 10^15`, by pairs from a table: the two halves below
 /// `10^8` and their quarters below `10^4` are independent, so the divisions overlap.
-fn chunk_digits(x: u64) -> [u8; CHUNK_DIGITS] {
+pub(crate) fn chunk_digits(x: u64) -> [u8; CHUNK_DIGITS] {
     const PAIRS: &[u8; 200] = b"0001020304050607080910111213141516171819\
         2021222324252627282930313233343536373839\
         4041424344454647484950515253545556575859\

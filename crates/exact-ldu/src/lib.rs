@@ -25,6 +25,7 @@ mod bareiss_small;
 mod blocks;
 mod certified;
 mod decimal_lanes;
+mod decimal_words;
 mod dixon;
 mod factorization;
 mod gcd;

@@ -6,8 +6,8 @@
 //! common denominator, they differ by small factors): the figure mesh at δ_max = 40 has 10 432
 //! values over 1 202 distinct denominators of ~13 000 digits each, half the report's text. Each
 //! distinct denominator is converted once, then every numerator, all in one batch each by
-//! [`exact_ldu::decimal_texts`] (eight integers at a time in IFMA lanes where the processor has
-//! them) on all cores.
+//! [`exact_ldu::decimal_texts`] (with one table of powers per batch: eight integers at a time in
+//! IFMA lanes where the processor has them, by word products elsewhere) on all cores.
 
 use api::{Integer, Rational};
 use num_traits::One;
@@ -137,7 +137,7 @@ mod tests {
     }
 
     /// Values long enough for the batch conversion (numerators and denominators of ~2 000
-    /// digits, enough of them for the lanes), among short ones and integers.
+    /// digits, enough of them for the batch's table), among short ones and integers.
     #[test]
     fn long_values_are_written_as_format_rational_writes_them() {
         let denominator: Integer = Integer::from(3).pow(4_001) * 7;
