@@ -216,6 +216,37 @@ impl Montgomery {
         Some(product)
     }
 
+    /// `Π values` times a unit modulo `m` (a power of `R⁻¹`), below `m` in `k` limbs, on this
+    /// thread; the values are below `m` (at most `k` limbs each). For moduli of up to 32 limbs
+    /// two products run side by side ([`cios_pair_fixed`]) over alternate values and are
+    /// multiplied at the end; longer ones go one product at a time ([`Montgomery::mul_assign`]).
+    pub(crate) fn chain_product<'a>(
+        &self,
+        values: impl IntoIterator<Item = &'a [u64]>,
+    ) -> Vec<u64> {
+        let k = self.limbs();
+        let values = values.into_iter();
+        /// Moduli of up to 32 limbs take [`chain_fixed`] for their length.
+        macro_rules! fixed_lengths {
+            ($values:ident; $($n:literal)*) => {
+                match k {
+                    $($n => {
+                        if let Ok(m) = <&[u64; $n]>::try_from(&self.modulus[..]) {
+                            return chain_fixed(m, self.negated_inverse, $values).to_vec();
+                        }
+                    })*
+                    _ => {}
+                }
+            };
+        }
+        fixed_lengths!(values; 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16 17 18 19 20 21 22 23 24 25 26 27 28 29 30 31 32);
+        let mut scratch = Vec::new();
+        values.fold(vec![1u64], |mut acc, v| {
+            self.mul_assign(&mut acc, v, &mut scratch);
+            acc
+        })
+    }
+
     /// `a · b · R⁻¹ mod m` for `a, b < m` (at most `k` limbs each).
     #[cfg(test)]
     pub(crate) fn mul(&self, a: &[u64], b: &[u64]) -> Vec<u64> {
@@ -304,28 +335,101 @@ impl Montgomery {
 /// length known the compiler unrolls the rows and keeps the window in registers (1.7× faster
 /// than the loop over slices on the 11-limb moduli of a δ = 8 spline edit).
 fn cios_fixed<const K: usize>(m: &[u64; K], ninv: u64, a: &mut [u64; K], b: &[u64; K]) {
-    let mut t = [0u64; K];
-    let mut t_k: u64 = 0;
-    let mut t_k1: u64;
+    let mut window = CiosWindow::<K>::new();
     for &bi in b {
+        window.row(m, ninv, a, bi);
+    }
+    window.finish(m, a);
+}
+
+/// [`Montgomery::chain_product`] for a modulus of `K` limbs: values at even places into one
+/// accumulator, at odd places into the other, both advanced together.
+fn chain_fixed<'a, const K: usize>(
+    m: &[u64; K],
+    ninv: u64,
+    mut values: impl Iterator<Item = &'a [u64]>,
+) -> [u64; K] {
+    let padded = |v: &[u64]| {
+        let mut p = [0u64; K];
+        p[..v.len()].copy_from_slice(v);
+        p
+    };
+    let mut one = [0u64; K];
+    one[0] = 1;
+    let (mut even, mut odd) = (one, one);
+    loop {
+        match (values.next(), values.next()) {
+            (Some(x), Some(y)) => {
+                cios_pair_fixed(m, ninv, (&mut even, &padded(x)), (&mut odd, &padded(y)))
+            }
+            (Some(x), None) => {
+                cios_fixed(m, ninv, &mut even, &padded(x));
+                break;
+            }
+            _ => break,
+        }
+    }
+    cios_fixed(m, ninv, &mut even, &odd);
+    even
+}
+
+/// [`cios_fixed`] on two independent products at once, `a ← a · x · R⁻¹` and
+/// `b ← b · y · R⁻¹ mod m`, their rows alternating: each row is a chain of dependent
+/// carries, so one product alone waits on its multiplications' latency, while two keep the
+/// multiplier busy (the product chain of [`Montgomery::chain_product`]).
+fn cios_pair_fixed<const K: usize>(
+    m: &[u64; K],
+    ninv: u64,
+    (a, x): (&mut [u64; K], &[u64; K]),
+    (b, y): (&mut [u64; K], &[u64; K]),
+) {
+    let (mut first, mut second) = (CiosWindow::<K>::new(), CiosWindow::<K>::new());
+    for (&xi, &yi) in x.iter().zip(y) {
+        first.row(m, ninv, a, xi);
+        second.row(m, ninv, b, yi);
+    }
+    first.finish(m, a);
+    second.finish(m, b);
+}
+
+/// The `K + 2`-limb window of a coarsely integrated product `a · b · R⁻¹ mod m` (Koç, Acar
+/// and Kaliski 1996): `t` and its two top limbs.
+struct CiosWindow<const K: usize> {
+    t: [u64; K],
+    t_k: u64,
+}
+
+impl<const K: usize> CiosWindow<K> {
+    fn new() -> Self {
+        CiosWindow { t: [0; K], t_k: 0 }
+    }
+
+    /// One row: `t ← (t + a · bᵢ + u m) / 2^64` with `u` clearing the low limb.
+    #[inline(always)]
+    fn row(&mut self, m: &[u64; K], ninv: u64, a: &[u64; K], bi: u64) {
+        let t = &mut self.t;
         let mut carry = 0;
         for j in 0..K {
             (t[j], carry) = mul_add(t[j], a[j], bi, carry);
         }
-        let (sum, overflow) = t_k.overflowing_add(carry);
-        t_k = sum;
-        t_k1 = u64::from(overflow);
+        let (sum, overflow) = self.t_k.overflowing_add(carry);
+        let t_k1 = u64::from(overflow);
         let u = t[0].wrapping_mul(ninv);
         let (_, mut carry) = mul_add(t[0], u, m[0], 0);
         for j in 1..K {
             (t[j - 1], carry) = mul_add(t[j], u, m[j], carry);
         }
-        let (sum, overflow) = t_k.overflowing_add(carry);
+        let (sum, overflow) = sum.overflowing_add(carry);
         t[K - 1] = sum;
-        t_k = t_k1 + u64::from(overflow);
+        self.t_k = t_k1 + u64::from(overflow);
     }
-    subtract_if_not_below(&mut t, t_k, m);
-    *a = t;
+
+    /// The window, below `2m`, brought below `m` into `out`.
+    #[inline(always)]
+    fn finish(mut self, m: &[u64; K], out: &mut [u64; K]) {
+        subtract_if_not_below(&mut self.t, self.t_k, m);
+        *out = self.t;
+    }
 }
 
 /// `low − m` in place when the value `high · 2^(64k) + low` (below `2m`) is at least `m`; the
@@ -410,6 +514,35 @@ mod tests {
                 "no power of 2^64 takes the residue back to n mod m"
             );
             check_products(&mont, &m, &a, &b)?;
+        }
+    }
+
+    proptest! {
+        /// A chain's product is the values' product times `R⁻ʲ` for `j` the count of values or
+        /// one more (the two accumulators' final product), below `m`: for no value, one, odd
+        /// and even counts, moduli of the unrolled lengths and beyond, values shorter than `m`.
+        #[test]
+        fn chain_products_are_products(
+            m in prop::collection::vec(any::<u64>(), 1..40),
+            values in prop::collection::vec(prop::collection::vec(any::<u64>(), 0..40), 0..7),
+        ) {
+            let m = big(&m) | BigUint::from(1u32);
+            prop_assume!(m > BigUint::from(1u32));
+            let mont = Montgomery::new(&m).expect("odd");
+            let k = mont.limbs();
+            let values: Vec<Vec<u64>> = values
+                .iter()
+                .map(|v| (big(v) % &m).to_u64_digits())
+                .collect();
+            let product = big(&mont.chain_product(values.iter().map(Vec::as_slice)));
+            prop_assert!(product < m);
+            let expected = values.iter().fold(BigUint::from(1u32) % &m, |p, v| p * big(v) % &m);
+            let r = r_mod(&m, k);
+            let n = values.len();
+            prop_assert!(
+                [n, n + 1].iter().any(|&j| &product * r.modpow(&BigUint::from(j), &m) % &m == expected),
+                "not the product times a power of R⁻¹"
+            );
         }
     }
 

@@ -442,14 +442,8 @@ fn product_modulo(residues: &Residues, m: &Montgomery) -> BigUint {
     let chain = |first: usize| -> Limbs {
         let nonzero =
             || (first..(first + chunk).min(residues.len())).filter_map(|i| residues.get(i));
-        if let Some(product) = m.lane_product(nonzero()) {
-            return product;
-        }
-        let mut scratch = Vec::new();
-        nonzero().fold(one(), |mut acc, r| {
-            m.mul_assign(&mut acc, r, &mut scratch);
-            acc
-        })
+        m.lane_product(nonzero())
+            .unwrap_or_else(|| m.chain_product(nonzero()))
     };
     let product = (0..residues.len())
         .into_par_iter()
