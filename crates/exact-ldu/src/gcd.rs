@@ -29,12 +29,22 @@ pub(crate) fn to_limbs(v: &BigUint) -> Limbs {
 }
 
 pub(crate) fn from_limbs(v: &[u64]) -> BigUint {
-    let mut digits = Vec::with_capacity(v.len() * 2);
-    for limb in v {
-        digits.push(*limb as u32);
-        digits.push((*limb >> 32) as u32);
+    thread_local! {
+        /// The limbs as 32-bit digits, the only form `num-bigint` takes them in.
+        static DIGITS: std::cell::RefCell<Vec<u32>> = const { std::cell::RefCell::new(Vec::new()) };
     }
-    BigUint::new(digits)
+    DIGITS.with_borrow_mut(|digits| {
+        digits.clear();
+        digits.extend(
+            v.iter()
+                .flat_map(|&limb| [limb as u32, (limb >> 32) as u32]),
+        );
+        // One allocation, of the value's length: `BigUint::new` would also take the digits'
+        // vector.
+        let mut value = BigUint::default();
+        value.assign_from_slice(digits);
+        value
+    })
 }
 
 /// The 63 bits of `v` starting at bit `shift` from the bottom (`v >> shift`, truncated).

@@ -111,6 +111,37 @@ fn add_at(sum: &mut [u64], mut at: usize, mut v: u64) {
 
 /// [`TopBits`] of `Σ cₖ xₖ`, every limb summed; `limbs` is the longest `xₖ`'s length.
 fn whole_sum<'a>(terms: impl IntoIterator<Item = (&'a BigInt, i64)>, limbs: usize) -> TopBits {
+    with_whole_sum(terms, limbs, top_bits_of_limbs)
+}
+
+/// `Σ cₖ xₖ` over `terms` `(xₖ, cₖ)`, exactly, for word-sized coefficients: the products of
+/// each sign accumulated in limbs (128-bit multiply-adds into reused buffers) and the result
+/// made a `BigInt` once, in one allocation of its length. A `BigInt` product per term allocated
+/// a copy of `xₖ`, grew it by a limb for the carry (a reallocation and a copy) and allocated the
+/// difference again: the exact update's entries (`base · s − α r` per derived value).
+pub(crate) fn word_combination<'a>(
+    terms: impl IntoIterator<Item = (&'a BigInt, i64)> + Clone,
+) -> BigInt {
+    let limbs = terms
+        .clone()
+        .into_iter()
+        .map(|(x, _)| x.magnitude().iter_u64_digits().len())
+        .max()
+        .unwrap_or(0);
+    with_whole_sum(terms, limbs, |magnitude, is_negative| {
+        let value = crate::gcd::from_limbs(magnitude);
+        let sign = if is_negative { Sign::Minus } else { Sign::Plus };
+        BigInt::from_biguint(sign, value)
+    })
+}
+
+/// `Σ cₖ xₖ` summed in the thread's buffers and given to `f` as its magnitude's limbs (with
+/// leading zeros) and whether it is negative; `limbs` is the longest `xₖ`'s length.
+fn with_whole_sum<'a, R>(
+    terms: impl IntoIterator<Item = (&'a BigInt, i64)>,
+    limbs: usize,
+    f: impl FnOnce(&[u64], bool) -> R,
+) -> R {
     // A product has at most `limbs + 1` limbs, a sum of fewer than 2^64 of them one more.
     let width = limbs + 2;
     SUMS.with_borrow_mut(|(positive, negative)| {
@@ -136,7 +167,7 @@ fn whole_sum<'a>(terms: impl IntoIterator<Item = (&'a BigInt, i64)>, limbs: usiz
             (positive, &*negative)
         };
         subtract_limbs(larger, smaller);
-        top_bits_of_limbs(larger, is_negative)
+        f(larger, is_negative)
     })
 }
 
@@ -169,11 +200,13 @@ mod tests {
         BigInt::from_biguint(sign, magnitude)
     }
 
-    /// The value of the sum computed in big integers, and this module's, bit for bit.
+    /// The value of the sum computed in big integers, and this module's, bit for bit; the
+    /// exact sum equal to the big integers' ([`word_combination`]).
     fn check(terms: &[(BigInt, i64)], d: &BigInt) -> Result<(), TestCaseError> {
         let sum = terms
             .iter()
             .fold(BigInt::default(), |acc, (x, c)| acc + x * c);
+        prop_assert_eq!(word_combination(terms.iter().map(|(x, c)| (x, *c))), sum.clone());
         let expected = fraction_to_f64(&sum, d);
         let found = word_combination_to_f64(terms.iter().map(|(x, c)| (x, *c)), top_bits(d));
         prop_assert!(
@@ -192,6 +225,9 @@ mod tests {
         let x = big(&[u64::MAX, 7, u64::MAX, 3, 9], false);
         let y = -&x * 3;
         let d = BigInt::from(7);
+        let zero = word_combination([(&x, 6), (&y, 2)]);
+        assert_eq!(zero, BigInt::default());
+        assert_eq!(zero.sign(), Sign::NoSign);
         assert_eq!(
             word_combination_to_f64([(&x, 6), (&y, 2)], top_bits(&d)),
             0.0

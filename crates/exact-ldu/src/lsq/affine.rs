@@ -18,7 +18,7 @@ use crate::dixon::{entries_per_task, LiftingSolver};
 use crate::qvec::QVec;
 use crate::ring::{lcm, Ring};
 use crate::shared_once::SharedOnce;
-use crate::word_combination::word_combination_to_f64;
+use crate::word_combination::{word_combination, word_combination_to_f64};
 use api::exact::{top_bits, top_bits_of_limbs, TopBits};
 use api::words::{all_fit, checked_mul_i128};
 use api::Rational;
@@ -804,6 +804,10 @@ impl<'a> Combination<'a> {
     fn entry(&self, s: usize) -> BigInt {
         if let Some(value) = self.entry_in_words(s) {
             return crate::ring::bigint_from_i128(value);
+        }
+        if let Some((bs, fs)) = &self.word {
+            let responses = self.moved.iter().zip(fs).map(|(r, f)| (&r.num[s], *f));
+            return word_combination(std::iter::once((&self.base.num[s], *bs)).chain(responses));
         }
         let mut value = &self.base.num[s] * &self.base_scale;
         for (r, f) in self.moved.iter().zip(&self.factors) {
