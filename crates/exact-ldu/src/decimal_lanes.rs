@@ -170,7 +170,13 @@ fn convert_group(table: &PowerTable, members: &[&BigInt]) -> Vec<String> {
     members
         .iter()
         .enumerate()
-        .map(|(lane, v)| chunks_text(&normalise(sums.lane(lane)), v.sign() == Sign::Minus))
+        .map(|(lane, v)| {
+            chunks_text(
+                &normalise(sums.lane(lane)),
+                v.sign() == Sign::Minus,
+                chunk_digits,
+            )
+        })
         .collect()
 }
 
@@ -186,14 +192,20 @@ fn normalise(positions: impl Iterator<Item = (u64, u64)>) -> Vec<u64> {
         chunks.push(r);
         carry = q;
     }
+    finish_chunks(&mut chunks, carry, CHUNK);
+    chunks
+}
+
+/// The last carry's base-`chunk` digits pushed onto `chunks`, then the leading zero chunks
+/// dropped.
+pub(crate) fn finish_chunks(chunks: &mut Vec<u64>, mut carry: u128, chunk: u64) {
     while carry > 0 {
-        chunks.push((carry % u128::from(CHUNK)) as u64);
-        carry /= u128::from(CHUNK);
+        chunks.push((carry % u128::from(chunk)) as u64);
+        carry /= u128::from(chunk);
     }
     while chunks.last() == Some(&0) {
         chunks.pop();
     }
-    chunks
 }
 
 /// `T` shifted to the top of a word: `T < 2^50` has 50 bits.
@@ -214,19 +226,7 @@ fn divide_by_chunk(u: u128) -> (u128, u64) {
     // (u1, u0) = (r_high·2^64 + low)·2^14, u1 < d.
     let u1 = (r_high << CHUNK_SHIFT) | (low >> (64 - CHUNK_SHIFT));
     let u0 = low << CHUNK_SHIFT;
-    let q =
-        u128::from(CHUNK_RECIPROCAL) * u128::from(u1) + ((u128::from(u1) << 64) | u128::from(u0));
-    let mut q1 = ((q >> 64) as u64).wrapping_add(1);
-    let q0 = q as u64;
-    let mut r = u0.wrapping_sub(q1.wrapping_mul(d));
-    if r > q0 {
-        q1 = q1.wrapping_sub(1);
-        r = r.wrapping_add(d);
-    }
-    if r >= d {
-        q1 += 1;
-        r -= d;
-    }
+    let (q1, r) = crate::word_division::divide_two_words(u1, u0, d, CHUNK_RECIPROCAL);
     (
         (u128::from(q_high) << 64) | u128::from(q1),
         r >> CHUNK_SHIFT,
@@ -234,16 +234,21 @@ fn divide_by_chunk(u: u128) -> (u128, u64) {
 }
 
 /// The decimal text of base-`T` chunks (lowest first, no leading zero chunk), `-` first when
-/// `negative` (and not zero): the top chunk as it is, every other one in fifteen digits.
-fn chunks_text(chunks: &[u64], negative: bool) -> String {
+/// `negative` (and not zero): the top chunk as it is, every other one in `D` digits by `digits`
+/// (fifteen here, nineteen for [`crate::decimal_words`]' chunks).
+pub(crate) fn chunks_text<const D: usize>(
+    chunks: &[u64],
+    negative: bool,
+    digits: impl Fn(u64) -> [u8; D],
+) -> String {
     let Some((&top, rest)) = chunks.split_last() else {
         return "0".to_owned();
     };
     let sign = if negative { "-" } else { "" };
     let mut text = format!("{sign}{top}").into_bytes();
-    text.reserve(rest.len() * CHUNK_DIGITS);
+    text.reserve(rest.len() * D);
     for &chunk in rest.iter().rev() {
-        text.extend_from_slice(&chunk_digits(chunk));
+        text.extend_from_slice(&digits(chunk));
     }
     // Only ASCII digits were written.
     String::from_utf8(text).unwrap_or_default()
@@ -318,9 +323,12 @@ mod tests {
             });
         let chunks = normalise(positions.into_iter());
         assert!(chunks.iter().all(|&c| c < CHUNK));
-        assert_eq!(chunks_text(&chunks, false), expected.to_string());
         assert_eq!(
-            chunks_text(&normalise([(0, 0), (0, 0)].into_iter()), true),
+            chunks_text(&chunks, false, chunk_digits),
+            expected.to_string()
+        );
+        assert_eq!(
+            chunks_text(&normalise([(0, 0), (0, 0)].into_iter()), true, chunk_digits),
             "0"
         );
     }

@@ -115,13 +115,7 @@ impl WordPowers {
             (chunk, carry) = carry_position(sum, wraps, carry);
             chunks.push(chunk);
         }
-        while carry > 0 {
-            chunks.push((carry % u128::from(CHUNK)) as u64);
-            carry /= u128::from(CHUNK);
-        }
-        while chunks.last() == Some(&0) {
-            chunks.pop();
-        }
+        crate::decimal_lanes::finish_chunks(&mut chunks, carry, CHUNK);
         chunks
     }
 }
@@ -167,26 +161,11 @@ fn dot(xs: &[u64], ys: &[u64]) -> (u128, u64) {
     (total, wrap_count)
 }
 
-/// `(⌊(u1·2^64 + u0) / T⌋, (u1·2^64 + u0) mod T)` for `u1 < T`: Möller and Granlund's
-/// algorithm 4 with the precomputed reciprocal (two multiplications and two corrections
-/// instead of the runtime's 128-bit division).
+/// `(⌊(u1·2^64 + u0) / T⌋, (u1·2^64 + u0) mod T)` for `u1 < T`, by the precomputed
+/// reciprocal.
 #[inline]
 fn divide_two_words(u1: u64, u0: u64) -> (u64, u64) {
-    debug_assert!(u1 < CHUNK);
-    let q =
-        u128::from(CHUNK_RECIPROCAL) * u128::from(u1) + ((u128::from(u1) << 64) | u128::from(u0));
-    let mut q1 = ((q >> 64) as u64).wrapping_add(1);
-    let q0 = q as u64;
-    let mut r = u0.wrapping_sub(q1.wrapping_mul(CHUNK));
-    if r > q0 {
-        q1 = q1.wrapping_sub(1);
-        r = r.wrapping_add(CHUNK);
-    }
-    if r >= CHUNK {
-        q1 += 1;
-        r -= CHUNK;
-    }
-    (q1, r)
+    crate::word_division::divide_two_words(u1, u0, CHUNK, CHUNK_RECIPROCAL)
 }
 
 /// `power · 2^64` in base `T` (digits below `T`, lowest first).
@@ -209,17 +188,7 @@ fn times_two_to_the_64(power: &[u64]) -> Vec<u64> {
 /// The decimal text of base-`T` chunks (lowest first, no leading zero chunk), `-` first when
 /// `negative` (and not zero): the top chunk as it is, every other one in nineteen digits.
 fn chunks_text(chunks: &[u64], negative: bool) -> String {
-    let Some((&top, rest)) = chunks.split_last() else {
-        return "0".to_owned();
-    };
-    let sign = if negative { "-" } else { "" };
-    let mut text = format!("{sign}{top}").into_bytes();
-    text.reserve(rest.len() * CHUNK_DIGITS);
-    for &chunk in rest.iter().rev() {
-        text.extend_from_slice(&chunk_digits(chunk));
-    }
-    // Only ASCII digits were written.
-    String::from_utf8(text).unwrap_or_default()
+    crate::decimal_lanes::chunks_text(chunks, negative, chunk_digits)
 }
 
 /// The nineteen digits of a chunk `x < 10^19`: four, then fifteen by
@@ -243,14 +212,8 @@ mod tests {
     use proptest::prelude::*;
 
     fn integer(limbs: &[u64], negative: bool) -> BigInt {
-        let magnitude = BigUint::from_slice(
-            &limbs
-                .iter()
-                .flat_map(|&l| [l as u32, (l >> 32) as u32])
-                .collect::<Vec<_>>(),
-        );
         let sign = if negative { Sign::Minus } else { Sign::Plus };
-        BigInt::from_biguint(sign, magnitude)
+        BigInt::from_biguint(sign, crate::gcd::from_limbs(limbs))
     }
 
     /// Position `j` of the table holds digit `j` (base `10^19`) of every power `2^(64k)` that

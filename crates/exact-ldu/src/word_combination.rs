@@ -37,18 +37,22 @@ pub(crate) fn word_combination_to_f64<'a>(
     terms: impl IntoIterator<Item = (&'a BigInt, i64)> + Clone,
     denominator: TopBits,
 ) -> f64 {
-    let limbs = terms
-        .clone()
-        .into_iter()
-        .map(|(x, _)| x.magnitude().iter_u64_digits().len())
-        .max()
-        .unwrap_or(0);
+    let limbs = longest(terms.clone());
     if limbs > TOP_LIMBS {
         if let Some(value) = from_top_limbs(terms.clone(), limbs - TOP_LIMBS, denominator) {
             return value;
         }
     }
     whole_sum(terms, limbs).over(denominator)
+}
+
+/// The most limbs of any term's `xₖ`.
+fn longest<'a>(terms: impl IntoIterator<Item = (&'a BigInt, i64)>) -> usize {
+    terms
+        .into_iter()
+        .map(|(x, _)| x.magnitude().iter_u64_digits().len())
+        .max()
+        .unwrap_or(0)
 }
 
 /// The value from the limbs from `below` up, when the bounds on the rest agree (see the module
@@ -122,12 +126,7 @@ fn whole_sum<'a>(terms: impl IntoIterator<Item = (&'a BigInt, i64)>, limbs: usiz
 pub(crate) fn word_combination<'a>(
     terms: impl IntoIterator<Item = (&'a BigInt, i64)> + Clone,
 ) -> BigInt {
-    let limbs = terms
-        .clone()
-        .into_iter()
-        .map(|(x, _)| x.magnitude().iter_u64_digits().len())
-        .max()
-        .unwrap_or(0);
+    let limbs = longest(terms.clone());
     with_whole_sum(terms, limbs, |magnitude, is_negative| {
         let value = crate::gcd::from_limbs(magnitude);
         let sign = if is_negative { Sign::Minus } else { Sign::Plus };
@@ -206,7 +205,10 @@ mod tests {
         let sum = terms
             .iter()
             .fold(BigInt::default(), |acc, (x, c)| acc + x * c);
-        prop_assert_eq!(word_combination(terms.iter().map(|(x, c)| (x, *c))), sum.clone());
+        prop_assert_eq!(
+            word_combination(terms.iter().map(|(x, c)| (x, *c))),
+            sum.clone()
+        );
         let expected = fraction_to_f64(&sum, d);
         let found = word_combination_to_f64(terms.iter().map(|(x, c)| (x, *c)), top_bits(d));
         prop_assert!(

@@ -30,6 +30,28 @@ pub(crate) fn exact_quotient(x: BigInt, c: &BigInt) -> BigInt {
     }
 }
 
+/// `(⌊(u1·2^64 + u0) / d⌋, (u1·2^64 + u0) mod d)` for a normalised `d` (top bit set) and
+/// `u1 < d`, given `reciprocal = ⌊(2^128 − 1) / d⌋ − 2^64`: Möller and Granlund's division of
+/// two words by one ("Improved division by invariant integers", 2011, algorithm 4), two
+/// multiplications and two corrections instead of the runtime's 128-bit division.
+#[inline]
+pub(crate) fn divide_two_words(u1: u64, u0: u64, d: u64, reciprocal: u64) -> (u64, u64) {
+    debug_assert!(d >> 63 == 1 && u1 < d);
+    let q = u128::from(reciprocal) * u128::from(u1) + ((u128::from(u1) << 64) | u128::from(u0));
+    let mut q1 = ((q >> 64) as u64).wrapping_add(1);
+    let q0 = q as u64;
+    let mut r = u0.wrapping_sub(q1.wrapping_mul(d));
+    if r > q0 {
+        q1 = q1.wrapping_sub(1);
+        r = r.wrapping_add(d);
+    }
+    if r >= d {
+        q1 += 1;
+        r -= d;
+    }
+    (q1, r)
+}
+
 /// `x / c` for a nonzero word `c` dividing `x`, by [`exact_quotient_by_word`].
 pub(crate) fn exact_word_quotient(x: BigInt, c: u64) -> BigInt {
     debug_assert!(c != 0);
