@@ -96,6 +96,7 @@ pub fn reduce_over(numerators: Vec<BigInt>, den: &BigInt) -> Vec<Rational> {
         smooth,
         ..
     } = &*parts;
+    let parts = &*parts;
     let residues = montgomery.as_ref().map(|m| Residues::new(&numerators, m));
     let g = match (montgomery, &residues) {
         (Some(m), Some(residues)) => gcd_bigint(&BigInt::from(product_modulo(residues, m)), rest),
@@ -120,11 +121,16 @@ pub fn reduce_over(numerators: Vec<BigInt>, den: &BigInt) -> Vec<Rational> {
                     common = common.times(&c);
                 }
             }
-            if common == CommonFactor::Word(1) {
-                Rational::new_raw(n, den.clone())
-            } else {
-                Rational::new_raw(n, reduced_denominator(&den, common, quotients))
-            }
+            let reduced = match (&common, parts.smooth_word) {
+                (CommonFactor::Word(1), _) => den.clone(),
+                // `d / c = B · (S / c)` for a factor `c` of a word-sized `S`: a product by a
+                // word, where the quotient of `d` is a serial division.
+                (CommonFactor::Word(c), Some(s)) => {
+                    BigInt::from(times_word(rest.magnitude(), s / c))
+                }
+                _ => reduced_denominator(&den, common, quotients),
+            };
+            Rational::new_raw(n, reduced)
         })
         .collect()
 }
@@ -138,6 +144,8 @@ struct DenominatorParts {
     /// The values' length the smooth part's remainders are prepared for.
     limbs: usize,
     smooth: SmoothPart,
+    /// `S = d / B` when it fits a word (the usual case: a few small primes).
+    smooth_word: Option<u64>,
     rest: BigInt,
     /// `None` when the rest is 1 (a smooth denominator: nothing to test).
     montgomery: Option<Montgomery>,
@@ -163,10 +171,14 @@ impl DenominatorParts {
         // values that are multiples of `rest` (those with small reduced denominators, such as
         // parameters the constraints leave at their hints), which would make the product
         // vanish.
+        let smooth_word = smooth.iter().try_fold(1u64, |acc, &(p, e)| {
+            (0..e).try_fold(acc, |acc, _| acc.checked_mul(u64::from(p)))
+        });
         let parts = Arc::new(DenominatorParts {
             den: den.clone(),
             limbs,
             smooth: SmoothPart::new(&smooth, limbs),
+            smooth_word,
             montgomery: Montgomery::new(&rest),
             rest: BigInt::from(rest),
         });
@@ -225,6 +237,33 @@ fn reduced_denominator(
         quotients.push((common, quotient.clone()));
     }
     quotient
+}
+
+/// `x · w`, in place in one copy of `x` when the product has `x`'s length, else in one
+/// allocation of its own length (`num-bigint`'s product of a copy by a word reallocates when
+/// the carry takes a limb more).
+fn times_word(x: &BigUint, w: u64) -> BigUint {
+    if w == 1 {
+        return x.clone();
+    }
+    let limbs = x.iter_u64_digits().len() as u64;
+    if x.bits() + u64::from(64 - w.leading_zeros()) <= 64 * limbs {
+        return x.clone() * w;
+    }
+    thread_local! {
+        static PRODUCT: std::cell::RefCell<Vec<u64>> = const { std::cell::RefCell::new(Vec::new()) };
+    }
+    PRODUCT.with_borrow_mut(|product| {
+        product.clear();
+        let mut carry = 0u64;
+        for limb in x.iter_u64_digits() {
+            let t = u128::from(limb) * u128::from(w) + u128::from(carry);
+            product.push(t as u64);
+            carry = (t >> 64) as u64;
+        }
+        product.push(carry);
+        from_limbs(product)
+    })
 }
 
 /// [`reduce_over`] by [`crate::reduce_words`] when the denominator and every value fit an `i128`.
@@ -564,6 +603,64 @@ mod tests {
                 .map(|n| Rational::new(n.clone(), den.clone()))
                 .collect();
             prop_assert_eq!(reduce_over(numerators, &den), expected);
+        }
+    }
+
+    proptest! {
+        /// With a smooth part that fits a word, the reduced denominators are the rest times the
+        /// smooth part's cofactor: the same fractions as `Rational::new` for factors shared
+        /// through the smooth part, through one of the rest's primes and through all of it.
+        #[test]
+        fn word_sized_smooth_parts_reduce_like_each_value(
+            values in prop::collection::vec(-1_000_000i64..1_000_000, 100..200),
+            twos in 0u32..20,
+            threes in 0u32..12,
+            divisor in prop::sample::select(vec![1i64, 2, 6, 49, 11 * 7 * 3, 2 * 3 * 5 * 7 * 11]),
+            negative in any::<bool>(),
+        ) {
+            let smooth = BigInt::from(2).pow(twos) * BigInt::from(3).pow(threes) * (5 * 7 * 7 * 11 * 11);
+            let mersenne = (BigInt::one() << 521) - 1;
+            let rest = &mersenne * large_prime();
+            let mut den: BigInt = &smooth * &rest;
+            if negative {
+                den = -den;
+            }
+            let numerators: Vec<BigInt> = values
+                .iter()
+                .enumerate()
+                .map(|(i, v)| {
+                    let v = BigInt::from(*v);
+                    match i % 5 {
+                        0 => v * divisor,
+                        1 => v * divisor * &mersenne,
+                        2 => v * divisor * &rest,
+                        3 => v * &rest + divisor,
+                        _ => v,
+                    }
+                })
+                .collect();
+            let expected: Vec<Rational> = numerators
+                .iter()
+                .map(|n| Rational::new(n.clone(), den.clone()))
+                .collect();
+            prop_assert_eq!(reduce_over(numerators, &den), expected);
+        }
+    }
+
+    /// A value times a word: as `num-bigint` multiplies, when the product keeps the value's
+    /// length and when the carry takes a limb more.
+    #[test]
+    fn products_by_a_word() {
+        let values = [
+            BigUint::from(7u32),
+            (BigUint::one() << 100) - 1u32,
+            (BigUint::one() << 640) + 12345u32,
+            (BigUint::one() << 704) - 1u32,
+        ];
+        for x in &values {
+            for w in [1u64, 2, 3, 1 << 20, u64::MAX] {
+                assert_eq!(times_word(x, w), x * w, "{x} · {w}");
+            }
         }
     }
 
