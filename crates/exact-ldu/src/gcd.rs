@@ -28,23 +28,27 @@ pub(crate) fn to_limbs(v: &BigUint) -> Limbs {
     v.to_u64_digits()
 }
 
+/// The value of the 64-bit limbs `v`, lowest first, in one allocation of its length.
 pub(crate) fn from_limbs(v: &[u64]) -> BigUint {
-    thread_local! {
-        /// The limbs as 32-bit digits, the only form `num-bigint` takes them in.
-        static DIGITS: std::cell::RefCell<Vec<u32>> = const { std::cell::RefCell::new(Vec::new()) };
+    let mut value = BigUint::default();
+    assign_limbs(&mut value, v);
+    value
+}
+
+/// Sets `value` to the 64-bit limbs `v`, lowest first, in its own buffer.
+pub(crate) fn assign_limbs(value: &mut BigUint, v: &[u64]) {
+    // `num-bigint` takes digits only as 32 bits. On a little-endian machine a limb's two
+    // digits, low first, are its bytes in memory: the limbs are read as digits in place.
+    #[cfg(target_endian = "little")]
+    value.assign_from_slice(bytemuck::cast_slice::<u64, u32>(v));
+    #[cfg(not(target_endian = "little"))]
+    {
+        let digits: Vec<u32> = v
+            .iter()
+            .flat_map(|&limb| [limb as u32, (limb >> 32) as u32])
+            .collect();
+        value.assign_from_slice(&digits);
     }
-    DIGITS.with_borrow_mut(|digits| {
-        digits.clear();
-        digits.extend(
-            v.iter()
-                .flat_map(|&limb| [limb as u32, (limb >> 32) as u32]),
-        );
-        // One allocation, of the value's length: `BigUint::new` would also take the digits'
-        // vector.
-        let mut value = BigUint::default();
-        value.assign_from_slice(digits);
-        value
-    })
 }
 
 /// The 63 bits of `v` starting at bit `shift` from the bottom (`v >> shift`, truncated).

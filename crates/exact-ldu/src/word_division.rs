@@ -6,6 +6,7 @@
 //! limb; modulo a word `p < 2^32` it is a sum of limbs times the powers `2^(64i) mod p`, one
 //! product per limb and one division at the end.
 
+use crate::gcd::assign_limbs;
 use num_bigint::{BigInt, BigUint, Sign};
 use num_traits::ToPrimitive;
 use std::cell::RefCell;
@@ -63,30 +64,26 @@ pub(crate) fn exact_word_quotient(x: BigInt, c: u64) -> BigInt {
 }
 
 thread_local! {
-    /// The quotient's 32-bit digits on their way back into the dividend's own buffer.
-    static DIGITS: RefCell<Vec<u32>> = const { RefCell::new(Vec::new()) };
+    /// The quotient's limbs on their way back into the dividend's own buffer.
+    static QUOTIENT: RefCell<Vec<u64>> = const { RefCell::new(Vec::new()) };
 }
 
 /// `x / c` for a word `c > 1` dividing `x`, in `x`'s buffer. The odd part by Jebelean's exact
 /// division (as in GMP's `divexact_1`): each quotient limb is the limb times `odd⁻¹ mod 2^64`,
 /// the borrow into the next the high word of `qᵢ · odd` — two multiplications per limb where
 /// `num-bigint` divides each limb in hardware (tens of cycles; 11 % of a δ = 8 spline
-/// update). The power of two is shifted out on the way; the digits pass through a reused
-/// buffer (`num-bigint` takes digits back only as 32-bit slices).
+/// update). The power of two is shifted out on the way; the limbs pass through a reused
+/// buffer (`num-bigint` lends its digits only for reading).
 fn exact_quotient_by_word(mut x: BigUint, c: u64) -> BigUint {
     let shift = c.trailing_zeros();
     let odd = c >> shift;
     let inverse = word_inverse(odd);
-    DIGITS.with_borrow_mut(|digits| {
+    QUOTIENT.with_borrow_mut(|quotient| {
         let limbs = x.iter_u64_digits();
         let n = limbs.len();
-        digits.clear();
-        digits.resize(2 * n, 0);
+        quotient.clear();
+        quotient.resize(n, 0);
         // Quotient limb `i − 1` is complete once limb `i` is known (the shift takes its low bits).
-        let mut emit = |i: usize, limb: u64| {
-            digits[2 * i] = limb as u32;
-            digits[2 * i + 1] = (limb >> 32) as u32;
-        };
         let mut borrow = 0u64;
         let mut previous = 0u64;
         for (i, limb) in limbs.enumerate() {
@@ -99,22 +96,19 @@ fn exact_quotient_by_word(mut x: BigUint, c: u64) -> BigUint {
                 q
             };
             if i > 0 {
-                emit(
-                    i - 1,
-                    if shift == 0 {
-                        previous
-                    } else {
-                        (previous >> shift) | (q << (64 - shift))
-                    },
-                );
+                quotient[i - 1] = if shift == 0 {
+                    previous
+                } else {
+                    (previous >> shift) | (q << (64 - shift))
+                };
             }
             previous = q;
         }
         if n > 0 {
-            emit(n - 1, previous >> shift);
+            quotient[n - 1] = previous >> shift;
         }
         debug_assert_eq!(borrow, 0, "the divisor does not divide");
-        x.assign_from_slice(digits);
+        assign_limbs(&mut x, quotient);
     });
     x
 }
