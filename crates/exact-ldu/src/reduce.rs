@@ -579,31 +579,38 @@ mod tests {
             with_large_prime in any::<bool>(),
         ) {
             let extra = BigInt::from(extra);
-            let mut den = big_denominator(&extra, with_large_prime);
+            let den = big_denominator(&extra, with_large_prime);
             let sixth = &den / 6;
-            if negative {
-                den = -den;
-            }
-            let numerators: Vec<BigInt> = values
-                .iter()
-                .enumerate()
-                .map(|(i, v)| {
-                    let v = BigInt::from(*v);
-                    match i % 5 {
-                        0 => v * BigInt::from(3).pow(5u32) * 49,
-                        1 => v * &extra,
-                        2 => v * &sixth,
-                        3 => v * large_prime() + 1,
-                        _ => v * large_prime(),
-                    }
-                })
-                .collect();
-            let expected: Vec<Rational> = numerators
-                .iter()
-                .map(|n| Rational::new(n.clone(), den.clone()))
-                .collect();
-            prop_assert_eq!(reduce_over(numerators, &den), expected);
+            reduces_like_each_value(&values, den, negative, |kind, v| match kind {
+                0 => v * BigInt::from(3).pow(5u32) * 49,
+                1 => v * &extra,
+                2 => v * &sixth,
+                3 => v * large_prime() + 1,
+                _ => v * large_prime(),
+            })?;
         }
+    }
+
+    /// [`reduce_over`] of the values `make(i mod 5, vᵢ)` over `den` (negated when asked) is
+    /// `Rational::new` of each.
+    fn reduces_like_each_value(
+        values: &[i64],
+        den: BigInt,
+        negative: bool,
+        make: impl Fn(usize, BigInt) -> BigInt,
+    ) -> Result<(), TestCaseError> {
+        let den = if negative { -den } else { den };
+        let numerators: Vec<BigInt> = values
+            .iter()
+            .enumerate()
+            .map(|(i, v)| make(i % 5, BigInt::from(*v)))
+            .collect();
+        let expected: Vec<Rational> = numerators
+            .iter()
+            .map(|n| Rational::new(n.clone(), den.clone()))
+            .collect();
+        prop_assert_eq!(reduce_over(numerators, &den), expected);
+        Ok(())
     }
 
     proptest! {
@@ -621,29 +628,13 @@ mod tests {
             let smooth = BigInt::from(2).pow(twos) * BigInt::from(3).pow(threes) * (5 * 7 * 7 * 11 * 11);
             let mersenne = (BigInt::one() << 521) - 1;
             let rest = &mersenne * large_prime();
-            let mut den: BigInt = &smooth * &rest;
-            if negative {
-                den = -den;
-            }
-            let numerators: Vec<BigInt> = values
-                .iter()
-                .enumerate()
-                .map(|(i, v)| {
-                    let v = BigInt::from(*v);
-                    match i % 5 {
-                        0 => v * divisor,
-                        1 => v * divisor * &mersenne,
-                        2 => v * divisor * &rest,
-                        3 => v * &rest + divisor,
-                        _ => v,
-                    }
-                })
-                .collect();
-            let expected: Vec<Rational> = numerators
-                .iter()
-                .map(|n| Rational::new(n.clone(), den.clone()))
-                .collect();
-            prop_assert_eq!(reduce_over(numerators, &den), expected);
+            reduces_like_each_value(&values, &smooth * &rest, negative, |kind, v| match kind {
+                0 => v * divisor,
+                1 => v * divisor * &mersenne,
+                2 => v * divisor * &rest,
+                3 => v * &rest + divisor,
+                _ => v,
+            })?;
         }
     }
 
