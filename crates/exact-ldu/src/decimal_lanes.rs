@@ -334,12 +334,7 @@ mod tests {
     }
 
     fn integer(limbs: &[u64], negative: bool) -> BigInt {
-        let magnitude = BigUint::from_slice(
-            &limbs
-                .iter()
-                .flat_map(|&l| [l as u32, (l >> 32) as u32])
-                .collect::<Vec<_>>(),
-        );
+        let magnitude = crate::gcd::from_limbs(limbs);
         let sign = if negative { Sign::Minus } else { Sign::Plus };
         BigInt::from_biguint(sign, magnitude)
     }

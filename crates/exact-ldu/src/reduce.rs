@@ -94,9 +94,9 @@ pub fn reduce_over(numerators: Vec<BigInt>, den: &BigInt) -> Vec<Rational> {
         rest,
         montgomery,
         smooth,
+        smooth_word,
         ..
     } = &*parts;
-    let parts = &*parts;
     let residues = montgomery.as_ref().map(|m| Residues::new(&numerators, m));
     let g = match (montgomery, &residues) {
         (Some(m), Some(residues)) => gcd_bigint(&BigInt::from(product_modulo(residues, m)), rest),
@@ -121,7 +121,7 @@ pub fn reduce_over(numerators: Vec<BigInt>, den: &BigInt) -> Vec<Rational> {
                     common = common.times(&c);
                 }
             }
-            let reduced = match (&common, parts.smooth_word) {
+            let reduced = match (&common, *smooth_word) {
                 (CommonFactor::Word(1), _) => den.clone(),
                 // `d / c = B · (S / c)` for a factor `c` of a word-sized `S`: a product by a
                 // word, where the quotient of `d` is a serial division.
